@@ -1,0 +1,69 @@
+"""tactilecal: calibrate and analyse matrix piezoresistive tactile pressure sensors.
+
+The data model is one :class:`xarray.DataArray` per recording with dims
+``("frame", "row", "col")``, a ``time`` coordinate in seconds along ``frame`` and the
+sensor's description in ``attrs`` (see ``docs/data-model.md``).
+
+Subpackages, one per idea:
+
+``tactilecal.io``
+    Tekscan ASCII exports, load-cell CSVs and NetCDF.
+``tactilecal.sensors``
+    Catalogue of sensor models (5051, 5101, 9500, ...).
+``tactilecal.simulate``
+    Synthetic recordings with their known truth.
+``tactilecal.calibration``
+    Static calibration: I-Scan methods, literature alternatives, validation.
+``tactilecal.zvyagin``
+    Zvyagin (2022) multi-patch high-pressure-zone calibration.
+``tactilecal.dynamic``
+    Dynamic calibration (Gillis 2013): transfer function and inverse filter.
+``tactilecal.analysis``
+    Pressure-map analysis: force, area, centre of force, profiles, time effects.
+``tactilecal.geotech``
+    Earth pressure, centrifuge and hydrostatic helpers.
+``tactilecal.report``
+    Self-contained HTML reports.
+
+The names below are imported lazily so that ``import tactilecal`` stays fast.
+"""
+
+from importlib import import_module
+
+from tactilecal._version import __version__
+
+_LAZY = {
+    "read_tekscan": "tactilecal.io",
+    "write_tekscan": "tactilecal.io",
+    "read_timeseries": "tactilecal.io",
+    "write_netcdf": "tactilecal.io",
+    "read_netcdf": "tactilecal.io",
+    "load_points": "tactilecal.calibration",
+    "calibrate": "tactilecal.calibration",
+    "load_calibration": "tactilecal.calibration",
+    "validate": "tactilecal.calibration",
+    "sensors": "tactilecal.sensors",
+    "simulate": "tactilecal.simulate",
+    "analysis": "tactilecal.analysis",
+    "geotech": "tactilecal.geotech",
+    "dynamic": "tactilecal.dynamic",
+    "zvyagin": "tactilecal.zvyagin",
+    "report": "tactilecal.report",
+    "io": "tactilecal.io",
+    "calibration": "tactilecal.calibration",
+}
+
+__all__ = ["__version__", *_LAZY]
+
+
+def __getattr__(name):
+    if name not in _LAZY:
+        raise AttributeError(f"module 'tactilecal' has no attribute {name!r}")
+    module = import_module(_LAZY[name])
+    value = module if module.__name__ == f"tactilecal.{name}" else getattr(module, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(__all__)

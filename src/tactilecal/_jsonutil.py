@@ -1,0 +1,42 @@
+"""JSON helpers shared by every result object: NumPy types to plain Python."""
+
+import json
+import math
+
+import numpy as np
+
+from tactilecal._atomic import write_text_atomic
+
+
+def to_jsonable(obj):
+    """Convert NumPy scalars/arrays (recursively) to JSON-serialisable Python objects.
+
+    Non-finite floats become ``None`` (JSON has no NaN).
+
+    Examples
+    --------
+    >>> to_jsonable({"a": np.float64(1.5), "b": np.array([1, 2]), "c": float("nan")})
+    {'a': 1.5, 'b': [1, 2], 'c': None}
+    """
+    if isinstance(obj, dict):
+        return {str(k): to_jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [to_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return to_jsonable(obj.tolist())
+    if isinstance(obj, np.generic):
+        return to_jsonable(obj.item())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def dumps(obj, **kwargs):
+    """Serialise ``obj`` with :func:`to_jsonable` applied first."""
+    kwargs.setdefault("indent", 2)
+    return json.dumps(to_jsonable(obj), **kwargs)
+
+
+def write_json(path, obj):
+    """Write ``obj`` as JSON to ``path`` atomically."""
+    write_text_atomic(path, dumps(obj) + "\n")

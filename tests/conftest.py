@@ -1,0 +1,34 @@
+"""Shared pytest fixtures.
+
+Real Tekscan exports live outside the repository in ``../shared/realdata/`` (next to the
+checkout); set ``TACTILECAL_REALDATA`` to point elsewhere. Tests that need them skip with
+a reason when the folder is absent.
+"""
+
+import os
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+REALDATA = Path(os.environ.get("TACTILECAL_REALDATA", REPO.parent / "shared" / "realdata"))
+
+
+@pytest.fixture(scope="session")
+def realdata():
+    """Folder holding the real Tekscan exports (skip when absent)."""
+    if not REALDATA.is_dir():
+        pytest.skip(f"real Tekscan exports not found at {REALDATA}")
+    return REALDATA
+
+
+@pytest.fixture(scope="session")
+def iscan_csv(realdata):
+    """The real I-Scan 6.10I movie export (309 x 28 x 28, raw)."""
+    return realdata / "pressuRe_iscan_test.csv"
+
+
+@pytest.fixture(scope="session")
+def fscan_asf(realdata):
+    """The real F-Scan 6.33 walking-step export (205 x 60 x 21, kPa, CRLF)."""
+    return realdata / "footPress_FrasP01L.asf"
