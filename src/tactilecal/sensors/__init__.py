@@ -1,0 +1,5 @@
+"""Sensor catalogue: Tekscan models (5051, 5101, 9500, 6900, F-Scan) and custom matrices."""
+
+from tactilecal.sensors._catalogue import CATALOGUE, SensorModel, custom_sensor, get_sensor
+
+__all__ = ["CATALOGUE", "SensorModel", "custom_sensor", "get_sensor"]

@@ -1,0 +1,179 @@
+"""Catalogue of Tekscan sensor models and custom sensel matrices.
+
+Every number in :data:`CATALOGUE` says where it comes from (``notes``). Sensel area is the
+product of the two centre-to-centre spacings, which is how Tekscan's own exports report it
+(``SENSEL_AREA 0.016129 cm2`` for a 1.27 mm pitch, ``25.8064 mm2`` for 5.08 mm).
+"""
+
+from dataclasses import dataclass
+
+__all__ = ["SensorModel", "CATALOGUE", "get_sensor", "custom_sensor"]
+
+PSI_TO_KPA = 6.894757293168361
+"""Kilopascals per psi (1 lbf/in2 = 4.4482216152605 N / 645.16 mm2)."""
+
+
+@dataclass(frozen=True)
+class SensorModel:
+    """A matrix tactile sensor: sensel grid, pitch and (where known) capacity.
+
+    Parameters
+    ----------
+    name : str
+        Model name, e.g. ``"5051"`` (Tekscan's ``SENSOR_TYPE``).
+    rows, cols : int
+        Number of sensel rows and columns.
+    row_spacing_mm, col_spacing_mm : float
+        Centre-to-centre sensel spacing in mm.
+    capacity_kPa : float, optional
+        Nominal pressure capacity in kPa, where the model has a fixed one.
+    max_rate_hz : float, optional
+        Maximum scan rate in Hz, where known.
+    notes : str
+        Where the numbers come from.
+
+    Examples
+    --------
+    >>> s = SensorModel("demo", 2, 3, 1.0, 2.0)
+    >>> s.sensel_area_mm2, s.width_mm, s.height_mm
+    (2.0, 6.0, 2.0)
+    """
+
+    name: str
+    rows: int
+    cols: int
+    row_spacing_mm: float
+    col_spacing_mm: float
+    capacity_kPa: float | None = None
+    max_rate_hz: float | None = None
+    notes: str = ""
+
+    def __post_init__(self):
+        for field in ("rows", "cols"):
+            value = getattr(self, field)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise ValueError(f"sensor {self.name!r}: {field} must be a positive integer; "
+                                 f"got {value!r}")
+        for field in ("row_spacing_mm", "col_spacing_mm", "capacity_kPa", "max_rate_hz"):
+            value = getattr(self, field)
+            if field in ("capacity_kPa", "max_rate_hz") and value is None:
+                continue
+            if isinstance(value, bool) or not isinstance(value, int | float) or not value > 0:
+                raise ValueError(f"sensor {self.name!r}: {field} must be a positive number; "
+                                 f"got {value!r}")
+
+    @property
+    def sensel_area_mm2(self):
+        """Area of one sensel in mm2 (row spacing x column spacing)."""
+        return self.row_spacing_mm * self.col_spacing_mm
+
+    @property
+    def width_mm(self):
+        """Width of the sensing matrix in mm (cols x column spacing)."""
+        return self.cols * self.col_spacing_mm
+
+    @property
+    def height_mm(self):
+        """Height of the sensing matrix in mm (rows x row spacing)."""
+        return self.rows * self.row_spacing_mm
+
+    def to_attrs(self):
+        """Return the data-model attributes describing this sensor (``docs/data-model.md``).
+
+        Examples
+        --------
+        >>> get_sensor("9500").to_attrs()["row_spacing_mm"]
+        5.08
+        """
+        return {"sensor_type": self.name, "row_spacing_mm": self.row_spacing_mm,
+                "col_spacing_mm": self.col_spacing_mm,
+                "sensel_area_mm2": self.sensel_area_mm2}
+
+
+_ZVYAGIN = ("Zvyagin (2022), Sensors 22(19):7290: 44 x 44 sensels of 1.27 x 1.27 mm, "
+            "matrix 55.9 mm")
+
+CATALOGUE = {
+    "5051": SensorModel(
+        "5051", 44, 44, 1.27, 1.27,
+        notes=f"{_ZVYAGIN}. Capacity depends on the pressure grade (suffix)."),
+    "5051-350": SensorModel(
+        "5051-350", 44, 44, 1.27, 1.27, capacity_kPa=350 * PSI_TO_KPA,
+        notes=f"{_ZVYAGIN}; nominal 350 psi = 2413 kPa."),
+    "5101": SensorModel(
+        "5101", 44, 44, 2.54, 2.54,
+        notes="44 x 44 sensels, twice the 5051's size (2.54 mm pitch, 111.8 mm matrix) "
+              "per tactilecal issue 2. Capacity depends on the pressure grade."),
+    "9500": SensorModel(
+        "9500", 14, 14, 5.08, 5.08, max_rate_hz=4000.0,
+        notes="Gillis (2013) MS thesis, U. Colorado: 14 x 14 sensels over 71.1 x 71.1 mm "
+              "(5.08 mm pitch), 4000 Hz per sensel."),
+    "6900": SensorModel(
+        "6900", 28, 28, 1.27, 1.27,
+        notes="From a real I-Scan 6.10I export (pressuRe iscan_test.csv): SENSOR_TYPE 6900, "
+              "ROWS 28, COLS 28, ROW_SPACING 0.127 centimeters, SENSEL_AREA 0.016129 cm2."),
+    "FSCAN": SensorModel(
+        "FSCAN", 60, 21, 5.08, 5.08,
+        notes="F-Scan insole from a real F-Scan 6.33 export (footPress FrasP01L.asf): "
+              "ROWS 60, COLS 21, ROW_SPACING 5.08 mm, SENSEL_AREA 25.8064 mm2."),
+}
+"""Known sensor models by name (upper case)."""
+
+
+def get_sensor(name):
+    """Return the catalogue entry for ``name`` (case-insensitive, e.g. ``"5051-350"``).
+
+    Parameters
+    ----------
+    name : str or int
+        Model name as in :data:`CATALOGUE` or in a Tekscan ``SENSOR_TYPE`` line.
+
+    Returns
+    -------
+    SensorModel
+
+    Raises
+    ------
+    ValueError
+        If the model is not in the catalogue (the message lists the known ones).
+
+    Examples
+    --------
+    >>> s = get_sensor("5051-350")
+    >>> s.rows, s.cols, round(s.capacity_kPa)
+    (44, 44, 2413)
+    """
+    key = str(name).strip().upper()
+    if key not in CATALOGUE:
+        raise ValueError(f"unknown sensor {name!r}; expected one of {sorted(CATALOGUE)} "
+                         "or a custom_sensor(rows, cols, spacing_mm)")
+    return CATALOGUE[key]
+
+
+def custom_sensor(rows, cols, spacing_mm, *, col_spacing_mm=None, capacity_kPa=None,
+                  max_rate_hz=None, name="custom", notes=""):
+    """Describe a sensel matrix that is not in the catalogue.
+
+    Parameters
+    ----------
+    rows, cols : int
+        Sensel rows and columns.
+    spacing_mm : float
+        Row spacing in mm (also the column spacing unless ``col_spacing_mm`` is given).
+    col_spacing_mm, capacity_kPa, max_rate_hz : float, optional
+        See :class:`SensorModel`.
+    name, notes : str
+        Label and provenance.
+
+    Returns
+    -------
+    SensorModel
+
+    Examples
+    --------
+    >>> custom_sensor(10, 20, 2.0, col_spacing_mm=3.0).sensel_area_mm2
+    6.0
+    """
+    return SensorModel(name, rows, cols, spacing_mm,
+                       spacing_mm if col_spacing_mm is None else col_spacing_mm,
+                       capacity_kPa=capacity_kPa, max_rate_hz=max_rate_hz, notes=notes)
