@@ -1,0 +1,19 @@
+"""File input/output: Tekscan ASCII exports, load-cell time series, NetCDF, unit helpers."""
+
+from tactilecal.io._tekscan_read import read_tekscan
+from tactilecal.io._units import (
+    G_STANDARD,
+    area_to_mm2,
+    force_to_N,
+    length_to_mm,
+    mass_to_N,
+    normalise_unit,
+    pressure_to_kPa,
+    time_to_s,
+    unit_kind,
+)
+
+__all__ = [
+    "G_STANDARD", "area_to_mm2", "force_to_N", "length_to_mm", "mass_to_N",
+    "normalise_unit", "pressure_to_kPa", "read_tekscan", "time_to_s", "unit_kind",
+]

@@ -1,0 +1,286 @@
+"""Reader for Tekscan I-Scan / F-Scan ASCII exports (``.csv``, ``.asf``, any extension).
+
+Layout (Tekscan I-Scan and F-Scan user manuals, "ASCII export"; checked on the real files
+in ``shared/realdata``)::
+
+    KEY value                 header lines (ROWS, COLS, UNITS, ...)
+    ASCII_DATA @@
+    Frame 1, 0,, 12/2/2019 6:21:52.34PM,,,Raw Sum=,,310     (I-Scan; F-Scan: "Frame 1")
+    B,B,5,0,...               ROWS lines of COLS comma-separated values, B = no sensel
+    ...
+    @@
+
+The numeric block is parsed in one call of pandas' C parser; the line structure (frame lines,
+rows per frame, values per row) is checked with vectorised NumPy operations on the bytes.
+"""
+
+import csv
+import io
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from tactilecal.io._header import header_attrs, integer, parse_header_lines
+
+__all__ = ["read_tekscan"]
+
+_MARKER = re.compile(rb"^[ \t]*ASCII_DATA[ \t]*@@[ \t]*\r?$", re.MULTILINE)
+_FRAME = re.compile(r"Frame[ \t]+(\d+)[ \t]*(?:,[ \t]*([^,]*?)[ \t]*(?:,|$))?")
+_RAW_SUM = re.compile(r"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)")
+_NL = b"\n"
+_DATA_START = np.zeros(256, dtype=bool)
+_DATA_START[list(b"0123456789B-+.")] = True
+
+
+def read_tekscan(path):
+    r"""Read a Tekscan I-Scan or F-Scan ASCII export into a DataArray.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The export (movie or single frame, LF or CRLF line endings, any extension).
+
+    Returns
+    -------
+    xarray.DataArray
+        float64, dims ``("frame", "row", "col")``, NaN where the file has ``B``; coords
+        ``frame`` (the file's frame numbers), ``time`` (s: the frame line's time where it
+        carries one, else frame index x ``SECONDS_PER_FRAME``), ``row``, ``col``; attributes
+        as in ``docs/data-model.md`` (all ``str``/``int``/``float``, so ``to_netcdf`` works).
+
+    Raises
+    ------
+    ValueError
+        Empty file, missing ``ASCII_DATA @@``, ``ROWS`` or ``COLS``, a frame with the wrong
+        number of rows, a row with the wrong number of values, a non-numeric value, a
+        ``Raw Sum`` in a frame line that differs from the frame's sum (raw files), an unknown
+        unit, no ``@@`` terminator. Messages name the file and line.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "tiny.csv"
+    >>> _ = f.write_text("ROWS 2\nCOLS 3\nUNITS raw\nSECONDS_PER_FRAME 0.5\n"
+    ...                  "ASCII_DATA @@\n\nFrame 1\n0,5,B\n1,2,3\n\nFrame 2\n"
+    ...                  "4,0,B\n0,0,7\n@@\n")
+    >>> data = read_tekscan(f)
+    >>> data.dims, data.shape, data.time.values.tolist()
+    (('frame', 'row', 'col'), (2, 2, 3), [0.0, 0.5])
+    >>> data.sel(frame=2).values.tolist()
+    [[4.0, 0.0, nan], [0.0, 0.0, 7.0]]
+    """
+    path = Path(path)
+    name = str(path)
+    raw = path.read_bytes()
+    if not raw.strip():
+        raise ValueError(f"{name} is empty; expected a Tekscan ASCII export "
+                         "('KEY value' header, 'ASCII_DATA @@', frames, '@@')")
+    marker = _MARKER.search(raw)
+    if marker is None:
+        raise ValueError(f"{name} has no 'ASCII_DATA @@' line (after "
+                         f"{raw.count(_NL) + 1} lines); expected a Tekscan ASCII export")
+    header = parse_header_lines(_decode(raw[:marker.start()]).splitlines(), name)
+    for key in ("ROWS", "COLS"):
+        if key not in header:
+            raise ValueError(f"{name} has no {key} line in its header (lines 1-"
+                             f"{raw.count(_NL, 0, marker.start()) + 1}); expected "
+                             f"'{key} <number of sensel {key.lower()}>'")
+    rows = integer(header, "ROWS", name, minimum=1)
+    cols = integer(header, "COLS", name, minimum=1)
+    attrs = header_attrs(header, name)
+    first_line = raw.count(b"\n", 0, marker.end()) + 1
+    frames, values = _read_body(raw[marker.end():], first_line, rows, cols, header, name)
+    numbers, times, raw_sums, lines = frames
+    data = values.reshape(len(numbers), rows, cols)
+    if attrs.get("units") == "raw":
+        _check_raw_sums(data, numbers, raw_sums, lines, name)
+    # without SECONDS_PER_FRAME only the first frame's time (0 s) is known; the rest are NaN
+    index_time = np.arange(len(numbers)) * attrs.get("seconds_per_frame", np.nan)
+    index_time[0] = 0.0
+    times = np.where(np.isnan(times), index_time, times)
+    attrs["source"] = name
+    return xr.DataArray(
+        data, dims=("frame", "row", "col"),
+        coords={"frame": np.asarray(numbers, dtype=np.int64), "time": ("frame", times),
+                "row": np.arange(rows, dtype=np.int64), "col": np.arange(cols, dtype=np.int64)},
+        attrs=attrs)
+
+
+def _decode(header_bytes):
+    try:
+        return header_bytes.decode("utf-8")
+    except UnicodeDecodeError:
+        return header_bytes.decode("cp1252", errors="replace")
+
+
+def _line_table(body):
+    """Start/end byte offsets of each line of ``body`` (end excludes CR/LF) and its bytes."""
+    buf = np.frombuffer(body, dtype=np.uint8)
+    newlines = np.flatnonzero(buf == 10)
+    starts = np.concatenate(([0], newlines + 1))
+    ends = np.concatenate((newlines, [buf.size]))
+    has_cr = (ends > starts) & (buf[np.maximum(ends - 1, 0)] == 13) if buf.size else ends > 0
+    ends = ends - has_cr
+    return buf, starts, ends
+
+
+def _read_body(body, first_line, rows, cols, header, name):
+    buf, starts, ends = _line_table(body)
+    empty = ends == starts
+    first = np.where(empty, 0, buf[np.minimum(starts, max(buf.size - 1, 0))] if buf.size else 0)
+    terminators = np.flatnonzero(first == ord("@"))
+    if terminators.size == 0:
+        raise ValueError(f"{name} ends at line {first_line + len(starts) - 1} without the "
+                         "'@@' terminator; expected '@@' after the last frame (truncated file?)")
+    stop = terminators[0]
+    _check_after_terminator(body, starts, ends, stop, first_line, name)
+    end = int(starts[stop])
+    starts, ends, empty, first = starts[:stop], ends[:stop], empty[:stop], first[:stop]
+    is_frame = first == ord("F")
+    is_data = ~empty & _DATA_START[first]
+    other = np.flatnonzero(~(empty | is_frame | is_data))
+    if other.size:
+        i = other[0]
+        raise ValueError(f"line {first_line + i} of {name}: {_text(body, starts, ends, i)!r}; "
+                         "expected a 'Frame N' line, a row of values or '@@'")
+    frame_idx, data_idx = np.flatnonzero(is_frame), np.flatnonzero(is_data)
+    frames = _frame_lines(body, starts, ends, frame_idx, data_idx, stop, first_line, rows,
+                          header, name)
+    _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows, cols, name)
+    values = _parse_values(body[:end], starts, ends, data_idx, first_line, cols, name)
+    return frames, values
+
+
+def _text(body, starts, ends, i):
+    return body[starts[i]:ends[i]].decode("utf-8", errors="replace")[:60]
+
+
+def _check_after_terminator(body, starts, ends, stop, first_line, name):
+    rest = np.flatnonzero(ends[stop + 1:] > starts[stop + 1:])
+    for i in rest + stop + 1:
+        if body[starts[i]:ends[i]].strip():
+            raise ValueError(f"line {first_line + i} of {name}: "
+                             f"{_text(body, starts, ends, i)!r} after the '@@' terminator on "
+                             f"line {first_line + stop}; expected the end of the file "
+                             "(one ASCII_DATA block per file)")
+
+
+def _frame_lines(body, starts, ends, frame_idx, data_idx, stop, first_line, rows, header,
+                 name):
+    """Parse the ``Frame N`` lines; check each frame has ``rows`` data rows."""
+    if frame_idx.size == 0:
+        if data_idx.size != rows:
+            raise ValueError(f"{name} has {data_idx.size} rows of values and no 'Frame N' "
+                             f"line; expected {rows} rows (ROWS) for a single frame")
+        number = int(header["START_FRAME"][0]) if "START_FRAME" in header else 1
+        return [number], np.full(1, np.nan), np.full(1, np.nan), np.array([first_line])
+    if data_idx.size and data_idx[0] < frame_idx[0]:
+        raise ValueError(f"line {first_line + data_idx[0]} of {name}: a row of values before "
+                         "the first 'Frame N' line; expected 'Frame N' first")
+    bounds = np.searchsorted(data_idx, np.concatenate((frame_idx, [stop])))
+    counts = np.diff(bounds)
+    numbers, times, sums = [], np.full(frame_idx.size, np.nan), np.full(frame_idx.size, np.nan)
+    for k, i in enumerate(frame_idx):
+        text = body[starts[i]:ends[i]].decode("utf-8", errors="replace")
+        match = _FRAME.match(text)
+        if match is None:
+            raise ValueError(f"line {first_line + i} of {name}: {text[:60]!r}; expected "
+                             "'Frame N' optionally followed by ', <time in s>, ...'")
+        numbers.append(int(match.group(1)))
+        if match.group(2):
+            times[k] = _float(match.group(2), f"the time in line {first_line + i} of {name}")
+        raw_sum = _RAW_SUM.search(text)
+        if raw_sum:
+            sums[k] = float(raw_sum.group(1))
+    bad = np.flatnonzero(counts != rows)
+    if bad.size:
+        k = bad[0]
+        raise ValueError(f"frame {numbers[k]} of {name} (line {first_line + frame_idx[k]}) "
+                         f"has {counts[k]} rows of values; expected {rows} (ROWS)"
+                         + (" (truncated file?)" if k == len(numbers) - 1 else ""))
+    order = np.flatnonzero(np.diff(numbers) <= 0)
+    if order.size:
+        k = order[0] + 1
+        raise ValueError(f"line {first_line + frame_idx[k]} of {name}: frame {numbers[k]} "
+                         f"follows frame {numbers[k - 1]}; expected increasing frame numbers")
+    return numbers, times, sums, first_line + frame_idx
+
+
+def _float(text, where):
+    try:
+        return float(text)
+    except ValueError:
+        raise ValueError(f"{where} is {text!r}; expected a number") from None
+
+
+def _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows, cols, name):
+    commas = np.flatnonzero(buf == ord(","))
+    n_values = (np.searchsorted(commas, ends[data_idx])
+                - np.searchsorted(commas, starts[data_idx]) + 1)
+    bad = np.flatnonzero(n_values != cols)
+    if bad.size:
+        k = bad[0]
+        line = first_line + data_idx[k]
+        where = f"line {line} of {name}"
+        if frame_idx.size:
+            frame_line = frame_idx[np.searchsorted(frame_idx, data_idx[k]) - 1]
+            where = (f"row {k % rows} of the frame on line {first_line + frame_line} "
+                     f"of {name} (line {line})")
+        raise ValueError(f"{where} has {n_values[k]} values; expected {cols} (COLS)")
+
+
+def _parse_values(body, starts, ends, data_idx, first_line, cols, name):
+    """All data rows as a float64 ``(n_rows, cols)`` array, one pandas C-parser call."""
+    if data_idx.size == 0:
+        return np.empty((0, cols))
+    # Frame lines start with "F", which no number or "B" contains: they are comments.
+    f_positions = np.flatnonzero(np.frombuffer(body, np.uint8) == ord("F"))
+    line_of_f = np.searchsorted(starts, f_positions, side="right") - 1
+    stray = np.flatnonzero(np.isin(line_of_f, data_idx))
+    if stray.size:
+        _raise_bad_value(body, starts, ends, line_of_f[stray[:1]], first_line, name)
+    try:
+        table = pd.read_csv(
+            io.BytesIO(body), header=None, names=range(cols), comment="F",
+            na_values=["B"], keep_default_na=False, dtype=np.float64, engine="c",
+            quoting=csv.QUOTE_NONE, skip_blank_lines=True, index_col=False)
+    except ValueError:
+        _raise_bad_value(body, starts, ends, data_idx, first_line, name)
+        raise
+    values = table.to_numpy(dtype=np.float64)
+    if values.shape[0] != data_idx.size:  # pragma: no cover - guarded by the checks above
+        raise ValueError(f"{name}: parsed {values.shape[0]} rows of values; expected "
+                         f"{data_idx.size}")
+    return values
+
+
+def _raise_bad_value(body, starts, ends, data_idx, first_line, name):
+    """Find the first non-numeric value (slow path, only on error) and raise."""
+    for i in data_idx:
+        for col, token in enumerate(body[starts[i]:ends[i]].split(b",")):
+            token = token.strip()
+            if token == b"B":
+                continue
+            try:
+                value = float(token)
+            except ValueError:
+                value = None
+            if value is None or np.isnan(value):
+                raise ValueError(
+                    f"line {first_line + i} of {name}, value {col + 1}: "
+                    f"{token.decode('utf-8', errors='replace')!r} is not a number; "
+                    "expected a number or 'B' (no sensel)")
+
+
+def _check_raw_sums(data, numbers, raw_sums, lines, name):
+    """Compare each frame line's ``Raw Sum`` with the sum of the frame's readings."""
+    sums = np.nansum(data, axis=(1, 2))
+    bad = np.flatnonzero(~np.isnan(raw_sums) & (np.abs(sums - raw_sums) > 0.5))
+    if bad.size:
+        k = bad[0]
+        raise ValueError(f"frame {numbers[k]} of {name} (line {lines[k]}): Raw Sum in the "
+                         f"frame line is {raw_sums[k]:g}; expected {sums[k]:g}, the sum of "
+                         "the frame's readings")

@@ -1,0 +1,181 @@
+"""Unit spellings of Tekscan exports and load-cell files; conversions to mm, mm2, N, kPa, s.
+
+Conversion factors are exact by definition (NIST SP 811, appendix B): 1 in = 25.4 mm,
+1 lb = 0.45359237 kg, standard gravity g = 9.80665 m/s2, 1 lbf = 1 lb x g,
+1 kgf = 1 kg x g, 1 psi = 1 lbf/in2, 1 mmHg = 133.322387415 Pa, 1 bar = 100 kPa.
+"""
+
+import re
+
+__all__ = ["G_STANDARD", "normalise_unit", "length_to_mm", "area_to_mm2", "force_to_N",
+           "mass_to_N", "pressure_to_kPa", "time_to_s", "unit_kind"]
+
+G_STANDARD = 9.80665
+"""Standard acceleration of gravity in m/s2 (exact, CGPM 1901)."""
+
+_LB_KG = 0.45359237
+_LBF_N = _LB_KG * G_STANDARD
+
+# canonical unit -> (kind, factor to the kind's internal unit)
+_UNITS = {
+    "raw": ("raw", 1.0),
+    "kPa": ("pressure", 1.0), "MPa": ("pressure", 1000.0), "Pa": ("pressure", 1e-3),
+    "psi": ("pressure", _LBF_N / 645.16 * 1000.0), "bar": ("pressure", 100.0),
+    "mmHg": ("pressure", 0.133322387415), "kgf/cm2": ("pressure", G_STANDARD * 10.0),
+    "N/cm2": ("pressure", 10.0), "g/cm2": ("pressure", G_STANDARD * 1e-2),
+    "N": ("force", 1.0), "kN": ("force", 1000.0), "kgf": ("force", G_STANDARD),
+    "lbf": ("force", _LBF_N),
+    "kg": ("mass", G_STANDARD), "g": ("mass", G_STANDARD * 1e-3), "lb": ("mass", _LBF_N),
+    "mm": ("length", 1.0), "cm": ("length", 10.0), "m": ("length", 1000.0),
+    "in": ("length", 25.4),
+    "mm2": ("area", 1.0), "cm2": ("area", 100.0), "m2": ("area", 1e6), "in2": ("area", 645.16),
+    "s": ("time", 1.0), "ms": ("time", 1e-3), "us": ("time", 1e-6), "min": ("time", 60.0),
+}
+
+_ALIASES = {
+    "raw": "raw", "raw units": "raw", "counts": "raw",
+    "kpa": "kPa", "mpa": "MPa", "pa": "Pa", "n/mm2": "MPa", "psi": "psi", "bar": "bar",
+    "mmhg": "mmHg", "kg/cm2": "kgf/cm2", "kgf/cm2": "kgf/cm2", "n/cm2": "N/cm2",
+    "g/cm2": "g/cm2",
+    "n": "N", "newton": "N", "newtons": "N", "kn": "kN", "kgf": "kgf", "kilogram-force": "kgf",
+    "lbf": "lbf", "lbsf": "lbf",
+    "kg": "kg", "kgs": "kg", "kilogram": "kg", "kilograms": "kg", "g": "g", "grams": "g",
+    "lb": "lb", "lbs": "lb", "pound": "lb", "pounds": "lb",
+    "mm": "mm", "millimeter": "mm", "millimeters": "mm", "millimetre": "mm",
+    "millimetres": "mm", "cm": "cm", "centimeter": "cm", "centimeters": "cm",
+    "centimetre": "cm", "centimetres": "cm", "m": "m", "in": "in", "inch": "in",
+    "inches": "in",
+    "mm2": "mm2", "sq mm": "mm2", "cm2": "cm2", "sq cm": "cm2", "m2": "m2", "in2": "in2",
+    "sq in": "in2",
+    "s": "s", "sec": "s", "secs": "s", "second": "s", "seconds": "s",
+    "ms": "ms", "msec": "ms", "millisecond": "ms", "milliseconds": "ms",
+    "us": "us", "µs": "us", "microsecond": "us", "microseconds": "us",
+    "min": "min", "minute": "min", "minutes": "min",
+}
+
+
+def normalise_unit(text, *, where="unit"):
+    """Return the canonical spelling of a unit written as in a Tekscan or CSV file.
+
+    Matching ignores case, surrounding spaces/brackets, ``^`` and ``²``
+    (``"KPa"`` -> ``"kPa"``, ``"centimeters"`` -> ``"cm"``, ``"mm^2"`` -> ``"mm2"``,
+    ``"(Kgs)"`` -> ``"kg"``, ``"PSI"`` -> ``"psi"``).
+
+    Parameters
+    ----------
+    text : str
+        The unit as written.
+    where : str, keyword-only
+        Where the text came from, used in the error message
+        (e.g. ``"ROW_SPACING on line 11 of iscan.csv"``).
+
+    Returns
+    -------
+    str
+        One of ``raw kPa MPa Pa psi bar mmHg kgf/cm2 N/cm2 g/cm2 N kN kgf lbf kg g lb
+        mm cm m in mm2 cm2 m2 in2 s ms us min``.
+
+    Raises
+    ------
+    ValueError
+        If the unit is not recognised.
+
+    Examples
+    --------
+    >>> normalise_unit("KPa"), normalise_unit(" centimeters "), normalise_unit("in^2")
+    ('kPa', 'cm', 'in2')
+    """
+    key = str(text).strip().strip("()[]").strip().lower()
+    key = re.sub(r"\s+", " ", key.replace("^", "").replace("²", "2"))
+    if key not in _ALIASES:
+        raise ValueError(f"unknown unit {str(text).strip()!r} in {where}; expected one of "
+                         f"{', '.join(_UNITS)}")
+    return _ALIASES[key]
+
+
+def unit_kind(unit):
+    """Return the kind of a canonical unit: raw, pressure, force, mass, length, area, time.
+
+    Examples
+    --------
+    >>> unit_kind("lbf"), unit_kind("kg")
+    ('force', 'mass')
+    """
+    if unit not in _UNITS:
+        raise ValueError(f"unit {unit!r} is not a canonical unit; pass it through "
+                         "normalise_unit first")
+    return _UNITS[unit][0]
+
+
+def _convert(value, unit, kinds, target):
+    unit = normalise_unit(unit)
+    kind, factor = _UNITS[unit]
+    if kind not in kinds:
+        raise ValueError(f"cannot convert {unit!r} ({kind}) to {target}")
+    return value * factor
+
+
+def length_to_mm(value, unit):
+    """Convert a length (``mm``, ``cm``, ``m``, ``in``) to mm.
+
+    Examples
+    --------
+    >>> length_to_mm(0.127, "centimeters")
+    1.27
+    """
+    return _convert(value, unit, ("length",), "mm")
+
+
+def area_to_mm2(value, unit):
+    """Convert an area (``mm2``, ``cm2``, ``m2``, ``in2``) to mm2.
+
+    Examples
+    --------
+    >>> round(area_to_mm2(0.016129, "cm2"), 6)
+    1.6129
+    """
+    return _convert(value, unit, ("area",), "mm2")
+
+
+def force_to_N(value, unit):
+    """Convert a force (``N``, ``kN``, ``kgf``, ``lbf``) to newtons (g = 9.80665 m/s2).
+
+    Examples
+    --------
+    >>> round(force_to_N(1.0, "lbf"), 6)
+    4.448222
+    """
+    return _convert(value, unit, ("force",), "N")
+
+
+def mass_to_N(value, unit):
+    """Convert a dead-weight mass (``kg``, ``g``, ``lb``) to its weight in N (x 9.80665).
+
+    Examples
+    --------
+    >>> round(mass_to_N(75.0001, "Kgs"), 4)
+    735.4997
+    """
+    return _convert(value, unit, ("mass",), "N")
+
+
+def pressure_to_kPa(value, unit):
+    """Convert a pressure (``kPa``, ``MPa``, ``Pa``, ``psi``, ``bar``, ``mmHg``...) to kPa.
+
+    Examples
+    --------
+    >>> round(pressure_to_kPa(350, "PSI"), 1)
+    2413.2
+    """
+    return _convert(value, unit, ("pressure",), "kPa")
+
+
+def time_to_s(value, unit):
+    """Convert a duration (``s``, ``ms``, ``us``, ``min``) to seconds.
+
+    Examples
+    --------
+    >>> time_to_s(250.0, "ms")
+    0.25
+    """
+    return _convert(value, unit, ("time",), "s")
