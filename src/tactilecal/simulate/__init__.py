@@ -1,0 +1,28 @@
+"""Synthetic tactile-sensor data with the truth returned beside it.
+
+Power-law sensels with gain spread, read noise, noise threshold, saturation and dead sensels
+(:func:`make_sensor`); dead-weight calibration sessions on uneven pads like Zvyagin (2022)
+(:func:`deadweight_session`); uniform loads for equilibration (:func:`uniform_load`);
+ramp-and-hold loading-machine sessions with a load-cell record like Gillis (2013)
+(:func:`ramp_hold`).
+"""
+
+from tactilecal.simulate._deadweight import (
+    MANIFEST_COLUMNS,
+    ContactModel,
+    DeadweightSession,
+    deadweight_session,
+)
+from tactilecal.simulate._loads import PAD_MASS_G
+from tactilecal.simulate._sensor import SimulatedSensor, make_sensor, sensor_geometry
+
+__all__ = [
+    "SimulatedSensor",
+    "make_sensor",
+    "sensor_geometry",
+    "DeadweightSession",
+    "ContactModel",
+    "deadweight_session",
+    "MANIFEST_COLUMNS",
+    "PAD_MASS_G",
+]
