@@ -1,0 +1,158 @@
+"""Reader for load-cell / force-time CSV files with a header row."""
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from tactilecal.io._units import (
+    force_to_N,
+    mass_to_N,
+    normalise_unit,
+    pressure_to_kPa,
+    time_to_s,
+    unit_kind,
+)
+
+__all__ = ["read_timeseries", "unit_from_column"]
+
+_HINT = re.compile(r"[\(\[]\s*([^\)\]]*?)\s*[\)\]]\s*$")
+
+
+def unit_from_column(column, *, where="column name"):
+    """Return the canonical unit hinted at the end of a column name, or None.
+
+    ``"Load (lbf)"`` -> ``"lbf"``, ``"Force [kN]"`` -> ``"kN"``, ``"Time (ms)"`` -> ``"ms"``,
+    ``"force"`` -> None.
+
+    Raises
+    ------
+    ValueError
+        If the brackets hold an unknown unit.
+
+    Examples
+    --------
+    >>> unit_from_column("Load (lbf)"), unit_from_column("Force [kN]"), unit_from_column("t")
+    ('lbf', 'kN', None)
+    """
+    match = _HINT.search(str(column))
+    if match is None:
+        return None
+    return normalise_unit(match.group(1), where=where)
+
+
+def _pick(columns, choice, default, role, name):
+    if choice is None:
+        choice = default
+    if isinstance(choice, int | np.integer) and not isinstance(choice, bool):
+        if not -len(columns) <= choice < len(columns):
+            raise ValueError(f"{role}={choice} is out of range for {name}, which has "
+                             f"{len(columns)} columns {list(columns)}")
+        return columns[choice]
+    if choice not in columns:
+        raise ValueError(f"{role}={choice!r} is not a column of {name}; expected one of "
+                         f"{list(columns)} or a column index")
+    return choice
+
+
+def _numeric(table, column, name):
+    """Column as float64; raise naming the line of the first non-numeric or empty cell."""
+    raw = table[column]
+    values = pd.to_numeric(raw, errors="coerce").to_numpy(dtype=np.float64)
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        i = bad[0]
+        cell = raw.iloc[i]
+        found = "an empty cell" if pd.isna(cell) or str(cell).strip() == "" else repr(cell)
+        raise ValueError(f"line {i + 2} of {name}, column {column!r}: {found}; expected a "
+                         "finite number")
+    return values
+
+
+def read_timeseries(path, time_col=None, value_col=None):
+    r"""Read a load-cell (force-time) CSV with a header row into a 1-D DataArray.
+
+    Units written in the column names (``"Time (ms)"``, ``"Load (lbf)"``, ``"Force [kN]"``,
+    ``"Pressure (kPa)"``) are converted: times to seconds, forces and dead-weight masses
+    to newtons (g = 9.80665 m/s2), pressures to kPa. A time column without a unit is taken
+    as seconds; a value column without one keeps its numbers with ``units = "unknown"``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Comma-separated file, first line the column names.
+    time_col, value_col : str or int, optional
+        Column names or 0-based indices (default: the first and the second column).
+
+    Returns
+    -------
+    xarray.DataArray
+        float64 values with dim ``time`` (s); attributes ``units``, ``source``, ``column``
+        (value column name) and ``time_column``.
+
+    Raises
+    ------
+    ValueError
+        Missing column, unknown unit, non-numeric or empty cell (with its line number),
+        fewer than 2 rows, times not strictly increasing.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "lc.csv"
+    >>> _ = f.write_text("Time (ms),Load (kN)\n0,1.5\n250,2\n")
+    >>> s = read_timeseries(f)
+    >>> s.time.values.tolist(), s.values.tolist(), s.attrs["units"]
+    ([0.0, 0.25], [1500.0, 2000.0], 'N')
+    """
+    path = Path(path)
+    name = str(path)
+    table = _load(path, name)
+    t_name = _pick(table.columns, time_col, 0, "time_col", name)
+    v_name = _pick(table.columns, value_col, 1, "value_col", name)
+    t_unit = unit_from_column(t_name, where=f"column {t_name!r} of {name}") or "s"
+    if unit_kind(t_unit) != "time":
+        raise ValueError(f"time column {t_name!r} of {name} is in {t_unit!r}; expected a "
+                         "time unit (s, ms, us, min)")
+    times = time_to_s(_numeric(table, t_name, name), t_unit)
+    values, units = _convert_values(_numeric(table, v_name, name), v_name, name)
+    steps = np.flatnonzero(np.diff(times) <= 0)
+    if steps.size:
+        i = steps[0] + 1
+        raise ValueError(f"line {i + 2} of {name}: time {times[i]:g} s follows "
+                         f"{times[i - 1]:g} s; expected strictly increasing times")
+    return xr.DataArray(values, dims="time", coords={"time": times}, name=str(v_name),
+                        attrs={"units": units, "source": name, "column": str(v_name),
+                               "time_column": str(t_name)})
+
+
+def _load(path, name):
+    text = path.read_text(encoding="utf-8-sig")
+    if not text.strip():
+        raise ValueError(f"{name} is empty; expected a header row and at least 2 rows")
+    table = pd.read_csv(path, encoding="utf-8-sig", dtype=str, skip_blank_lines=False,
+                        keep_default_na=False, skipinitialspace=True)
+    table.columns = [str(c).strip() for c in table.columns]
+    blank = table.apply(lambda column: column.str.strip() == "").all(axis=1).to_numpy()
+    filled = np.flatnonzero(~blank)
+    # drop trailing blank lines only; inner blank lines stay and fail with their line number
+    table = table.iloc[:filled[-1] + 1 if filled.size else 0]
+    if len(table) < 2:
+        raise ValueError(f"{name} has {len(table)} data rows; expected at least 2")
+    return table
+
+
+def _convert_values(values, column, name):
+    unit = unit_from_column(column, where=f"column {column!r} of {name}")
+    if unit is None:
+        return values, "unknown"
+    kind = unit_kind(unit)
+    if kind == "force":
+        return force_to_N(values, unit), "N"
+    if kind == "mass":
+        return mass_to_N(values, unit), "N"
+    if kind == "pressure":
+        return pressure_to_kPa(values, unit), "kPa"
+    return values, unit

@@ -1,0 +1,73 @@
+"""read_timeseries: load-cell CSVs with unit hints, column choice and bad input."""
+
+import numpy as np
+import pytest
+
+from tactilecal.io import G_STANDARD, read_timeseries, unit_from_column
+
+LBF_N = 0.45359237 * G_STANDARD
+
+
+def _csv(tmp_path, text, name="lc.csv"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_known_ramp_recovered_in_newtons_and_seconds(tmp_path):
+    rng = np.random.default_rng(42)
+    t_ms = np.arange(0, 2000, 0.2)  # 5000 Hz
+    load_lbf = 120 + 20 * np.sin(2 * np.pi * 3 * t_ms / 1000) + rng.normal(0, 0.1, t_ms.size)
+    pairs = zip(t_ms.tolist(), load_lbf.tolist(), strict=True)
+    lines = ["Time (ms),Load (lbf),Other"] + [f"{t!r},{v!r},x" for t, v in pairs]
+    data = read_timeseries(_csv(tmp_path, "\n".join(lines) + "\n\n"))
+    assert data.dims == ("time",) and data.dtype == np.float64
+    np.testing.assert_allclose(data.time.values, t_ms / 1000, rtol=1e-12)
+    np.testing.assert_allclose(data.values, load_lbf * LBF_N, rtol=1e-12)
+    assert data.attrs == {"units": "N", "source": str(tmp_path / "lc.csv"),
+                          "column": "Load (lbf)", "time_column": "Time (ms)"}
+
+
+@pytest.mark.parametrize("header, factor, units", [
+    ("Force (N)", 1.0, "N"), ("Force [kN]", 1000.0, "N"), ("Load (lb)", LBF_N, "N"),
+    ("Mass (kg)", G_STANDARD, "N"), ("Pressure (kPa)", 1.0, "kPa"),
+    ("Pressure (MPa)", 1000.0, "kPa"), ("Displacement (mm)", 1.0, "mm"),
+    ("load", 1.0, "unknown"),
+])
+def test_unit_hints(tmp_path, header, factor, units):
+    data = read_timeseries(_csv(tmp_path, f"time,{header}\n0,1.5\n0.1,2\n"))
+    np.testing.assert_allclose(data.values, np.array([1.5, 2.0]) * factor)
+    assert data.attrs["units"] == units and data.time.values.tolist() == [0.0, 0.1]
+
+
+def test_columns_by_name_and_index(tmp_path):
+    path = _csv(tmp_path, "idx,Force (N),Time (s),Load (kN)\n1,10,0,1\n2,20,1,2\n3,30,2,3\n")
+    by_name = read_timeseries(path, time_col="Time (s)", value_col="Load (kN)")
+    by_index = read_timeseries(path, time_col=2, value_col=-1)
+    assert by_name.identical(by_index)
+    assert by_name.values.tolist() == [1000.0, 2000.0, 3000.0]
+
+
+def test_unit_from_column():
+    assert unit_from_column("Time (ms)") == "ms" and unit_from_column("F [lbf]") == "lbf"
+    assert unit_from_column("Force") is None
+
+
+@pytest.mark.parametrize("text, kwargs, match", [
+    ("t,F\n0,1\n1,2\n", {"value_col": "G"},
+     r"value_col='G' is not a column of .*lc.csv; expected one of \['t', 'F'\]"),
+    ("t,F\n0,1\n1,2\n", {"time_col": 5}, r"time_col=5 is out of range for .*2 columns"),
+    ("t,F\n0,1\n1,abc\n2,3\n", {}, r"line 3 of .*lc.csv, column 'F': 'abc'; expected a finite"),
+    ("t,F\n0,1\n1,\n2,3\n", {}, r"line 3 of .*, column 'F': an empty cell; expected a finite"),
+    ("t,F\n0,1\n1,nan\n", {}, r"line 3 of .*, column 'F': 'nan'; expected a finite number"),
+    ("t,F\n0,1\n\n2,3\n", {}, r"line 3 of .*, column 't': an empty cell"),
+    ("t,F\n0,1\n", {}, r"lc.csv has 1 data rows; expected at least 2"),
+    ("", {}, r"lc.csv is empty; expected a header row"),
+    ("t,F\n0,1\n1,2\n1,3\n", {}, r"line 4 of .*: time 1 s follows 1 s; expected strictly incr"),
+    ("t (ms),F (furlong)\n0,1\n1,2\n", {},
+     r"unknown unit 'furlong' in column 'F \(furlong\)' of .*lc.csv"),
+    ("t (N),F\n0,1\n1,2\n", {}, r"time column 't \(N\)' of .* is in 'N'; expected a time"),
+])
+def test_bad_input(tmp_path, text, kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        read_timeseries(_csv(tmp_path, text), **kwargs)
