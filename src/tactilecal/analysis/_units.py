@@ -1,0 +1,175 @@
+"""Turn a recording of any supported unit into a force map (N) or a pressure map (kPa).
+
+The data model (``docs/data-model.md``) stores calibrated recordings as pressure (``kPa``,
+``MPa``, ``psi``) or force per sensel (``N``, ``kgf``, ``lbf``). Every analysis function
+goes through :func:`force_map_N` or :func:`pressure_map_kPa` so that units are converted in
+one place.
+"""
+
+import numpy as np
+
+__all__ = ["force_map_N", "pressure_map_kPa", "sensel_area_mm2", "spacing_mm"]
+
+
+def _name(recording):
+    return recording.attrs.get("source", recording.name or "recording")
+
+
+def _units(recording):
+    """Return ``(unit, kind)`` of a recording: kind is raw, pressure or force."""
+    from tactilecal.io import normalise_unit, unit_kind
+
+    unit = recording.attrs.get("units")
+    if unit is None:
+        raise ValueError(f"{_name(recording)}: attribute 'units' is missing; expected raw, "
+                         "a pressure (kPa, MPa, psi) or a force per sensel (N, kgf, lbf)")
+    unit = normalise_unit(unit, where=f"attribute 'units' of {_name(recording)}")
+    kind = unit_kind(unit)
+    if kind not in ("raw", "pressure", "force"):
+        raise ValueError(f"{_name(recording)}: units {unit!r} are a {kind}; expected raw, "
+                         "a pressure (kPa, MPa, psi) or a force per sensel (N, kgf, lbf)")
+    return unit, kind
+
+
+def _check_dims(recording):
+    if tuple(recording.dims) != ("frame", "row", "col"):
+        raise ValueError(f"{_name(recording)}: dims {tuple(recording.dims)}; expected "
+                         "('frame', 'row', 'col')")
+
+
+def sensel_area_mm2(recording):
+    """Return the ``sensel_area_mm2`` attribute, checked to be a positive number.
+
+    Raises
+    ------
+    ValueError
+        If the attribute is missing or not positive.
+    """
+    area = recording.attrs.get("sensel_area_mm2")
+    if area is None or not np.isfinite(float(area)) or float(area) <= 0:
+        raise ValueError(f"{_name(recording)}: attribute 'sensel_area_mm2' is {area!r}; "
+                         "expected a positive area in mm2")
+    return float(area)
+
+
+def spacing_mm(recording):
+    """Return ``(row_spacing_mm, col_spacing_mm)`` from the attributes, checked positive.
+
+    Raises
+    ------
+    ValueError
+        If either spacing is missing or not positive.
+    """
+    out = []
+    for key in ("row_spacing_mm", "col_spacing_mm"):
+        value = recording.attrs.get(key)
+        if value is None or not np.isfinite(float(value)) or float(value) <= 0:
+            raise ValueError(f"{_name(recording)}: attribute {key!r} is {value!r}; "
+                             "expected a positive spacing in mm")
+        out.append(float(value))
+    return tuple(out)
+
+
+def _calibrated(recording, calibration, units):
+    """Apply ``calibration`` (object with ``apply`` or a JSON path) to a raw recording."""
+    if calibration is None:
+        raise ValueError(f"{_name(recording)}: units are 'raw'; give a calibration "
+                         "(calibration=... or --cal CAL.json) to get pressure or force")
+    if not hasattr(calibration, "apply"):
+        from tactilecal.calibration import load_calibration
+
+        calibration = load_calibration(calibration)
+    return calibration.apply(recording, units=units)
+
+
+def force_map_N(recording, *, calibration=None):
+    """Return the force on each sensel in newtons, dims ``("frame", "row", "col")``.
+
+    Parameters
+    ----------
+    recording : xarray.DataArray
+        Recording in the data model; ``units`` one of raw, any pressure (kPa, MPa, psi...)
+        or force per sensel (N, kgf, lbf).
+    calibration : CalibrationResult or path, optional
+        Needed (and used) only when ``units`` is ``raw``.
+
+    Returns
+    -------
+    xarray.DataArray
+        Force per sensel [N]; NaN where the recording is NaN (outside the sensor).
+
+    Raises
+    ------
+    ValueError
+        On raw input without a calibration, an unknown unit, wrong dims or a missing
+        ``sensel_area_mm2`` for a pressure recording.
+
+    Notes
+    -----
+    A pressure ``p`` [kPa] on a sensel of area ``a`` [mm2] carries
+    ``F = p * a * 1e-3`` N (1 kPa x 1 mm2 = 1e3 Pa x 1e-6 m2 = 1e-3 N).
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> rec = xr.DataArray(np.full((1, 2, 2), 100.0), dims=("frame", "row", "col"),
+    ...                    attrs={"units": "kPa", "sensel_area_mm2": 25.0})
+    >>> float(force_map_N(rec).sum())
+    10.0
+    """
+    _check_dims(recording)
+    from tactilecal.io import force_to_N, pressure_to_kPa
+
+    unit, kind = _units(recording)
+    if kind == "raw":
+        return force_map_N(_calibrated(recording, calibration, "N"))
+    if kind == "force":
+        out = recording * force_to_N(1.0, unit)
+    else:
+        out = recording * (pressure_to_kPa(1.0, unit) * sensel_area_mm2(recording) * 1e-3)
+    out.attrs = {**recording.attrs, "units": "N"}
+    return out
+
+
+def pressure_map_kPa(recording, *, calibration=None):
+    """Return the pressure on each sensel in kPa, dims ``("frame", "row", "col")``.
+
+    Parameters
+    ----------
+    recording : xarray.DataArray
+        Recording in the data model; ``units`` one of raw, any pressure (kPa, MPa, psi...)
+        or force per sensel (N, kgf, lbf).
+    calibration : CalibrationResult or path, optional
+        Needed (and used) only when ``units`` is ``raw``.
+
+    Returns
+    -------
+    xarray.DataArray
+        Pressure per sensel [kPa]; a force map is divided by ``sensel_area_mm2``
+        (``p = F / a * 1e3``).
+
+    Raises
+    ------
+    ValueError
+        As :func:`force_map_N`.
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> rec = xr.DataArray(np.full((1, 1, 1), 2.0), dims=("frame", "row", "col"),
+    ...                    attrs={"units": "MPa"})
+    >>> float(pressure_map_kPa(rec)[0, 0, 0])
+    2000.0
+    """
+    _check_dims(recording)
+    from tactilecal.io import force_to_N, pressure_to_kPa
+
+    unit, kind = _units(recording)
+    if kind == "raw":
+        return pressure_map_kPa(_calibrated(recording, calibration, "kPa"))
+    if kind == "pressure":
+        out = recording * pressure_to_kPa(1.0, unit)
+    else:
+        out = recording * (force_to_N(1.0, unit) * 1e3 / sensel_area_mm2(recording))
+    out.attrs = {**recording.attrs, "units": "kPa"}
+    return out
