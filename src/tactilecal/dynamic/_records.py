@@ -1,0 +1,99 @@
+"""Checks shared by the dynamic-calibration functions: 1-D records with a time axis.
+
+A *record* is a 1-D :class:`xarray.DataArray` whose only dimension carries a ``time``
+coordinate in seconds: a load-cell series from ``read_timeseries`` (dim ``time``) or a
+summed/averaged sensor recording (dim ``frame`` with a ``time`` coordinate).
+"""
+
+import numpy as np
+
+#: Largest allowed deviation of one time step from the median step, as a fraction of it.
+#: Tekscan exports print time stamps with a few digits, so a small jitter is tolerated.
+MAX_STEP_JITTER = 0.05
+
+
+def label(record, name):
+    """Return how error messages name ``record``: its ``source`` file, else ``name``."""
+    attrs = getattr(record, "attrs", {}) or {}
+    return str(attrs.get("source", name))
+
+
+def time_and_values(record, name):
+    """Return ``(time_s, values)`` of a 1-D record after checking it.
+
+    Parameters
+    ----------
+    record : xarray.DataArray
+        1-D, with a ``time`` coordinate (s) along its only dimension.
+    name : str
+        Parameter name used in error messages when the record has no ``source``.
+
+    Returns
+    -------
+    time_s, values : numpy.ndarray
+        float64 arrays of equal length.
+
+    Raises
+    ------
+    ValueError
+        Not 1-D, no ``time`` coordinate, fewer than 4 samples, NaN values or time stamps
+        that do not increase.
+    """
+    where = label(record, name)
+    if getattr(record, "ndim", None) != 1:
+        raise ValueError(f"{where}: expected a 1-D record (one value per time step); "
+                         f"found dims {getattr(record, 'dims', type(record).__name__)}")
+    if "time" not in record.coords:
+        raise ValueError(f"{where}: no 'time' coordinate (s); expected one along "
+                         f"{record.dims[0]!r}")
+    time_s = np.asarray(record["time"].values, dtype=float)
+    values = np.asarray(record.values, dtype=float)
+    if values.size < 4:
+        raise ValueError(f"{where}: {values.size} samples; expected at least 4")
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise ValueError(f"{where}: {bad.size} NaN/inf values (gap starting at t = "
+                         f"{time_s[bad[0]]:.6g} s); expected a complete record "
+                         "(fill or cut the gap first)")
+    if not np.all(np.diff(time_s) > 0):
+        raise ValueError(f"{where}: time stamps do not increase strictly; expected a "
+                         "time column in seconds, increasing")
+    return time_s, values
+
+
+def sampling_rate_hz(time_s, where):
+    """Infer the sampling rate of regularly spaced time stamps.
+
+    Parameters
+    ----------
+    time_s : array_like
+        Increasing time stamps in s.
+    where : str
+        File or parameter named in the error message.
+
+    Returns
+    -------
+    float
+        ``(n - 1) / (t[-1] - t[0])`` in Hz.
+
+    Raises
+    ------
+    ValueError
+        When a step differs from the median step by more than ``MAX_STEP_JITTER``.
+
+    Examples
+    --------
+    >>> sampling_rate_hz(np.arange(5) / 4000.0, "x")
+    4000.0
+    """
+    time_s = np.asarray(time_s, dtype=float)
+    if time_s.size < 2:
+        raise ValueError(f"{where}: {time_s.size} time stamps; cannot infer a sampling rate")
+    steps = np.diff(time_s)
+    median = np.median(steps)
+    if median <= 0 or np.max(np.abs(steps - median)) > MAX_STEP_JITTER * median:
+        raise ValueError(
+            f"{where}: irregular time column, steps range from {steps.min():.6g} to "
+            f"{steps.max():.6g} s (median {median:.6g} s); cannot infer a sampling rate, "
+            "expected a constant sampling interval")
+    return float((time_s.size - 1) / (time_s[-1] - time_s[0]))

@@ -1,0 +1,126 @@
+"""Alignment and resampling (Gillis 2013, 4.3.2.1): known lags and rates recovered."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tactilecal.dynamic import align, estimate_lag, resample_to
+
+
+def _record(t, values, source=None, dim="time"):
+    attrs = {"source": source} if source else {}
+    return xr.DataArray(values, dims=dim, coords={"time": (dim, t)}, attrs=attrs)
+
+
+def _chirp_load(t_s):
+    """A broadband, non-periodic load (N): offset plus a chirp switched on at 1 s."""
+    on = np.clip(t_s - 1.0, 0.0, None)
+    return 500.0 + 80.0 * np.sin(2 * np.pi * (2.0 * on + 6.0 * on**2)) * (t_s > 1.0)
+
+
+@pytest.mark.parametrize("true_lag_s", [0.7371, -0.2133])
+def test_xcorr_lag_within_half_a_sample(true_lag_s):
+    rng = np.random.default_rng(5)
+    fs_s, fs_r = 4000.0, 5000.0
+    t_s = np.arange(0.0, 4.0, 1 / fs_s)
+    sensor = _record(t_s, _chirp_load(t_s) + rng.normal(0, 1.0, t_s.size))
+    t_r = np.arange(0.0, 3.0, 1 / fs_r)  # its own clock: event at t_r happens at t_r + lag
+    reference = _record(t_r, _chirp_load(t_r + true_lag_s) + rng.normal(0, 1.0, t_r.size))
+    lag = estimate_lag(sensor, reference)
+    assert abs(lag - true_lag_s) < 0.5 / fs_s
+
+
+def test_movie_calibration_case_ramp_and_hold_500_vs_100_hz():
+    """Load cell at 500 Hz starting 1.3 s after a 100 Hz summed raw sensor signal."""
+    rng = np.random.default_rng(1)
+
+    def load_N(t):  # three ramp-and-hold steps, 0 before
+        return np.interp(t, [0, 2, 3, 6, 7, 10, 11, 14, 15],
+                         [0, 0, 400, 400, 900, 900, 1500, 1500, 0])
+
+    t_s = np.arange(0, 16, 0.01)
+    raw_sum = 3.0 * load_N(t_s) ** 0.8 + rng.normal(0, 2, t_s.size)  # nonlinear, raw
+    t_r = np.arange(0, 14, 0.002)
+    cell = _record(t_r, load_N(t_r + 1.3) + rng.normal(0, 1, t_r.size), "cell.csv")
+    sensor = _record(t_s, raw_sum, "movie.csv", dim="frame")
+    lag = estimate_lag(sensor, cell)
+    assert abs(lag - 1.3) < 0.01  # within one sensor frame
+    on_frames = resample_to(cell, sensor, lag_s=lag)
+    assert on_frames.dims == ("frame",)
+    # covers only the overlap: the load cell spans 1.3 .. 15.298 s on the sensor clock
+    assert on_frames.time[0] >= 1.3 - 1e-9 and on_frames.time[-1] <= 15.298 + 1e-9
+    assert on_frames.sizes["frame"] in (1399, 1400)
+    truth = load_N(on_frames.time.values)
+    assert np.max(np.abs(on_frames.values - truth)) < 8.0  # noise 1 N, ramps smoothed
+
+
+def test_first_peak_method_of_the_thesis():
+    fs = 1000.0
+    t = np.arange(0, 3, 1 / fs)
+    pulse = np.exp(-(((t - 1.2) / 0.02) ** 2)) + 0.3 * np.exp(-(((t - 2.0) / 0.02) ** 2))
+    tr = np.arange(0, 3, 1 / 800)
+    ref_pulse = np.exp(-(((tr - 0.9) / 0.02) ** 2))
+    lag = estimate_lag(_record(t, pulse), _record(tr, ref_pulse), method="first-peak")
+    assert abs(lag - 0.3) < 0.5 / fs
+
+
+def test_resample_has_no_edge_transient_on_offset_record():
+    """120 N offset and a 140 Hz sine cut mid-cycle: edges as good as the middle."""
+    tr = np.arange(0.0, 1.0, 1 / 5000)
+    ref = _record(tr, 120 + 20 * np.sin(2 * np.pi * 140 * tr + 0.7))
+    out = resample_to(ref, np.arange(-0.5, 2.0, 1 / 4000))
+    err = out.values - (120 + 20 * np.sin(2 * np.pi * 140 * out.time.values + 0.7))
+    assert abs(float(out.time[0])) < 1e-9
+    assert np.max(np.abs(err[:-1])) < 0.01  # 0.05 % of the amplitude
+    assert np.max(np.abs(err[40:-40])) < 5e-4
+
+
+def test_align_returns_equal_stamps():
+    t = np.arange(0, 2, 1 / 1000)
+    s = _record(t, _chirp_load(t + 0.5))
+    tr = np.arange(0, 1.5, 1 / 1250)
+    r = _record(tr, _chirp_load(tr + 0.8))
+    s2, r2, lag = align(s, r)
+    assert abs(lag - 0.3) < 1e-3
+    np.testing.assert_allclose(s2.time.values, r2.time.values)
+    np.testing.assert_allclose(s2.values, r2.values, atol=2.0)  # 80 N chirp, lag 0.1 sample off
+
+
+def test_no_overlap_error_names_file():
+    t = np.arange(0, 1, 1e-3)
+    ref = _record(t, np.sin(t), "cell.csv")
+    with pytest.raises(ValueError, match="cell.csv: records do not overlap in time"):
+        resample_to(ref, t + 5.0)
+
+
+def test_nan_gap_error():
+    t = np.arange(0, 1, 1e-3)
+    v = np.sin(t)
+    v[100:120] = np.nan
+    with pytest.raises(ValueError, match=r"cell.csv: 20 NaN/inf values \(gap starting at t = 0.1"):
+        estimate_lag(_record(t, np.sin(t)), _record(t, v, "cell.csv"))
+
+
+def test_irregular_time_error():
+    t = np.cumsum(np.r_[0, np.full(99, 1e-3), 5e-3, np.full(99, 1e-3)])
+    with pytest.raises(ValueError, match="cell.csv: irregular time column"):
+        estimate_lag(_record(np.arange(200) / 1e3, np.sin(t)), _record(t, np.sin(t), "cell.csv"))
+
+
+def test_other_bad_inputs():
+    t = np.arange(0, 1, 1e-3)
+    good = _record(t, np.sin(7 * t))
+    with pytest.raises(ValueError, match="method='peak'; expected 'xcorr' or 'first-peak'"):
+        estimate_lag(good, good, method="peak")
+    with pytest.raises(ValueError, match="sensor: expected a 1-D record"):
+        estimate_lag(xr.DataArray(np.zeros((3, 3))), good)
+    with pytest.raises(ValueError, match="reference: no 'time' coordinate"):
+        estimate_lag(good, xr.DataArray(np.zeros(10), dims="x"))
+    with pytest.raises(ValueError, match="flat.csv: no peak with prominence"):
+        estimate_lag(good, _record(t, np.ones(t.size), "flat.csv"), method="first-peak")
+    with pytest.raises(ValueError, match="time stamps do not increase"):
+        estimate_lag(good, _record(t[::-1], np.sin(t)))
+    with pytest.raises(ValueError, match="max_lag_s=-1"):
+        estimate_lag(good, good, max_lag_s=-1)
+    with pytest.raises(ValueError, match="3 samples; expected at least 4"):
+        estimate_lag(good, _record(t[:3], t[:3]))
