@@ -1,0 +1,276 @@
+"""The whole Zvyagin (2022) procedure on arrays: I*, pairs, power law, (A0, b0)."""
+
+import warnings
+
+import numpy as np
+
+from tactilecal.zvyagin._approx import (
+    CLASS_VALUES,
+    check_histograms,
+    class_counts,
+    loaded_cells,
+    raw_sums,
+    search_separation,
+    separation_domain,
+)
+from tactilecal.zvyagin._fit import fit_power_law, minimise_energy, patch_power_sums
+from tactilecal.zvyagin._pairs import solve_pairs
+from tactilecal.zvyagin._result import ZvyaginResult
+
+__all__ = ["zvyagin_fit", "load_groups", "MODES", "SENSEL_AREA_5051_MM2"]
+
+G_STANDARD = 9.80665
+#: 5051 sensel: 1.27 mm x 1.27 mm
+SENSEL_AREA_5051_MM2 = 1.27 * 1.27
+
+#: Defaults of the two modes; any option passed explicitly overrides them.
+MODES = {
+    "faithful": {"root_choice": "smallest", "outliers": "none", "b_range": "pairs",
+                 "saturated": "keep"},
+    "robust": {"root_choice": "best-fit", "outliers": "mad", "b_range": "inliers",
+               "saturated": "drop"},
+}
+_CHOICES = {"root_choice": ("smallest", "best-fit"), "outliers": ("none", "mad"),
+            "saturated": ("keep", "drop")}
+
+
+def _resolve_options(mode, options):
+    if mode not in MODES:
+        raise ValueError(f"mode = {mode!r}; expected one of {tuple(MODES)}")
+    resolved = dict(MODES[mode])
+    for key, value in options.items():
+        if value is not None:
+            resolved[key] = value
+    for key, allowed in _CHOICES.items():
+        if resolved[key] not in allowed:
+            raise ValueError(f"{key} = {resolved[key]!r}; expected one of {allowed}")
+    b_range = resolved["b_range"]
+    if isinstance(b_range, str):
+        if b_range not in ("pairs", "inliers"):
+            raise ValueError(f"b_range = {b_range!r}; expected 'pairs', 'inliers' or "
+                             "(b_min, b_max)")
+    else:
+        lo, hi = (float(v) for v in b_range)
+        if not 0 < lo < hi:
+            raise ValueError(f"b_range = {b_range!r}; expected 0 < b_min < b_max")
+        resolved["b_range"] = (lo, hi)
+    return resolved
+
+
+def _describe(labels, idx, limit=8):
+    names = [labels[k] for k in idx]
+    more = f" and {len(names) - limit} more" if len(names) > limit else ""
+    return ", ".join(names[:limit]) + more
+
+
+def _check_loads(load_N, n, labels):
+    f = np.asarray(load_N, dtype=np.float64).ravel()
+    if f.shape != (n,):
+        raise ValueError(f"load_N has {f.size} values; expected one per patch ({n})")
+    bad = np.nonzero(~np.isfinite(f) | (f <= 0))[0]
+    if bad.size:
+        raise ValueError(f"load_N of patches {_describe(labels, bad)} is "
+                         f"{f[bad[:8]].tolist()}; expected finite loads > 0 N")
+    return f
+
+
+def load_groups(load_N, *, tolerance=0.05):
+    """Group patches whose loads differ by less than ``tolerance`` (relative).
+
+    Dead weights with different pads differ by a fraction of a percent (Table 1), so the
+    default 5% puts "2 kg + any pad" in one group. Returns (group index per patch, labels).
+
+    Examples
+    --------
+    >>> g, names = load_groups(np.array([19.62, 98.1, 19.64, 49.05]))
+    >>> g.tolist(), names
+    ([0, 2, 0, 1], ['2 kg', '5 kg', '10 kg'])
+    """
+    order = np.argsort(load_N)
+    f = load_N[order]
+    new = np.concatenate([[True], f[1:] > f[:-1] * (1 + tolerance)])
+    sorted_group = np.cumsum(new) - 1
+    group = np.empty_like(sorted_group)
+    group[order] = sorted_group
+    names = [f"{np.round(np.mean(f[sorted_group == g]) / G_STANDARD, 1):g} kg"
+             for g in range(sorted_group.max() + 1)]
+    return group, names
+
+
+def _pair_share_table(group, names, pairs, usable):
+    """Share of pairs that gave (A, b) per load combination (paper: 2-5 kg 34% ...)."""
+    i, j = pairs["i"], pairs["j"]
+    both = usable[i] & usable[j]
+    gave = np.isin(pairs["category"], ("V", "O"))
+    lo, hi = np.minimum(group[i], group[j]), np.maximum(group[i], group[j])
+    rows = []
+    for g in range(len(names)):
+        for h in range(g, len(names)):
+            sel = both & (lo == g) & (hi == h)
+            n_pairs = int(sel.sum())
+            n_valid = int((sel & gave).sum())
+            rows.append({"loads": f"{names[g]} - {names[h]}", "pairs": n_pairs,
+                         "valid": n_valid, "with_root": int((sel & (pairs["n_roots"] > 0)).sum()),
+                         "share": n_valid / n_pairs if n_pairs else float("nan")})
+    return rows
+
+
+def _pair_matrix(n, pairs):
+    """Symmetric N x N chart of pair categories (Figure 8), one character per cell."""
+    chart = np.full((n, n), "-", dtype="<U1")
+    chart[pairs["i"], pairs["j"]] = pairs["category"]
+    chart[pairs["j"], pairs["i"]] = pairs["category"]
+    return chart
+
+
+def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_choice=None,
+                outliers=None, b_range=None, saturated=None, max_relerr=0.10, grey_share=0.05,
+                group_tolerance=0.05, sensel_area_mm2=SENSEL_AREA_5051_MM2, labels=None):
+    """Run Zvyagin's four steps on calibration patches given as raw-value histograms.
+
+    Steps (Zvyagin 2022, Section 3): (1) the degrees-of-three approximation and the exhaustive
+    search for I* (eq. 5-10); (2) eq. (12) for every pair, (A, b) from each root Y > 3 (eq. 13),
+    pairs failing the 10% raw-sum rule rejected; (3) the power law A = alpha * b**beta through
+    the (A, b) set (eq. 14); (4) (A0, b0) on that curve minimising E (eq. 15), and the
+    saturation pressure p_s = A0 * 255**b0 / S_sensel (eq. 16).
+
+    Parameters
+    ----------
+    histograms : array_like of int, shape (n_patches, 256)
+        Counts of raw values 0..255 over the working sensels of each calibration frame.
+    load_N : array_like, shape (n_patches,)
+        Applied load of each patch in newtons.
+    mode : {"faithful", "robust"}
+        ``"faithful"``: the paper as written (smallest root > 3, plain log-log least squares
+        on every valid pair, E over the full b range of the pairs, saturated patches kept).
+        ``"robust"``: best-fitting root, MAD-clipped power-law fit, E over the b range of the
+        inlier pairs, patches with saturated sensels left out. See ``docs/zvyagin.md``.
+    domain : {"strict", "closed"}
+        Search domain of I (see :func:`separation_domain`).
+    root_choice, outliers, b_range, saturated : optional
+        Override one choice of the mode: ``root_choice`` in {"smallest", "best-fit"},
+        ``outliers`` in {"none", "mad"}, ``b_range`` in {"pairs", "inliers"} or
+        ``(b_min, b_max)``, ``saturated`` in {"keep", "drop"}.
+    max_relerr : float
+        Raw-sum approximation error |R - Q(I*)| / R from which a patch's pairs are rejected.
+    grey_share : float
+        A patch is "grey" (pairs with almost nothing) when fewer than this share of its
+        pairs have a root Y > 3.
+    group_tolerance : float
+        Relative load difference within which patches count as one dead weight.
+    sensel_area_mm2 : float
+        Sensel area for p_s (default 1.27 mm x 1.27 mm, the 5051).
+    labels : sequence of str, optional
+        Names of the patches for messages and tables (default ``"patch <k>"``).
+
+    Returns
+    -------
+    ZvyaginResult
+
+    Raises
+    ------
+    ValueError
+        Malformed input, fewer than two usable patches, no pair with a root Y > 3, fewer
+        than three valid pairs.
+
+    Warns
+    -----
+    UserWarning
+        Empty patches (no loaded sensel; left out), all patches of one load, E(b0) smallest
+        at an end of the b range.
+
+    Examples
+    --------
+    >>> from tactilecal.zvyagin._synthetic import synthetic_patches
+    >>> h, f, _ = synthetic_patches(40, A_N=0.0035, b=1.16, seed=3)
+    >>> res = zvyagin_fit(h, f)
+    >>> abs(res.b0 - 1.16) < 0.05 and abs(res.A0 / 0.0035 - 1) < 0.15
+    True
+    """
+    h = check_histograms(histograms)
+    n = h.shape[0]
+    labels = [f"patch {k}" for k in range(n)] if labels is None else [str(s) for s in labels]
+    if len(labels) != n:
+        raise ValueError(f"labels has {len(labels)} names; expected one per patch ({n})")
+    f = _check_loads(load_N, n, labels)
+    opts = _resolve_options(mode, {"root_choice": root_choice, "outliers": outliers,
+                                   "b_range": b_range, "saturated": saturated})
+    cells = loaded_cells(h)
+    sat_cells = h[:, 255].copy()
+    excluded = {}
+    empty = np.nonzero(cells == 0)[0]
+    if empty.size:
+        warnings.warn(f"patches {_describe(labels, empty)} have no loaded sensel (empty "
+                      "frames); left out", UserWarning, stacklevel=2)
+        excluded.update({int(k): "empty frame" for k in empty})
+    if opts["saturated"] == "drop":
+        excluded.update({int(k): f"{sat_cells[k]} saturated sensels"
+                         for k in np.nonzero((sat_cells > 0) & (cells > 0))[0]})
+    usable = np.ones(n, dtype=bool)
+    usable[list(excluded)] = False
+    if usable.sum() < 2:
+        why = "; ".join(f"{labels[k]}: {r}" for k, r in excluded.items()) or "none excluded"
+        raise ValueError(f"{int(usable.sum())} usable patch(es) of {n}; expected at least 2 "
+                         f"(left out: {why})")
+    group, group_names = load_groups(f, tolerance=group_tolerance)
+    if np.unique(group[usable]).size == 1:
+        warnings.warn(f"all {int(usable.sum())} usable patches carry one load "
+                      f"({group_names[group[usable][0]]}); b then rests only on how the load "
+                      "spreads over sensels: add patches of another weight", UserWarning,
+                      stacklevel=2)
+    sep, d_min, d_map = search_separation(h[usable], domain=domain)
+    counts = class_counts(h, sep)
+    r_sum = raw_sums(h)
+    q_sum = counts @ CLASS_VALUES
+    with np.errstate(invalid="ignore", divide="ignore"):
+        relerr = np.where(r_sum > 0, np.abs(r_sum - q_sum) / np.where(r_sum > 0, r_sum, 1),
+                          np.inf)
+    pairs = solve_pairs(counts, f, relerr, histograms=h, root_choice=opts["root_choice"],
+                        max_relerr=max_relerr, usable=usable)
+    cat = pairs["category"]
+    if not np.any(pairs["n_roots"][cat != "X"] > 0):
+        raise ValueError(f"no pair of the {int(usable.sum())} usable patches has a root "
+                         "Y > 3 of eq. (12); expected at least one (are the loads and "
+                         "readings of the patches consistent?)")
+    valid = np.nonzero(cat == "V")[0]
+    if valid.size < 3:
+        n_rej = int(np.sum(cat == "R"))
+        raise ValueError(f"{valid.size} valid pair(s) (A, b); expected at least 3 to fit the "
+                         f"power law ({n_rej} pairs with a root > 3 rejected by the "
+                         f"{max_relerr:.0%} raw-sum rule)")
+    fit = fit_power_law(pairs["A"][valid], pairs["b"][valid], robust=opts["outliers"] == "mad")
+    outlier = valid[~fit["inlier"]]
+    pairs["category"][outlier] = "O"
+    b_valid = pairs["b"][valid]
+    if isinstance(opts["b_range"], tuple):
+        rng = opts["b_range"]
+    elif opts["b_range"] == "inliers":
+        rng = (b_valid[fit["inlier"]].min(), b_valid[fit["inlier"]].max())
+    else:
+        rng = (b_valid.min(), b_valid.max())
+    final = minimise_energy(h[usable], f[usable], fit["alpha"], fit["beta"], rng)
+    if final["at_bound"]:
+        warnings.warn(f"E(b0) is smallest at the end of the b range {np.round(rng, 4)} "
+                      f"(b0 = {final['b0']:.4f}); the estimate is limited by the range",
+                      UserWarning, stacklevel=2)
+    predicted = final["A0"] * patch_power_sums(h, final["b0"])[:, 0]
+    with_root = pairs["n_roots"] > 0
+    partner_share = np.zeros(n)
+    both = usable[pairs["i"]] & usable[pairs["j"]]
+    np.add.at(partner_share, pairs["i"][both & with_root], 1)
+    np.add.at(partner_share, pairs["j"][both & with_root], 1)
+    partner_share = partner_share / max(int(usable.sum()) - 1, 1)
+    grey = np.nonzero(usable & (partner_share < grey_share))[0]
+    domain_ranges = separation_domain(domain)
+    return ZvyaginResult(
+        mode=mode, options={**opts, "domain": domain, "max_relerr": max_relerr,
+                            "grey_share": grey_share, "group_tolerance": group_tolerance},
+        labels=labels, load_N=f, loaded_cells=cells, raw_sum=r_sum, raw_relerr=relerr,
+        saturated_cells=sat_cells, usable=usable, excluded=excluded, group=group,
+        group_names=group_names, separation=sep, d_min=d_min, d_map=d_map,
+        domain_ranges=domain_ranges, counts=counts, pairs=pairs,
+        pair_matrix=_pair_matrix(n, pairs), partner_share=partner_share, grey=grey,
+        power_law=fit, final=final, predicted_N=predicted,
+        share_table=_pair_share_table(group, group_names, pairs, usable),
+        sensel_area_mm2=float(sensel_area_mm2),
+    )

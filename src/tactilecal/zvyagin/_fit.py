@@ -1,0 +1,124 @@
+"""Power law through the (A, b) set (eq. 14) and the final (A0, b0) minimising E (eq. 15)."""
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+__all__ = ["fit_power_law", "patch_power_sums", "energy", "minimise_energy"]
+
+_RAW = np.arange(256, dtype=np.float64)
+#: MAD -> standard deviation for normal residuals
+_MAD_TO_SIGMA = 1.4826
+
+
+def _lstsq_loglog(a_N, b):
+    design = np.column_stack([np.ones_like(b), np.log(b)])
+    coef, *_ = np.linalg.lstsq(design, np.log(a_N), rcond=None)
+    return coef, np.log(a_N) - design @ coef
+
+
+def _r_squared(residual, y):
+    total = np.sum((y - y.mean()) ** 2)
+    return float(1.0 - np.sum(residual ** 2) / total) if total > 0 else float("nan")
+
+
+def fit_power_law(a_N, b, *, robust=False, clip=3.5, max_iter=50):
+    """Fit A = alpha * b**beta to the (A, b) set by least squares in log-log (eq. 14).
+
+    Parameters
+    ----------
+    a_N, b : numpy.ndarray
+        The pair estimates (A in newtons per sensel, b dimensionless, b > 1).
+    robust : bool
+        False (paper as written): one least-squares fit of log A on log b over all pairs.
+        True: iterate that fit, each time keeping only pairs whose log residual lies within
+        ``clip`` robust standard deviations (1.4826 x median absolute deviation) of the
+        median residual, until the kept set stops changing.
+    clip : float
+        Clipping threshold in robust standard deviations.
+    max_iter : int
+        Iteration cap for the robust fit.
+
+    Returns
+    -------
+    dict
+        ``alpha``, ``beta``, ``r2`` (coefficient of determination of log A on log b over the
+        pairs kept), ``r2_all`` (the same line scored on every pair), ``inlier`` (bool mask).
+
+    Examples
+    --------
+    >>> b = np.linspace(1.0, 1.5, 20); a = 0.0035 * (b / 1.16) ** -6.0
+    >>> fit = fit_power_law(a, b)
+    >>> round(fit["beta"], 6), round(fit["alpha"] * 1.16 ** fit["beta"], 6), round(fit["r2"], 6)
+    (-6.0, 0.0035, 1.0)
+    """
+    a_N = np.asarray(a_N, dtype=np.float64)
+    b = np.asarray(b, dtype=np.float64)
+    inlier = np.ones(b.shape, dtype=bool)
+    coef, resid = _lstsq_loglog(a_N, b)
+    for _ in range(max_iter if robust else 0):
+        centre = np.median(resid[inlier])
+        scale = _MAD_TO_SIGMA * np.median(np.abs(resid[inlier] - centre))
+        keep = np.abs(resid - centre) <= clip * scale if scale > 0 else inlier
+        if np.array_equal(keep, inlier):
+            break
+        inlier = keep
+        coef, _ = _lstsq_loglog(a_N[inlier], b[inlier])
+        resid = np.log(a_N) - (coef[0] + coef[1] * np.log(b))
+    log_a = np.log(a_N)
+    return {"alpha": float(np.exp(coef[0])), "beta": float(coef[1]),
+            "r2": _r_squared(resid[inlier], log_a[inlier]), "r2_all": _r_squared(resid, log_a),
+            "inlier": inlier}
+
+
+def patch_power_sums(histograms, b):
+    """S_T(b) = sum_k X_k**b for every patch and every exponent; shape (n_patches, n_b).
+
+    Raw 0 contributes nothing (0**b = 0 for b > 0).
+    """
+    b = np.atleast_1d(np.asarray(b, dtype=np.float64))
+    return np.asarray(histograms, dtype=np.float64) @ (_RAW[:, None] ** b[None, :])
+
+
+def energy(b0, histograms, load_N, alpha, beta):
+    """E(b0) = sum_T (F_T - A0 sum_k X_k**b0)**2 with A0 = alpha * b0**beta (eq. 15), in N^2.
+
+    Examples
+    --------
+    >>> h = np.zeros((1, 256), dtype=int); h[0, 100] = 10
+    >>> float(energy(1.0, h, np.array([10.0]), 0.01, 0.0)[0])
+    0.0
+    """
+    b0 = np.atleast_1d(np.asarray(b0, dtype=np.float64))
+    predicted = alpha * b0 ** beta * patch_power_sums(histograms, b0)
+    return np.sum((np.asarray(load_N)[:, None] - predicted) ** 2, axis=0)
+
+
+def minimise_energy(histograms, load_N, alpha, beta, b_range, *, n_grid=201):
+    """Find b0 minimising E on the power-law curve within ``b_range`` (eq. 15).
+
+    A grid of ``n_grid`` exponents locates the global minimum over the range (E may have
+    several local minima), then :func:`scipy.optimize.minimize_scalar` (bounded) refines it
+    between the grid neighbours.
+
+    Returns
+    -------
+    dict
+        ``b0``, ``A0`` = alpha * b0**beta, ``E`` (N^2), ``b_range``, ``at_bound`` (True when the
+        minimum sits on an end of the range: E keeps falling beyond it), ``b_grid``, ``E_grid``.
+    """
+    lo, hi = float(b_range[0]), float(b_range[1])
+    grid = np.linspace(lo, hi, n_grid) if hi > lo else np.array([lo])
+    e_grid = energy(grid, histograms, load_N, alpha, beta)
+    k = int(np.argmin(e_grid))
+    if grid.size > 1:
+        bracket = (grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)])
+        opt = minimize_scalar(lambda x: energy(x, histograms, load_N, alpha, beta)[0],
+                              bounds=bracket, method="bounded",
+                              options={"xatol": 1e-7})
+        b0 = float(opt.x) if opt.fun <= e_grid[k] else float(grid[k])
+    else:
+        b0 = float(grid[0])
+    e0 = float(energy(b0, histograms, load_N, alpha, beta)[0])
+    at_bound = grid.size > 1 and k in (0, grid.size - 1)
+    return {"b0": b0, "A0": float(alpha * b0 ** beta), "E": e0, "b_range": (lo, hi),
+            "at_bound": bool(at_bound), "b_grid": grid, "E_grid": e_grid}

@@ -1,0 +1,165 @@
+"""Pairwise quartic (Zvyagin 2022, eq. 11-13) for every pair of patches, vectorised.
+
+For patches i != j with class counts n_i, n_j at I* and loads F_i, F_j, eliminating A from
+Q_Ti(Y) = F_i / A and Q_Tj(Y) = F_j / A and dividing by Y gives eq. (12):
+c1 + c2 Y + c3 Y^2 + c4 Y^3 + c5 Y^4 = 0 with c_m = F_j n_{i,m} - F_i n_{j,m}. Every pair's
+roots come from the eigenvalues of its companion matrix, all pairs of one degree at once
+(``numpy.linalg.eigvals`` on a stack of matrices).
+"""
+
+import numpy as np
+
+__all__ = ["pair_indices", "quartic_coefficients", "polynomial_roots", "roots_above",
+           "solve_pairs"]
+
+_ROOT_CHOICES = ("smallest", "best-fit")
+#: a root is real when |imag| <= _REAL_TOL * max(1, |root|)
+_REAL_TOL = 1e-7
+
+
+def pair_indices(n_patches):
+    """Return the indices (i, j), i < j, of every unordered pair (eq. 12 is symmetric)."""
+    return np.triu_indices(n_patches, k=1)
+
+
+def quartic_coefficients(counts, load_N, i, j):
+    """Coefficients c1..c5 of eq. (12) for the pairs (i, j); shape (n_pairs, 5).
+
+    Column m-1 multiplies Y**(m-1). Swapping i and j only changes the sign.
+
+    Examples
+    --------
+    >>> n = np.array([[2, 1, 0, 0, 0], [1, 1, 1, 0, 0]])
+    >>> quartic_coefficients(n, np.array([10.0, 20.0]), np.array([0]), np.array([1])).tolist()
+    [[30.0, 10.0, -10.0, 0.0, 0.0]]
+    """
+    f = np.asarray(load_N, dtype=np.float64)
+    return f[j, None] * counts[i] - f[i, None] * counts[j]
+
+
+def polynomial_roots(coeffs):
+    """Complex roots of many polynomials at once via batched companion matrices.
+
+    Parameters
+    ----------
+    coeffs : numpy.ndarray, shape (n_poly, k + 1)
+        Column m multiplies x**m (ascending powers). A polynomial's degree is its highest
+        exactly non-zero coefficient; polynomials of each degree are solved together.
+
+    Returns
+    -------
+    numpy.ndarray of complex, shape (n_poly, k)
+        Roots, NaN-padded where the degree is lower than k (no roots at all for a constant).
+
+    Examples
+    --------
+    >>> r = polynomial_roots(np.array([[-6.0, 1.0, 1.0], [2.0, -1.0, 0.0]]))
+    >>> np.sort_complex(r[0]).real.round(6).tolist(), r[1, 0].real.round(6)
+    ([-3.0, 2.0], np.float64(2.0))
+    """
+    c = np.asarray(coeffs, dtype=np.float64)
+    n_poly, kp1 = c.shape
+    k = kp1 - 1
+    roots = np.full((n_poly, k), np.nan + 0j)
+    nonzero = c != 0
+    degree = np.where(nonzero.any(axis=1), kp1 - 1 - np.argmax(nonzero[:, ::-1], axis=1), 0)
+    for deg in range(1, k + 1):
+        rows = np.nonzero(degree == deg)[0]
+        if rows.size == 0:
+            continue
+        monic = c[rows, :deg] / c[rows, deg, None]
+        comp = np.zeros((rows.size, deg, deg))
+        if deg > 1:
+            comp[:, np.arange(1, deg), np.arange(deg - 1)] = 1.0
+        comp[:, :, -1] = -monic
+        roots[rows, :deg] = np.linalg.eigvals(comp)
+    return roots
+
+
+def roots_above(roots, threshold=3.0):
+    """Real roots strictly above ``threshold`` (NaN elsewhere), sorted ascending per row."""
+    real = roots.real
+    is_real = np.abs(roots.imag) <= _REAL_TOL * np.maximum(1.0, np.abs(real))
+    keep = is_real & (real > threshold)
+    out = np.where(keep, real, np.nan)
+    return np.sort(out, axis=1)
+
+
+def _patch_power_sums(histograms, b):
+    """S_T(b) = sum_k X_k**b for patch/exponent pairs given as equal-length arrays."""
+    raw = np.arange(256, dtype=np.float64)
+    return np.einsum("pk,pk->p", histograms, raw[None, :] ** b[:, None])
+
+
+def solve_pairs(counts, load_N, raw_relerr, *, histograms=None, root_choice="smallest",
+                max_relerr=0.10, usable=None):
+    """Solve eq. (12) for every pair of patches and apply the 10% raw-sum rule.
+
+    Parameters
+    ----------
+    counts : numpy.ndarray of int, shape (n_patches, 5)
+        Class counts n_1..n_5 at I*.
+    load_N : numpy.ndarray, shape (n_patches,)
+        Applied loads F_T in newtons.
+    raw_relerr : numpy.ndarray, shape (n_patches,)
+        |R_T - Q_T(I*)| / R_T, the raw-sum approximation error of each patch.
+    histograms : numpy.ndarray of int, shape (n_patches, 256), optional
+        Needed for ``root_choice="best-fit"``.
+    root_choice : {"smallest", "best-fit"}
+        Which root Y > 3 a pair keeps when it has several: the smallest, or the one whose
+        (A, b) best reproduces both patches' loads from their actual readings.
+    max_relerr : float
+        Pairs where either patch has ``raw_relerr >= max_relerr`` are rejected (paper: 10%).
+    usable : numpy.ndarray of bool, optional
+        Patches allowed into pairs (others are marked excluded).
+
+    Returns
+    -------
+    dict
+        ``i``, ``j`` (pair indices, i < j), ``n_roots`` (number of roots Y > 3), ``Y``,
+        ``b`` = log3 Y, ``A`` = F_i / Q_i(Y) (NaN without root), ``category`` (str codes:
+        ``"V"`` valid, ``"R"`` root but rejected by the raw-sum rule, ``"N"`` no root > 3,
+        ``"X"`` a patch excluded from pairing).
+    """
+    if root_choice not in _ROOT_CHOICES:
+        raise ValueError(f"root_choice = {root_choice!r}; expected one of {_ROOT_CHOICES}")
+    n = counts.shape[0]
+    i, j = pair_indices(n)
+    cand = roots_above(polynomial_roots(quartic_coefficients(counts, load_N, i, j)))
+    n_roots = np.sum(~np.isnan(cand), axis=1)
+    y = cand[:, 0].copy()
+    if root_choice == "best-fit":
+        multi = np.nonzero(n_roots > 1)[0]
+        if multi.size:
+            y[multi] = _best_fit_roots(cand[multi], histograms, load_N, counts,
+                                       i[multi], j[multi])
+    b = np.log(y) / np.log(3.0)
+    q_i = np.einsum("pm,pm->p", counts[i], y[:, None] ** np.arange(1, 6))
+    a = np.asarray(load_N, dtype=np.float64)[i] / q_i
+    bad_raw = (raw_relerr[i] >= max_relerr) | (raw_relerr[j] >= max_relerr)
+    category = np.where(n_roots == 0, "N", np.where(bad_raw, "R", "V"))
+    if usable is not None:
+        category = np.where(usable[i] & usable[j], category, "X")
+    return {"i": i, "j": j, "n_roots": n_roots, "Y": y, "b": b, "A": a,
+            "category": category.astype("<U1")}
+
+
+def _best_fit_roots(cand, histograms, load_N, counts, i, j):
+    """Pick, per row of ``cand``, the root Y whose (A, b) best fits patches i and j."""
+    if histograms is None:
+        raise ValueError("root_choice='best-fit' needs the histograms of the patches")
+    f = np.asarray(load_N, dtype=np.float64)
+    powers = np.arange(1, 6)
+    score = np.full(cand.shape, np.inf)
+    for k in range(cand.shape[1]):
+        yk = cand[:, k]
+        ok = ~np.isnan(yk)
+        if not ok.any():
+            continue
+        y, ii, jj = yk[ok], i[ok], j[ok]
+        bk = np.log(y) / np.log(3.0)
+        a = f[ii] / np.einsum("pm,pm->p", counts[ii], y[:, None] ** powers)
+        s_i = _patch_power_sums(histograms[ii], bk)
+        s_j = _patch_power_sums(histograms[jj], bk)
+        score[ok, k] = (a * s_i / f[ii] - 1) ** 2 + (a * s_j / f[jj] - 1) ** 2
+    return cand[np.arange(cand.shape[0]), np.argmin(score, axis=1)]
