@@ -51,9 +51,9 @@ class ContactModel:
     """
 
     base_relief_um: float = 6.0
-    base_corr_mm: float = 2.0
-    pad_relief_um: float = 4.0
-    pad_corr_mm: float = 1.5
+    base_corr_mm: float = 4.0
+    pad_relief_um: float = 6.0
+    pad_corr_mm: float = 3.0
     tilt_um: float = 4.0
     stiffness_kPa_per_um: float = 60.0
 
@@ -231,13 +231,16 @@ def deadweight_session(sensor, *, n_patches=150, masses_kg=(2, 5, 10), pad_sides
     n_sat = int(round(saturated_share * n_patches))
     wanted = {True: n_sat, False: n_patches - n_sat}
     kept = {True: [], False: []}
+    size = n_patches
     for b in range(_MAX_BATCHES):
-        batch = _draw_patches(sensor, base, contact, masses_kg, pad_sides_cm, n_patches, rng)
+        batch = _draw_patches(sensor, base, contact, masses_kg, pad_sides_cm, size, rng)
         for j, sat in enumerate(batch["saturated"]):
             if len(kept[bool(sat)]) < wanted[bool(sat)]:
                 kept[bool(sat)].append({"order": (b, j)} | {k: v[j] for k, v in batch.items()})
-        if all(len(kept[k]) == wanted[k] for k in kept):
+        missing = sum(wanted[k] - len(kept[k]) for k in kept)
+        if not missing:
             break
+        size = max(2 * missing, 8)
     else:
         raise ValueError(f"saturated_share: {saturated_share} asks for {n_sat} saturated and "
                          f"{n_patches - n_sat} unsaturated patches; after {_MAX_BATCHES} "

@@ -4,10 +4,9 @@ import numpy as np
 from scipy.ndimage import gaussian_filter
 from scipy.optimize import brentq
 
-__all__ = ["G_STANDARD", "PAD_MASS_G", "smooth_field", "winkler_contact", "block_sum"]
+from tactilecal.io import G_STANDARD
 
-G_STANDARD = 9.80665
-"""Standard gravity in m/s2, used to turn masses into loads."""
+__all__ = ["G_STANDARD", "PAD_MASS_G", "smooth_field", "winkler_contact", "block_sum"]
 
 PAD_MASS_G = {1: 0.6, 2: 2.6, 3: 5.9, 4: 10.6, 5: 16.1}
 """Plexiglass pad mass in g by pad side in cm (Zvyagin 2022, Table 1)."""
@@ -21,7 +20,7 @@ def smooth_field(rng, shape, sigma_cells, std):
     """
     noise = rng.standard_normal(shape)
     sigma = (0,) * (len(shape) - 2) + (sigma_cells, sigma_cells)
-    field = gaussian_filter(noise, sigma=sigma, mode="wrap")
+    field = gaussian_filter(noise, sigma=sigma, mode="wrap", truncate=3.0)
     field -= field.mean(axis=(-2, -1), keepdims=True)
     scale = field.std(axis=(-2, -1), keepdims=True)
     return field * (std / np.where(scale > 0, scale, 1.0))
