@@ -1,0 +1,137 @@
+"""Per-frame force, area, centre of force and pressures on maps with a known truth."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tactilecal import analysis
+from tactilecal.simulate import deadweight_session, make_sensor
+
+ROW_MM, COL_MM, AREA_MM2 = 2.0, 3.0, 6.0
+
+
+def moving_patch(unit="kPa", factor=1.0):
+    """Frames 0..4: a 3 x 4 patch at rows k..k+2, cols 2..5, pressure 50 (k + 1) kPa.
+
+    Frame 5 is unloaded. Two corner sensels are blank (NaN, outside the sensor).
+    """
+    p = np.zeros((6, 16, 12))
+    for k in range(5):
+        p[k, k:k + 3, 2:6] = 50.0 * (k + 1)
+    p[:, 0, 11] = p[:, 15, 0] = np.nan
+    return xr.DataArray(
+        p * factor, dims=("frame", "row", "col"),
+        coords={"frame": np.arange(1, 7), "time": ("frame", np.arange(6) * 0.01),
+                "row": np.arange(16), "col": np.arange(12)},
+        attrs={"units": unit, "sensel_area_mm2": AREA_MM2, "row_spacing_mm": ROW_MM,
+               "col_spacing_mm": COL_MM, "source": "moving_patch"},
+    )
+
+
+def test_known_patch_summary():
+    s = analysis.summary(moving_patch())
+    k = np.arange(5)
+    # 12 loaded sensels of 6 mm2 at 50 (k + 1) kPa -> 50 (k + 1) * 72e-3 N
+    np.testing.assert_allclose(s.force_N[:5], 50 * (k + 1) * 72e-3, rtol=1e-12)
+    np.testing.assert_allclose(s.contact_area_mm2[:5], 72.0)
+    np.testing.assert_allclose(s.cof_row_mm[:5], (k + 1) * ROW_MM, rtol=1e-12)
+    np.testing.assert_allclose(s.cof_col_mm[:5], 3.5 * COL_MM, rtol=1e-12)
+    np.testing.assert_allclose(s.peak_kPa[:5], 50 * (k + 1))
+    np.testing.assert_allclose(s.mean_kPa[:5], 50 * (k + 1))
+    # the unloaded frame: no force, no area, no centre, no mean
+    assert s.force_N[5] == 0 and s.contact_area_mm2[5] == 0 and s.peak_kPa[5] == 0
+    assert np.isnan(s.cof_row_mm[5]) and np.isnan(s.mean_kPa[5])
+    assert list(s.data_vars) == ["force_N", "contact_area_mm2", "cof_row_mm", "cof_col_mm",
+                                 "peak_kPa", "mean_kPa"]
+    np.testing.assert_allclose(s["time"], np.arange(6) * 0.01)
+    assert s.attrs["source"] == "moving_patch"
+
+
+def test_threshold_changes_area_and_mean():
+    rec = moving_patch()
+    rec[0, 10, 10] = 5.0  # a lone light sensel in frame 1
+    assert float(analysis.contact_area(rec)[0]) == 13 * AREA_MM2
+    assert float(analysis.contact_area(rec, threshold_kPa=10.0)[0]) == 12 * AREA_MM2
+    assert float(analysis.mean_pressure(rec)[0]) == pytest.approx((12 * 50 + 5) / 13)
+    assert float(analysis.mean_pressure(rec, threshold_kPa=10.0)[0]) == 50.0
+
+
+@pytest.mark.parametrize(("unit", "per_kPa"), [
+    ("MPa", 1e-3), ("psi", 1 / 6.894757293168361), ("PSI", 1 / 6.894757293168361),
+    ("N", AREA_MM2 * 1e-3), ("kgf", AREA_MM2 * 1e-3 / 9.80665),
+])
+def test_units_give_the_same_numbers(unit, per_kPa):
+    ref = analysis.summary(moving_patch())
+    other = analysis.summary(moving_patch(unit, per_kPa))
+    for name in ref.data_vars:
+        np.testing.assert_allclose(other[name], ref[name], rtol=1e-12, equal_nan=True)
+
+
+def test_dask_backed_recording_matches_numpy():
+    rec = moving_patch()
+    lazy = analysis.summary(rec.chunk({"frame": 2}))
+    assert lazy.force_N.chunks is not None  # still lazy
+    xr.testing.assert_allclose(lazy.compute(), analysis.summary(rec))
+
+
+class SimulatedCalibration:
+    """The simulator's own law, F = A raw^b per sensel: a calibration with known truth."""
+
+    def __init__(self, sensor):
+        self.sensor = sensor
+
+    def apply(self, recording, units="kPa"):
+        out = recording.copy(data=self.sensor.force_of_raw(recording.values))
+        out.attrs = {**recording.attrs, "units": "N"}
+        return analysis.pressure_map_kPa(out) if units == "kPa" else out
+
+
+def test_simulated_deadweight_forces_recovered():
+    sensor = make_sensor("5051", gain_spread=0.0, read_noise=0.0, n_dead=0, seed=1)
+    session = deadweight_session(sensor, n_patches=12, seed=3)
+    truth = session.raw.copy(data=session.force_N)
+    truth.attrs = {**session.raw.attrs, "units": "N"}
+    # the true force maps sum to the applied loads
+    np.testing.assert_allclose(analysis.total_force(truth), session.load_N, rtol=1e-9)
+    # through the raw readings and the sensor's own law: only 8-bit rounding and the
+    # noise threshold remain, stated tolerance 3 %
+    got = analysis.total_force(session.raw, calibration=SimulatedCalibration(sensor))
+    np.testing.assert_allclose(got, session.load_N, rtol=0.03)
+    # centre of force: raw path within one sensel pitch of the truth
+    c_true = analysis.centre_of_force(truth)
+    c_raw = analysis.centre_of_force(session.raw, calibration=SimulatedCalibration(sensor))
+    assert float(np.abs(c_true.cof_row_mm - c_raw.cof_row_mm).max()) < sensor.row_spacing_mm
+
+
+def test_contact_area_of_raw_without_calibration():
+    rec = moving_patch().fillna(0.0)
+    rec.attrs["units"] = "raw"
+    np.testing.assert_allclose(analysis.contact_area(rec)[:5], 72.0)
+
+
+def test_errors():
+    rec = moving_patch()
+    raw = rec.copy()
+    raw.attrs = {**rec.attrs, "units": "raw"}
+    with pytest.raises(ValueError, match="moving_patch: units are 'raw'; give a calibration"):
+        analysis.total_force(raw)
+    with pytest.raises(ValueError, match="threshold_kPa is 5.0 but the recording is raw"):
+        analysis.contact_area(raw, threshold_kPa=5.0)
+    with pytest.raises(ValueError, match=r"threshold_kPa is -1.0; expected a finite value >= 0"):
+        analysis.contact_area(rec, threshold_kPa=-1.0)
+    no_area = rec.copy()
+    no_area.attrs = {"units": "kPa", "source": "x.csv"}
+    with pytest.raises(ValueError, match="x.csv: attribute 'sensel_area_mm2' is None"):
+        analysis.total_force(no_area)
+    with pytest.raises(ValueError, match="x.csv: attribute 'row_spacing_mm' is None"):
+        analysis.centre_of_force(no_area.assign_attrs(units="N"))
+    with pytest.raises(ValueError, match=r"dims \('row', 'col', 'frame'\); expected"):
+        analysis.total_force(rec.transpose("row", "col", "frame"))
+    no_unit = rec.copy()
+    no_unit.attrs = {"source": "y.asf"}
+    with pytest.raises(ValueError, match="y.asf: attribute 'units' is missing"):
+        analysis.peak_pressure(no_unit)
+    mm = rec.copy()
+    mm.attrs = {**rec.attrs, "units": "mm"}
+    with pytest.raises(ValueError, match="units 'mm' are a length; expected raw"):
+        analysis.peak_pressure(mm)
