@@ -1,0 +1,82 @@
+"""NetCDF files for any recording or result (thin wrappers around xarray)."""
+
+import importlib.util
+import json
+
+import numpy as np
+import xarray as xr
+
+from tactilecal._atomic import atomic_path
+from tactilecal._jsonutil import dumps
+
+__all__ = ["read_netcdf", "write_netcdf"]
+
+_JSON_ATTRS = "tactilecal_json_attrs"
+_INT_COORDS = ("frame", "row", "col")
+
+
+def _engine():
+    """``h5netcdf`` (NetCDF4) when h5py is installed, else ``scipy`` (NetCDF3)."""
+    return "h5netcdf" if importlib.util.find_spec("h5py") else "scipy"
+
+
+def write_netcdf(data, path):
+    """Write a DataArray to NetCDF atomically; non-scalar attributes are stored as JSON.
+
+    Attributes that NetCDF cannot hold (dicts, lists, ``None``, booleans) are written as
+    JSON text and listed in the ``tactilecal_json_attrs`` attribute, so
+    :func:`read_netcdf` restores them.
+
+    Parameters
+    ----------
+    data : xarray.DataArray
+        Any recording or result.
+    path : str or os.PathLike
+        Output file.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import numpy as np, xarray as xr
+    >>> a = xr.DataArray(np.arange(3.0), dims="time", coords={"time": [0.0, 0.1, 0.2]},
+    ...                  attrs={"units": "N", "fit": {"A": 0.11, "ok": True}})
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "a.nc"
+    >>> write_netcdf(a, out)
+    >>> read_netcdf(out).identical(a)
+    True
+    """
+    out = data.copy(deep=False)
+    encoded = []
+    for key, value in data.attrs.items():
+        if not isinstance(value, str | int | float | np.number) or isinstance(value, bool):
+            out.attrs[key] = dumps(value, indent=None)
+            encoded.append(key)
+    if encoded:
+        out.attrs[_JSON_ATTRS] = ",".join(encoded)
+    with atomic_path(path, suffix=".nc") as tmp:
+        out.to_netcdf(tmp, engine=_engine())
+
+
+def read_netcdf(path):
+    """Read a DataArray written by :func:`write_netcdf` (or ``DataArray.to_netcdf``).
+
+    The data are loaded into memory and the file closed. ``frame``, ``row`` and ``col``
+    coordinates come back as int64 (NetCDF3 stores them as int32); times are not decoded
+    to datetimes.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    xarray.DataArray
+    """
+    data = xr.load_dataarray(path, decode_times=False, decode_timedelta=False)
+    for name in _INT_COORDS:
+        if name in data.coords and np.issubdtype(data[name].dtype, np.integer):
+            data = data.assign_coords({name: data[name].astype(np.int64)})
+    names = data.attrs.pop(_JSON_ATTRS, "")
+    for key in filter(None, str(names).split(",")):
+        data.attrs[key] = json.loads(data.attrs[key])
+    return data

@@ -1,0 +1,213 @@
+"""Writer for Tekscan I-Scan ASCII exports (the layout :func:`read_tekscan` reads)."""
+
+import numpy as np
+
+from tactilecal._atomic import atomic_path
+from tactilecal.io._header import _UPPER_KEY, parse_header_lines
+from tactilecal.io._units import area_to_mm2, length_to_mm, normalise_unit
+
+__all__ = ["write_tekscan"]
+
+_MAX_EXACT_INT = 2.0**53
+
+
+def write_tekscan(data, path, *, newline="\n"):
+    r"""Write a recording as a Tekscan ASCII export that :func:`read_tekscan` reads back.
+
+    The header is the file's original header (``tekscan_<KEY>`` attributes, verbatim) with
+    the keys the data defines brought up to date: ``ROWS``, ``COLS``, ``START_FRAME``,
+    ``END_FRAME`` from the array; ``UNITS``, ``SENSOR_TYPE``, ``ROW_SPACING``,
+    ``COL_SPACING``, ``SENSEL_AREA``, ``SECONDS_PER_FRAME``, ``NOISE_THRESHOLD``,
+    ``SENSITIVITY``, ``SCALE_FACTOR``, ``EXPONENT``, ``SATURATION_PRESSURE``,
+    ``CALIBRATION_POINT_n``, ``CALIBRATION_MODE_n`` from the parsed attributes where the
+    verbatim text no longer says the same. Each frame line is I-Scan's
+    ``Frame N, <time s>,,,,,Raw Sum=,,<sum>`` (the ``Raw Sum`` part only for raw data, the
+    time only where finite); ``B`` marks NaN; integral values are written without decimals,
+    others as the shortest text that reads back to the same float64.
+
+    Parameters
+    ----------
+    data : xarray.DataArray
+        Dims ``("frame", "row", "col")`` with ``frame`` and ``time`` coordinates
+        (``docs/data-model.md``).
+    path : str or os.PathLike
+        Output file, written atomically.
+    newline : {"\n", "\r\n"}, keyword-only
+        Line ending (Tekscan software on Windows writes ``"\r\n"``).
+
+    Raises
+    ------
+    ValueError
+        Wrong dims, missing ``frame`` coordinate, infinite values, frame numbers not
+        increasing, a header value that would not read back.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import numpy as np, xarray as xr
+    >>> from tactilecal.io import read_tekscan
+    >>> data = xr.DataArray(np.array([[[0.0, 3.0], [np.nan, 255.0]]]),
+    ...                     dims=("frame", "row", "col"),
+    ...                     coords={"frame": [1], "time": ("frame", [0.0])},
+    ...                     attrs={"units": "raw", "row_spacing_mm": 1.27,
+    ...                            "col_spacing_mm": 1.27})
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "sim.csv"
+    >>> write_tekscan(data, out)
+    >>> print(out.read_text().split("ASCII_DATA @@")[1])
+    <BLANKLINE>
+    <BLANKLINE>
+    Frame 1, 0,,,,,Raw Sum=,,258
+    0,3
+    B,255
+    @@
+    <BLANKLINE>
+    >>> bool((read_tekscan(out) == data).sum() == 3)
+    True
+    """
+    if newline not in ("\n", "\r\n"):
+        raise ValueError(f"newline={newline!r}; expected '\\n' or '\\r\\n'")
+    values, frames, times = _checked_arrays(data)
+    header = _header_lines(data, frames)
+    rows = _format_rows(values.reshape(-1, values.shape[2]))
+    frame_lines = _frame_lines(data, values, frames, times)
+    n_rows = values.shape[1]
+    body = []
+    for k, line in enumerate(frame_lines):
+        if k:
+            body.append("")
+        body.append(line)
+        body.extend(rows[k * n_rows:(k + 1) * n_rows])
+    text = "\n".join([*header, "ASCII_DATA @@", "", *body, "@@"]) + "\n"
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(text.replace("\n", newline).encode("utf-8"))
+
+
+def _checked_arrays(data):
+    if tuple(data.dims) != ("frame", "row", "col"):
+        raise ValueError(f"write_tekscan: data has dims {tuple(data.dims)}; expected "
+                         "('frame', 'row', 'col')")
+    if "frame" not in data.coords:
+        raise ValueError("write_tekscan: data has no 'frame' coordinate; expected the "
+                         "frame numbers (docs/data-model.md)")
+    values = np.asarray(data.values, dtype=np.float64)
+    if np.isinf(values).any():
+        frame = data.frame.values[np.isinf(values).any(axis=(1, 2))][0]
+        raise ValueError(f"write_tekscan: frame {frame} holds infinite values; expected "
+                         "finite numbers or NaN (written as B)")
+    frames = np.asarray(data.frame.values)
+    if not np.issubdtype(frames.dtype, np.integer) or (np.diff(frames) <= 0).any():
+        raise ValueError(f"write_tekscan: frame numbers {frames[:5].tolist()}...; expected "
+                         "increasing integers")
+    times = (np.asarray(data.time.values, dtype=np.float64) if "time" in data.coords
+             else np.full(frames.size, np.nan))
+    return values, frames, times
+
+
+def _number(value):
+    """Shortest text that reads back to the same float64 (``1`` for 1.0)."""
+    return np.format_float_positional(float(value), trim="-")
+
+
+def _same(text, value, convert):
+    """Return True when a verbatim header value still parses to ``value``."""
+    try:
+        number, unit = text.split(None, 1) if " " in text.strip() else (text, None)
+        parsed = convert(float(number), unit.strip()) if unit else float(number)
+    except (ValueError, AttributeError):
+        return False
+    return bool(np.isclose(parsed, value, rtol=1e-9, atol=0))
+
+
+def _header_lines(data, frames):
+    attrs = data.attrs
+    header = {k[len("tekscan_"):]: str(v) for k, v in attrs.items() if k.startswith("tekscan_")}
+    header.setdefault("DATA_TYPE", "MOVIE" if frames.size > 1 else "FRAME")
+    managed = {
+        "SENSOR_TYPE": attrs.get("sensor_type"),
+        "ROWS": str(data.sizes["row"]), "COLS": str(data.sizes["col"]),
+        "SENSITIVITY": attrs.get("sensitivity"),
+        "START_FRAME": str(frames[0]) if frames.size else None,
+        "END_FRAME": str(frames[-1]) if frames.size else None,
+    }
+    for key, value in managed.items():
+        if value is not None:
+            header[key] = str(value)
+    for key, attr, convert, unit in (
+            ("ROW_SPACING", "row_spacing_mm", length_to_mm, "mm"),
+            ("COL_SPACING", "col_spacing_mm", length_to_mm, "mm"),
+            ("SENSEL_AREA", "sensel_area_mm2", area_to_mm2, "mm2"),
+            ("SECONDS_PER_FRAME", "seconds_per_frame", None, ""),
+            ("NOISE_THRESHOLD", "noise_threshold", None, ""),
+            ("SCALE_FACTOR", "scale_factor", None, ""),
+            ("EXPONENT", "exponent", None, "")):
+        if attr in attrs and not _same(header.get(key, ""), attrs[attr], convert):
+            header[key] = f"{_number(attrs[attr])} {unit}".strip()
+    _calibration_header(attrs, header)
+    if "units" in attrs:
+        current = header.get("UNITS")
+        try:
+            keep = current is not None and normalise_unit(current) == attrs["units"]
+        except ValueError:
+            keep = False
+        if not keep:
+            header["UNITS"] = str(attrs["units"])
+    return _render_header(header)
+
+
+def _calibration_header(attrs, header):
+    """Compose calibration keys from parsed attributes where the verbatim text is absent."""
+    if "saturation_pressure" in attrs and "SATURATION_PRESSURE" not in header:
+        unit = attrs.get("saturation_pressure_unit", "")
+        header["SATURATION_PRESSURE"] = f"{_number(attrs['saturation_pressure'])} {unit}".strip()
+    for key in attrs:
+        if key.startswith("calibration_mode_"):
+            header.setdefault(f"CALIBRATION_MODE_{key.rsplit('_', 1)[1]}", str(attrs[key]))
+        if key.startswith("calibration_point_") and key.endswith("_raw_sum"):
+            prefix = key[:-len("raw_sum")]
+            n = prefix.split("_")[2]
+            text = (f"{_number(attrs[prefix + 'load'])} ({attrs[prefix + 'load_unit']}) "
+                    f"{_number(attrs[key])} (Raw Sum)")
+            if prefix + "loaded_cells" in attrs:
+                text += f" {attrs[prefix + 'loaded_cells']} (Number of Loaded Cells)"
+            header.setdefault(f"CALIBRATION_POINT_{n}", text)
+
+
+def _render_header(header):
+    lines = []
+    for key, value in header.items():
+        if key == "COMMENTS" or "\n" in value:
+            comment = value.splitlines()
+            if key != "COMMENTS" or any(_UPPER_KEY.match(c.strip()) for c in comment):
+                raise ValueError(f"write_tekscan: header value {key}={value[:40]!r} would not "
+                                 "read back; expected a single line (COMMENTS: lines not "
+                                 "starting with an upper-case KEY)")
+            lines.append(f"{key}:")
+            lines.extend(comment)
+        else:
+            lines.append(f"{key} {value}".rstrip())
+    parse_header_lines(lines, "the header being written")  # fail now, not when reading
+    return lines
+
+
+def _frame_lines(data, values, frames, times):
+    raw = data.attrs.get("units") == "raw"
+    sums = np.nansum(values, axis=(1, 2)) if raw else None
+    lines = []
+    for k, frame in enumerate(frames.tolist()):
+        line = f"Frame {frame}"
+        if np.isfinite(times[k]):
+            line += f", {_number(times[k])}"
+            if raw:
+                line += f",,,,,Raw Sum=,,{_number(sums[k])}"
+        lines.append(line)
+    return lines
+
+
+def _format_rows(table):
+    """Comma-joined text of each row: ``B`` for NaN, integers without decimals."""
+    finite = np.isfinite(table)
+    integral = finite & (table == np.round(table)) & (np.abs(table) < _MAX_EXACT_INT)
+    tokens = np.where(integral, np.where(integral, table, 0).astype(np.int64).astype(str),
+                      table.astype(str))
+    tokens[~finite] = "B"
+    return [",".join(row) for row in tokens.tolist()]
