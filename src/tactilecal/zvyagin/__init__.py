@@ -24,15 +24,18 @@ from tactilecal.zvyagin._approx import (
 from tactilecal.zvyagin._calibrate import MODES, SENSEL_AREA_5051_MM2, load_groups, zvyagin_fit
 from tactilecal.zvyagin._fit import energy, fit_power_law, minimise_energy, patch_power_sums
 from tactilecal.zvyagin._pairs import polynomial_roots, quartic_coefficients, solve_pairs
+from tactilecal.zvyagin._points_api import OPTIONS, calibrate_zvyagin
 from tactilecal.zvyagin._result import PAIR_CATEGORIES, ZvyaginResult
 
 __all__ = [
     "CLASS_VALUES",
     "MODES",
+    "OPTIONS",
     "PAIR_CATEGORIES",
     "SENSEL_AREA_5051_MM2",
     "ZvyaginResult",
     "approximate_raw_sums",
+    "calibrate_zvyagin",
     "class_counts",
     "energy",
     "fit_power_law",

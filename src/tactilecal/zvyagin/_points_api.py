@@ -1,0 +1,117 @@
+"""``calibrate_zvyagin``: Zvyagin (2022) from calibration points to a CalibrationResult."""
+
+import warnings
+
+import numpy as np
+
+from tactilecal.zvyagin._calibrate import zvyagin_fit
+from tactilecal.zvyagin._fit import energy
+
+__all__ = ["calibrate_zvyagin", "OPTIONS"]
+
+#: Options accepted by :func:`calibrate_zvyagin` (see :func:`zvyagin_fit`).
+OPTIONS = ("mode", "domain", "root_choice", "outliers", "b_range", "saturated",
+           "keep_saturated", "max_relerr", "grey_share", "group_tolerance", "sensel_area_mm2")
+
+
+def _point_labels(points):
+    out = []
+    for k, p in enumerate(points):
+        name = p.label or (f"{p.source}#{p.frame}" if p.source else f"point {k}")
+        out.append(f"{k}:{name}")
+    return out
+
+
+def _sensel_area(points, area):
+    if area is not None:
+        return float(area)
+    areas = np.array([p.sensel_area_mm2 for p in points], dtype=float)
+    areas = areas[np.isfinite(areas)]
+    if areas.size == 0:
+        warnings.warn("the points carry no sensel area and sensel_area_mm2 was not given: "
+                      "p_s (eq. 16) is unknown; pass sensel_area_mm2 (5051: 1.6129)",
+                      UserWarning, stacklevel=3)
+        return float("nan")
+    return float(areas[0])
+
+
+def conditional_stderr(res):
+    """Estimate standard errors of (A0, b0) from the curvature of E along the power-law curve.
+
+    var(b0) = 2 s^2 / E''(b0) with s^2 = E(b0) / (n - 1), and se(A0) = |dA0/db0| se(b0):
+    conditional on alpha and beta (their own uncertainty is not propagated).
+    """
+    h = res._histograms_used
+    f = res.load_N[res.usable]
+    b0, step = res.b0, 1e-4
+    e = energy(np.array([b0 - step, b0, b0 + step]), h, f, res.alpha, res.beta)
+    curvature = (e[0] - 2 * e[1] + e[2]) / step ** 2
+    n = f.size
+    if curvature <= 0 or n < 2:
+        return {"A": None, "b": None}
+    se_b = float(np.sqrt(2 * e[1] / (n - 1) / curvature))
+    se_a = float(abs(res.alpha * res.beta * b0 ** (res.beta - 1)) * se_b)
+    return {"A": se_a, "b": se_b}
+
+
+def calibrate_zvyagin(points, **options):
+    """Calibrate with Zvyagin's (2022) multi-patch method; return a CalibrationResult.
+
+    ``tactilecal.calibrate(points, method="zvyagin", **options)`` calls this.
+
+    Parameters
+    ----------
+    points : sequence of tactilecal.calibration.CalibrationPoint
+        One per loaded patch (histogram of raw values and applied load).
+    **options
+        ``mode`` ("faithful" or "robust"), ``domain``, ``root_choice``, ``outliers``,
+        ``b_range``, ``saturated``, ``max_relerr``, ``grey_share``, ``group_tolerance``,
+        ``sensel_area_mm2``: see :func:`zvyagin_fit`. ``keep_saturated`` (the static
+        methods' spelling) sets ``saturated`` to "keep" (True) or "drop" (False).
+
+    Returns
+    -------
+    tactilecal.calibration.CalibrationResult
+        Method ``"zvyagin"``, model ``"power"``, params ``{"A": A0, "b": b0}`` (force per
+        sensel in N = A * raw**b), and every intermediate of the procedure in ``details``
+        (:meth:`ZvyaginResult.to_details`); ``ZvyaginResult.from_details`` rebuilds it.
+
+    Raises
+    ------
+    ValueError
+        Unknown option, or any error of :func:`zvyagin_fit`.
+
+    Examples
+    --------
+    >>> from tactilecal.calibration import points_from_frames
+    >>> from tactilecal.simulate import make_sensor, deadweight_session
+    >>> s = deadweight_session(make_sensor("5051", seed=1), n_patches=40, seed=2)
+    >>> cal = calibrate_zvyagin(points_from_frames(s.raw, s.load_N))
+    >>> cal.method, cal.model, sorted(cal.params)
+    ('zvyagin', 'power', ['A', 'b'])
+    """
+    from tactilecal.calibration import make_result, points_to_arrays
+
+    unknown = sorted(set(options) - set(OPTIONS))
+    if unknown:
+        raise ValueError(f"calibrate_zvyagin: unknown options {unknown}; expected some of "
+                         f"{list(OPTIONS)}")
+    opts = dict(options)
+    keep = opts.pop("keep_saturated", None)
+    if keep is not None and opts.get("saturated") is None:
+        opts["saturated"] = "keep" if keep else "drop"
+    points = list(points)
+    if len(points) < 2:
+        raise ValueError(f"{len(points)} calibration point(s); expected at least 2 patches")
+    area = _sensel_area(points, opts.pop("sensel_area_mm2", None))
+    hist, load = points_to_arrays(points)
+    res = zvyagin_fit(hist, load, labels=_point_labels(points), sensel_area_mm2=area, **opts)
+    res._histograms_used = np.asarray(hist)[res.usable]
+    reasons = [res.excluded.get(k, "") for k in range(len(points))]
+    details = res.to_details()
+    details["stderr_note"] = ("params_stderr from the curvature of E(b0) along the power law "
+                              "(conditional on alpha and beta)")
+    return make_result(points, method="zvyagin", model="power",
+                       params={"A": res.A0, "b": res.b0}, params_stderr=conditional_stderr(res),
+                       used=res.usable, reasons=reasons, details=details,
+                       options={"mode": res.mode, **res.options}, sensel_area_mm2=area)
