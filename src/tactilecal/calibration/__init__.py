@@ -1,0 +1,37 @@
+"""Static calibration of matrix tactile sensors: points, methods, results, validation.
+
+A calibration point is one loaded frame reduced to its 256-bin histogram of raw values
+(:class:`CalibrationPoint`); every method fits a per-sensel law ``f(raw)`` in newtons on
+those histograms (:func:`calibrate`), giving a :class:`CalibrationResult` with parameters,
+uncertainty, the error on every point and a JSON round-trip (:func:`load_calibration`).
+See ``docs/static-calibration.md``.
+"""
+
+from tactilecal.calibration._calibrate import (
+    METHODS,
+    calibrate,
+    make_result,
+    select_points,
+    validate,
+)
+from tactilecal.calibration._methods import OBJECTIVES
+from tactilecal.calibration._models import MODELS, force_table, sensel_force
+from tactilecal.calibration._plots import (
+    plot_calibration_curve,
+    plot_error_histogram,
+    plot_points,
+)
+from tactilecal.calibration._points import (
+    CalibrationPoint,
+    frame_histograms,
+    points_from_frames,
+    points_to_arrays,
+)
+from tactilecal.calibration._result import CalibrationResult, load_calibration
+
+__all__ = [
+    "METHODS", "MODELS", "OBJECTIVES", "CalibrationPoint", "CalibrationResult", "calibrate",
+    "force_table", "frame_histograms", "load_calibration", "make_result",
+    "plot_calibration_curve", "plot_error_histogram", "plot_points", "points_from_frames",
+    "points_to_arrays", "select_points", "sensel_force", "validate",
+]

@@ -1,0 +1,254 @@
+"""``calibrate``: choose the points, run a method, build the result; ``validate``."""
+
+from importlib import import_module
+
+import numpy as np
+import pandas as pd
+
+from tactilecal.calibration._methods import FITTERS
+from tactilecal.calibration._models import force_table
+from tactilecal.calibration._points import points_to_arrays
+from tactilecal.calibration._result import CalibrationResult
+
+__all__ = ["METHODS", "calibrate", "make_result", "validate", "select_points"]
+
+METHODS = (*FITTERS, "zvyagin")
+SCALABLE = ("linear", "power-2pt")  # I-Scan-style methods offering the working/all scaling
+
+
+def select_points(points, *, keep_saturated=False):
+    """Decide which points a fit may use and why the others may not.
+
+    Returns
+    -------
+    used : numpy.ndarray of bool
+    reasons : list of str
+        ``""`` for a used point, else why it was left out.
+    """
+    reasons = []
+    for p in points:
+        if not np.isfinite(p.load_N) or p.load_N <= 0:
+            reasons.append(f"load_N = {p.load_N} is not a positive load")
+        elif p.loaded_cells == 0:
+            reasons.append("no loaded sensels (raw > 0)")
+        elif p.saturated_cells and not keep_saturated:
+            reasons.append(f"saturated: {p.saturated_cells} sensels at 255 "
+                           "(keep_saturated=True keeps it)")
+        else:
+            reasons.append("")
+    return np.array([r == "" for r in reasons]), reasons
+
+
+def calibrate(points, method="power", **options):
+    """Fit a static calibration to calibration points.
+
+    Parameters
+    ----------
+    points : sequence of CalibrationPoint
+        From :func:`load_points`, :func:`points_from_frames` or :func:`calibrate_movie`.
+    method : str
+        ``"linear"`` (I-Scan 1-point / through zero), ``"power-2pt"`` (I-Scan 2-point power
+        law on the mean raw reading), ``"power"`` (multi-point power law over every sensel,
+        option ``objective`` in ``"l2"``, ``"l1"``, ``"relative"``), ``"linear-offset"``
+        (Paikowsky & Hajduk), ``"piecewise"`` (power law per raw range, option ``knots``),
+        ``"lut"`` (monotone lookup table, option ``knots``), ``"polynomial"`` (option
+        ``degree``), ``"zvyagin"`` (:func:`tactilecal.zvyagin.calibrate_zvyagin`).
+    **options
+        ``keep_saturated`` (default False: points with sensels at 255 are left out and
+        reported), ``scale_by_working`` (``linear``/``power-2pt``: multiply each load by
+        working / all sensels, thesis sec. 3.5), ``sensel_area_mm2`` (default: from the
+        points), ``n_bootstrap`` and ``seed`` (bootstrap the parameter errors over points),
+        and the method's own options.
+
+    Returns
+    -------
+    CalibrationResult
+
+    Raises
+    ------
+    ValueError
+        For an unknown method, an option the method does not take, or too few usable points.
+
+    Examples
+    --------
+    >>> from tactilecal.calibration import points_from_frames
+    >>> rng = np.random.default_rng(0)
+    >>> raw = rng.integers(3, 200, size=(6, 5, 5)).astype(float)
+    >>> load = 0.004 * (raw ** 1.2).sum(axis=(1, 2))
+    >>> res = calibrate(points_from_frames(raw, load), method="power", objective="l2")
+    >>> round(res.params["b"], 6), round(res.params["A"], 6)
+    (1.2, 0.004)
+    """
+    if method == "zvyagin":
+        return import_module("tactilecal.zvyagin").calibrate_zvyagin(points, **options)
+    if method not in FITTERS:
+        raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
+    keep_saturated = bool(options.pop("keep_saturated", False))
+    scale_by_working = bool(options.pop("scale_by_working", False))
+    area = options.pop("sensel_area_mm2", None)
+    n_bootstrap = int(options.pop("n_bootstrap", 0))
+    seed = options.pop("seed", 0)
+    _check_options(method, options)
+    if scale_by_working and method not in SCALABLE:
+        raise ValueError(f"scale_by_working is offered for {SCALABLE}; method={method!r}")
+    used, reasons = select_points(points, keep_saturated=keep_saturated)
+    if not used.any():
+        raise ValueError(f"no usable calibration points among {len(points)}: "
+                         f"{sorted(set(reasons))}")
+    hist, load = points_to_arrays(points)
+    fit_load = load * _working_fraction(points) if scale_by_working else load
+    fit = FITTERS[method](hist[used], fit_load[used], **options)
+    if n_bootstrap:
+        fit.params_stderr = _bootstrap(method, hist[used], fit_load[used], options,
+                                       n_bootstrap, seed)
+        fit.details["stderr_method"] = f"bootstrap over points ({n_bootstrap} resamples)"
+    if method == "power-2pt":
+        pair = set(np.flatnonzero(used)[fit.details["pair"]])
+        for k in np.flatnonzero(used):
+            if k not in pair:
+                used[k], reasons[k] = False, "not one of the two I-Scan 2-point points"
+    if scale_by_working:
+        fit.details["working_fraction"] = _working_fraction(points)[used].tolist()
+    all_options = {**options, "keep_saturated": keep_saturated,
+                   "scale_by_working": scale_by_working, "n_bootstrap": n_bootstrap}
+    return make_result(points, method=method, model=fit.model, params=fit.params,
+                       params_stderr=fit.params_stderr, used=used, reasons=reasons,
+                       details=fit.details, options=all_options, sensel_area_mm2=area)
+
+
+def _check_options(method, options):
+    import inspect
+
+    accepted = [p.name for p in inspect.signature(FITTERS[method]).parameters.values()
+                if p.kind is p.KEYWORD_ONLY]
+    unknown = sorted(set(options) - set(accepted))
+    if unknown:
+        raise ValueError(f"method={method!r} does not take the options {unknown}; expected "
+                         f"{accepted + ['keep_saturated', 'sensel_area_mm2', 'n_bootstrap']}")
+
+
+def _working_fraction(points):
+    """Working / all sensels per point (1 where the total is unknown)."""
+    frac = [p.working_cells / p.total_cells if p.total_cells else 1.0 for p in points]
+    return np.asarray(frac, dtype=float)
+
+
+def _bootstrap(method, hist, load, options, n_bootstrap, seed):
+    """Return the std of each parameter over fits to points resampled with replacement."""
+    rng = np.random.default_rng(seed)
+    draws = []
+    for _ in range(n_bootstrap):
+        idx = rng.integers(0, len(load), len(load))
+        try:
+            params = FITTERS[method](hist[idx], load[idx], **options).params
+        except (ValueError, np.linalg.LinAlgError, ZeroDivisionError):
+            continue  # a degenerate resample (e.g. one distinct load); counted below
+        draws.append({k: np.asarray(v, dtype=float) for k, v in params.items()})
+    if len(draws) < 2:
+        raise ValueError(f"bootstrap: only {len(draws)} of {n_bootstrap} resamples could be "
+                         "fitted; expected at least 2 (too few distinct points)")
+    return {k: np.std([d[k] for d in draws], axis=0, ddof=1).tolist() for k in draws[0]}
+
+
+def make_result(points, *, method, model, params, params_stderr, used, reasons, details=None,
+                options=None, sensel_area_mm2=None):
+    """Assemble a :class:`CalibrationResult` with its per-point table and metrics.
+
+    Other calibration methods (e.g. :mod:`tactilecal.zvyagin`) use it so that every
+    result has the same table, metrics and saturation pressure.
+    """
+    hist, load = points_to_arrays(points)
+    table_N = force_table(model, params)
+    predicted = hist @ table_N
+    area = _sensel_area(points, sensel_area_mm2)
+    saturation = table_N[255] / area * 1000.0 if np.isfinite(area) else float("nan")
+    used = np.asarray(used, dtype=bool)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        error_pct = 100.0 * (predicted - load) / load
+    table = pd.DataFrame({
+        "file": [p.source for p in points], "frame": [p.frame for p in points],
+        "load_N": load, "raw_sum": [p.raw_sum for p in points],
+        "loaded_cells": [p.loaded_cells for p in points],
+        "saturated_cells": [p.saturated_cells for p in points], "used": used,
+        "reason": list(reasons), "predicted_N": predicted, "error_pct": error_pct,
+        "label": [p.label for p in points], "note": [p.note for p in points],
+    })
+    return CalibrationResult(
+        method=method, model=model, params=params, params_stderr=params_stderr,
+        sensel_area_mm2=area, saturation_pressure_kPa=float(saturation), points=table,
+        metrics=_metrics(load[used], predicted[used], len(points)), details=details or {},
+        options=options or {},
+    )
+
+
+def _sensel_area(points, area):
+    if area is not None:
+        return float(area)
+    areas = np.array([p.sensel_area_mm2 for p in points], dtype=float)
+    areas = areas[np.isfinite(areas)]
+    if len(areas) and not np.allclose(areas, areas[0], rtol=1e-6):
+        raise ValueError(f"points have different sensel areas {sorted(set(areas))} mm2; "
+                         "expected one sensor model per calibration")
+    return float(areas[0]) if len(areas) else float("nan")
+
+
+def _metrics(load, predicted, n_points):
+    """Fit quality over the used points: errors in N and in percent of the applied load."""
+    err = predicted - load
+    pct = np.abs(100.0 * err / load)
+    ss_tot = float(((load - load.mean()) ** 2).sum())
+    return {
+        "n_points": int(n_points), "n_used": int(len(load)),
+        "rmse_N": float(np.sqrt(np.mean(err ** 2))),
+        "mean_error_pct": float(np.mean(100.0 * err / load)),
+        "median_abs_error_pct": float(np.median(pct)),
+        "max_abs_error_pct": float(pct.max()),
+        "within_5pct": float(np.mean(pct <= 5.0)), "within_10pct": float(np.mean(pct <= 10.0)),
+        "r2": float(1.0 - (err @ err) / ss_tot) if ss_tot > 0 else float("nan"),
+    }
+
+
+def validate(result, points, *, include_saturated=False):
+    """Compare a calibration's predicted loads with the applied loads of (held-out) points.
+
+    Parameters
+    ----------
+    result : CalibrationResult
+    points : sequence of CalibrationPoint
+    include_saturated : bool
+        Whether points with saturated sensels count in the summary (default False: they
+        are listed with ``saturated: true`` and left out of the summary, which says so).
+
+    Returns
+    -------
+    dict
+        ``points`` (file, frame, load_N, predicted_N, error_pct, saturated) and ``summary``
+        (n, within_5pct, within_10pct, median_abs_error_pct, max_abs_error_pct, as
+        fractions in 0..1 for the ``within`` keys, plus n_saturated_excluded).
+
+    Raises
+    ------
+    ValueError
+        If no point can be summarised.
+    """
+    hist, load = points_to_arrays(points)
+    predicted = result.predict_histograms(hist)
+    saturated = np.array([p.saturated_cells > 0 for p in points])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        error_pct = 100.0 * (predicted - load) / load
+    rows = [{"file": p.source, "frame": p.frame, "load_N": p.load_N, "predicted_N": pr,
+             "error_pct": e, "saturated": bool(s), "label": p.label}
+            for p, pr, e, s in zip(points, predicted, error_pct, saturated, strict=True)]
+    keep = np.isfinite(error_pct) & (include_saturated | ~saturated)
+    if not keep.any():
+        raise ValueError(f"none of the {len(points)} validation points has a positive load "
+                         "and no saturated sensels; expected at least one")
+    pct = np.abs(error_pct[keep])
+    summary = {"n": int(keep.sum()), "within_5pct": float(np.mean(pct <= 5.0)),
+               "within_10pct": float(np.mean(pct <= 10.0)),
+               "within_3pct": float(np.mean(pct <= 3.0)),
+               "median_abs_error_pct": float(np.median(pct)),
+               "max_abs_error_pct": float(pct.max()),
+               "n_saturated_excluded": int((saturated & ~keep).sum()),
+               "calibration_method": result.method}
+    return {"points": rows, "summary": summary}

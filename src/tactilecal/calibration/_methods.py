@@ -1,0 +1,277 @@
+"""Static calibration methods, each fitted on 256-bin histograms of calibration frames.
+
+Every fit takes ``hist`` (n, 256) int64 and ``load_N`` (n,) of the *used* points and
+returns a :class:`Fit` (model name, parameters, standard errors, details). The cost of a
+fit does not depend on the number of sensels: ``sum_k X_k**b = hist @ arange(256)**b``.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import optimize
+
+from tactilecal.calibration._models import LEVELS, force_table
+
+__all__ = ["Fit", "FITTERS", "OBJECTIVES", "DEFAULT_OBJECTIVE"]
+
+OBJECTIVES = ("l2", "l1", "relative")
+DEFAULT_OBJECTIVE = "relative"
+B_BOUNDS = (0.2, 4.0)
+with np.errstate(divide="ignore"):
+    LOG_LEVELS = np.where(LEVELS > 0, np.log(LEVELS), 0.0)
+
+
+@dataclass
+class Fit:
+    """What a method returns before it is wrapped into a CalibrationResult."""
+
+    model: str
+    params: dict
+    params_stderr: dict
+    details: dict = field(default_factory=dict)
+
+
+# ---------------------------------------------------------------------- helpers
+def _check_objective(objective):
+    if objective not in OBJECTIVES:
+        raise ValueError(f"objective={objective!r} is unknown; expected one of {OBJECTIVES}")
+
+
+def _check_ls_objective(objective, method):
+    if objective not in ("l2", "relative"):
+        raise ValueError(f"objective={objective!r} is not available for {method}; "
+                         "expected 'l2' or 'relative'")
+
+
+def _weights(load_N, objective):
+    """Residual weights: 1 for l2/l1, 1/F for ``relative`` (residuals as fractions)."""
+    return 1.0 / load_N if objective == "relative" else np.ones_like(load_N)
+
+
+def _power_sums(hist, b):
+    """S_T(b) = sum_k X_k**b for each frame (Zvyagin 2022, eq. 2) as hist @ levels**b."""
+    return hist @ (LEVELS ** b)
+
+
+def _best_A(sums, load_N, objective):
+    """Optimal A for fixed b: closed form for l2/relative, weighted median for l1."""
+    if objective == "l1":
+        # sum |A S - F| = sum S |A - F/S|: minimised by the S-weighted median of F/S.
+        return float(np.quantile(load_N / sums, 0.5, weights=sums, method="inverted_cdf"))
+    w2 = _weights(load_N, objective) ** 2
+    return float((w2 * sums) @ load_N / ((w2 * sums) @ sums))
+
+
+def _power_cost(b, hist, load_N, objective):
+    sums = _power_sums(hist, b)
+    A = _best_A(sums, load_N, objective)
+    r = _weights(load_N, objective) * (A * sums - load_N)
+    return float(np.abs(r).sum() if objective == "l1" else r @ r)
+
+
+def _ols_stderr(jac, resid, n_params):
+    """Return standard errors from the Jacobian: cov = s2 (J^T J)^-1, s2 = RSS / (n - p)."""
+    n = len(resid)
+    if n <= n_params:
+        return None
+    s2 = float(resid @ resid) / (n - n_params)
+    cov = np.linalg.pinv(jac.T @ jac) * s2
+    return np.sqrt(np.clip(np.diag(cov), 0.0, None)), cov
+
+
+# ---------------------------------------------------------------------- methods
+def fit_linear(hist, load_N, **_):
+    """I-Scan linear calibration through zero, f = A * raw (thesis sec. 3.5).
+
+    With one point this is I-Scan's 1-point calibration ``A = F / R`` (raw sum ``R``);
+    with several, the least-squares line through zero ``A = sum(F R) / sum(R**2)``.
+    """
+    raw_sum = hist @ LEVELS
+    A = float(raw_sum @ load_N / (raw_sum @ raw_sum))
+    err = _ols_stderr(raw_sum[:, None], A * raw_sum - load_N, 1)
+    return Fit("power", {"A": A, "b": 1.0},
+               {"A": None if err is None else float(err[0][0]), "b": 0.0},
+               {"stderr_method": "jacobian" if err else "none (one point)"})
+
+
+def fit_power_2pt(hist, load_N, *, pair=None, **_):
+    """I-Scan 2-point power law on the mean raw reading of the loaded sensels.
+
+    I-Scan assumes every loaded sensel of point i reads its mean ``x_i = R_i / C_i`` and
+    carries ``F_i / C_i``, so ``F_i / C_i = A x_i**b`` (thesis sec. 3.5, ``y = a x**b``
+    with points at about 20 % and 80 % of the maximum load). With more than two points the
+    two nearest 20 % and 80 % of the largest load are used (or ``pair=(i, j)``, indices
+    into the used points).
+    """
+    loaded = hist[:, 1:].sum(axis=1)
+    mean_raw = (hist @ LEVELS) / loaded
+    per_cell = load_N / loaded
+    i, j = _choose_pair(load_N, pair)
+    b = float(np.log(per_cell[j] / per_cell[i]) / np.log(mean_raw[j] / mean_raw[i]))
+    A = float(per_cell[i] / mean_raw[i] ** b)
+    return Fit("power", {"A": A, "b": b}, {"A": None, "b": None},
+               {"pair": [int(i), int(j)], "mean_raw": [mean_raw[i], mean_raw[j]],
+                "stderr_method": "none (two points define the curve exactly)"})
+
+
+def _choose_pair(load_N, pair):
+    if len(load_N) < 2:
+        raise ValueError(f"power-2pt needs 2 usable points; found {len(load_N)}")
+    if pair is None:
+        top = load_N.max()
+        i = int(np.argmin(np.abs(load_N - 0.2 * top)))
+        j = int(np.argmin(np.abs(load_N - 0.8 * top)))
+        if load_N[i] == load_N[j]:
+            j = int(np.argmax(load_N))
+        if load_N[i] == load_N[j]:
+            raise ValueError("power-2pt needs two different loads; all usable points have "
+                             f"load_N = {load_N[i]:.6g}")
+        return i, j
+    i, j = (int(k) for k in pair)
+    if not (0 <= i < len(load_N) and 0 <= j < len(load_N)) or i == j:
+        raise ValueError(f"pair={pair!r} is invalid; expected two different indices "
+                         f"into the {len(load_N)} usable points")
+    return i, j
+
+
+def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS, **_):
+    """Multi-point power law over every sensel, f = A * raw**b.
+
+    Objectives: ``l2`` minimises ``sum_T (A S_T(b) - F_T)**2`` (Zvyagin 2022, eq. 3),
+    ``l1`` minimises ``sum_T |F_T - A S_T(b)|`` (Gillis 2013, eq. 5.1, I-Scan), and
+    ``relative`` minimises ``sum_T ((A S_T(b) - F_T) / F_T)**2``. ``A`` is profiled out
+    (closed form, or the weighted median for ``l1``) and ``b`` found on a grid refined
+    by bounded Brent minimisation.
+    """
+    _check_objective(objective)
+    grid = np.linspace(*b_bounds, 77)
+    costs = [_power_cost(b, hist, load_N, objective) for b in grid]
+    k = int(np.argmin(costs))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+    opt = optimize.minimize_scalar(_power_cost, bounds=(lo, hi), method="bounded",
+                                   args=(hist, load_N, objective), options={"xatol": 1e-9})
+    b = float(opt.x)
+    if np.isclose(b, b_bounds[0], atol=1e-3) or np.isclose(b, b_bounds[1], atol=1e-3):
+        raise ValueError(f"power fit: best exponent b = {b:.3f} is at the edge of b_bounds "
+                         f"{tuple(b_bounds)}; expected an interior optimum (check the loads)")
+    sums = _power_sums(hist, b)
+    A = _best_A(sums, load_N, objective)
+    w = _weights(load_N, objective)
+    jac = w[:, None] * np.column_stack([sums, A * (hist @ (LEVELS ** b * LOG_LEVELS))])
+    err = _ols_stderr(jac, w * (A * sums - load_N), 2)
+    stderr = {"A": None, "b": None} if err is None else {"A": float(err[0][0]),
+                                                          "b": float(err[0][1])}
+    details = {"objective": objective, "cost": float(opt.fun),
+               "stderr_method": "jacobian" + (" (L2 approximation at the L1 optimum)"
+                                              if objective == "l1" else "")}
+    if err is not None:
+        details["corr_A_b"] = float(err[1][0, 1] / np.sqrt(err[1][0, 0] * err[1][1, 1]))
+    return Fit("power", {"A": A, "b": b}, stderr, details)
+
+
+def fit_linear_offset(hist, load_N, *, objective="l2", **_):
+    """Paikowsky & Hajduk (1997) linear calibration with offset, P = K (RSD - b).
+
+    Per loaded sensel ``f = K (raw - offset)``; a frame gives ``F = K R - K offset C``,
+    linear least squares in ``(K, K offset)`` (thesis sec. 3.5). Readings below the
+    offset give negative forces, as the published formula does.
+    """
+    _check_ls_objective(objective, "linear-offset")
+    design = np.column_stack([hist @ LEVELS, -hist[:, 1:].sum(axis=1)])
+    w = _weights(load_N, objective)
+    coef, *_ = np.linalg.lstsq(w[:, None] * design, w * load_N, rcond=None)
+    K, c = (float(v) for v in coef)
+    err = _ols_stderr(w[:, None] * design, w * (design @ coef - load_N), 2)
+    stderr = {"K": None, "offset": None}
+    if err is not None:
+        grad = np.array([-c / K**2, 1.0 / K])
+        stderr = {"K": float(err[0][0]), "offset": float(np.sqrt(grad @ err[1] @ grad))}
+    return Fit("linear-offset", {"K": K, "offset": c / K}, stderr,
+               {"objective": objective, "stderr_method": "jacobian (delta method for offset)"})
+
+
+def fit_polynomial(hist, load_N, *, degree=3, objective="l2", **_):
+    """Polynomial per-sensel law through the origin, f = sum_j c_j raw**j, j = 1..degree.
+
+    Linear least squares on the moments ``hist @ raw**j`` (computed on raw/255 for
+    conditioning).
+    """
+    _check_ls_objective(objective, "polynomial")
+    if int(degree) < 1:
+        raise ValueError(f"degree={degree!r}; expected an integer >= 1")
+    powers = np.arange(1, int(degree) + 1)
+    design = hist @ ((LEVELS / 255.0)[:, None] ** powers)
+    w = _weights(load_N, objective)
+    coef, *_ = np.linalg.lstsq(w[:, None] * design, w * load_N, rcond=None)
+    err = _ols_stderr(w[:, None] * design, w * (design @ coef - load_N), len(powers))
+    scale = 255.0 ** powers
+    stderr = None if err is None else (err[0] / scale).tolist()
+    return Fit("polynomial", {"coefficients": (coef / scale).tolist()},
+               {"coefficients": stderr}, {"objective": objective, "stderr_method": "jacobian"})
+
+
+def fit_piecewise(hist, load_N, *, knots=(1, 16, 64, 255), objective=DEFAULT_OBJECTIVE, **_):
+    """Piecewise power law: one power law per low/medium/high raw range (after Stith).
+
+    The law is a straight line between ``knots`` in log-log coordinates, continuous at
+    the knots, so each range has its own ``A_r`` and ``b_r``. The log forces at the knots
+    are fitted by nonlinear least squares (:func:`scipy.optimize.least_squares`).
+    """
+    _check_ls_objective(objective, "piecewise")
+    knots = np.asarray(knots, dtype=float)
+    if len(knots) < 2 or np.any(np.diff(knots) <= 0) or knots[0] <= 0:
+        raise ValueError(f"knots={knots.tolist()} must increase and be > 0; expected e.g. "
+                         "(1, 16, 64, 255)")
+    start = fit_power(hist, load_N, objective=objective).params
+    w = _weights(load_N, objective)
+
+    def resid(log_force):
+        table = force_table("piecewise-power", {"knots": knots, "force_N": np.exp(log_force)})
+        return w * (hist @ table - load_N)
+
+    sol = optimize.least_squares(resid, np.log(start["A"] * knots ** start["b"]), method="lm")
+    force = np.exp(sol.x)
+    err = _ols_stderr(sol.jac, sol.fun, len(knots))
+    stderr = None if err is None else (force * err[0]).tolist()
+    b_r = np.diff(np.log(force)) / np.diff(np.log(knots))
+    A_r = force[:-1] / knots[:-1] ** b_r
+    return Fit("piecewise-power", {"knots": knots.tolist(), "force_N": force.tolist()},
+               {"knots": None, "force_N": stderr},
+               {"objective": objective, "segments_A": A_r.tolist(), "segments_b": b_r.tolist(),
+                "stderr_method": "jacobian (delta method from log forces)"})
+
+
+def fit_lut(hist, load_N, *, knots=None, objective="l2", **_):
+    """Monotone lookup table: nondecreasing force at ``knots``, linear in between.
+
+    Force at the knots is the cumulative sum of nonnegative increments found by
+    nonnegative least squares (:func:`scipy.optimize.nnls`), so the table is monotone
+    and ``f(0) = 0``. Default knots: 0 and 12 log-spaced raw values 3..255.
+    """
+    _check_ls_objective(objective, "lut")
+    if knots is None:
+        knots = np.r_[0, np.unique(np.rint(np.geomspace(3, 255, 12)))]
+    knots = np.asarray(knots, dtype=float)
+    if knots[0] != 0 or knots[-1] < 255 or np.any(np.diff(knots) <= 0):
+        raise ValueError(f"knots={knots.tolist()} must increase from 0 to 255; expected e.g. "
+                         "[0, 3, 5, ..., 255]")
+    interp = np.stack([np.interp(LEVELS, knots, e) for e in np.eye(len(knots))], axis=1)
+    cumulative = np.tril(np.ones((len(knots) - 1, len(knots) - 1)))
+    design = hist @ interp[:, 1:] @ cumulative
+    w = _weights(load_N, objective)
+    increments, _ = optimize.nnls(w[:, None] * design, w * load_N)
+    force = np.r_[0.0, cumulative @ increments]
+    return Fit("table", {"knots": knots.tolist(), "force_N": force.tolist()},
+               {"knots": None, "force_N": None},
+               {"objective": objective, "stderr_method": "none (use n_bootstrap)"})
+
+
+FITTERS = {
+    "linear": fit_linear,
+    "power-2pt": fit_power_2pt,
+    "power": fit_power,
+    "linear-offset": fit_linear_offset,
+    "piecewise": fit_piecewise,
+    "lut": fit_lut,
+    "polynomial": fit_polynomial,
+}

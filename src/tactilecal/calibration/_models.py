@@ -1,0 +1,98 @@
+"""Per-sensel calibration laws: raw reading -> force on one sensel in newtons.
+
+Every model is a function ``f(raw, params)`` with ``f(0) = 0``. A frame's total force is
+``sum_k f(X_k)``, i.e. ``histogram @ f(arange(256))`` for its 256-bin histogram (Zvyagin
+2022, eq. 2). The model names are the ``model`` key of the calibration JSON.
+"""
+
+import numpy as np
+
+__all__ = ["MODELS", "sensel_force", "force_table"]
+
+LEVELS = np.arange(256, dtype=float)
+
+
+def _power(raw, params):
+    """Manufacturer's law f = A * raw**b (Zvyagin 2022, eq. 1; thesis sec. 3.5)."""
+    with np.errstate(invalid="ignore"):
+        return np.where(raw > 0, params["A"] * np.abs(raw) ** params["b"], 0.0)
+
+
+def _linear_offset(raw, params):
+    """Paikowsky & Hajduk (1997) f = K * (raw - offset) on loaded sensels (thesis sec. 3.5)."""
+    return np.where(raw > 0, params["K"] * (raw - params["offset"]), 0.0)
+
+
+def _piecewise_power(raw, params):
+    """Continuous piecewise power law: straight lines between knots in log-log coordinates.
+
+    Each segment between two knots is a power law ``A_r * raw**b_r`` (Stith's separate
+    low/medium/high-pressure curves, made continuous at the knots).
+    """
+    log_knots = np.log(np.asarray(params["knots"], dtype=float))
+    log_force = np.log(np.asarray(params["force_N"], dtype=float))
+    slope0 = (log_force[1] - log_force[0]) / (log_knots[1] - log_knots[0])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_raw = np.log(np.where(raw > 0, raw, 1.0))
+        inside = np.interp(log_raw, log_knots, log_force)
+        below = log_force[0] + slope0 * (log_raw - log_knots[0])
+        value = np.exp(np.where(log_raw < log_knots[0], below, inside))
+    return np.where(raw > 0, value, 0.0)
+
+
+def _table(raw, params):
+    """Monotone lookup table, linear between its knots (``force_N`` at ``knots``)."""
+    return np.where(raw > 0, np.interp(raw, params["knots"], params["force_N"]), 0.0)
+
+
+def _polynomial(raw, params):
+    """Polynomial through the origin f = sum_j c_j * raw**j, j = 1..degree."""
+    coef = np.asarray(params["coefficients"], dtype=float)
+    return np.where(raw > 0, np.polynomial.polynomial.polyval(raw, np.r_[0.0, coef]), 0.0)
+
+
+MODELS = {
+    "power": _power,
+    "linear-offset": _linear_offset,
+    "piecewise-power": _piecewise_power,
+    "table": _table,
+    "polynomial": _polynomial,
+}
+
+
+def sensel_force(model, params, raw):
+    """Force per sensel in newtons for raw readings (NaN stays NaN).
+
+    Parameters
+    ----------
+    model : str
+        One of :data:`MODELS`.
+    params : dict
+        The model's parameters.
+    raw : array_like
+        Raw readings (any shape, floats allowed).
+
+    Returns
+    -------
+    numpy.ndarray
+
+    Raises
+    ------
+    ValueError
+        For an unknown model name.
+
+    Examples
+    --------
+    >>> sensel_force("power", {"A": 0.5, "b": 2.0}, [0.0, 2.0, np.nan]).tolist()
+    [0.0, 2.0, nan]
+    """
+    if model not in MODELS:
+        raise ValueError(f"model {model!r} is unknown; expected one of {sorted(MODELS)}")
+    raw = np.asarray(raw, dtype=float)
+    out = MODELS[model](np.nan_to_num(raw, nan=0.0), params)
+    return np.where(np.isnan(raw), np.nan, out)
+
+
+def force_table(model, params):
+    """Return the force per sensel at raw = 0..255 (float64[256])."""
+    return sensel_force(model, params, LEVELS)

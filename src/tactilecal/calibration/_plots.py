@@ -1,0 +1,94 @@
+"""Figures of a calibration: the curve, predicted vs applied load, the error histogram.
+
+matplotlib is imported inside each function so that importing the package stays fast.
+"""
+
+import numpy as np
+
+__all__ = ["plot_calibration_curve", "plot_points", "plot_error_histogram"]
+
+
+def _axes(ax):
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=(5, 4))
+    return ax
+
+
+def plot_calibration_curve(result, ax=None):
+    """Plot the calibration law over raw 0..255 with the points' mean raw vs load per cell.
+
+    Pressure in kPa when the sensel area is known, else force per sensel in N. Each point
+    is drawn at its mean raw reading of loaded sensels (raw_sum / loaded_cells) against its
+    load per loaded cell (what I-Scan's mean-raw calibrations assume); used points filled,
+    unused ones hollow.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = _axes(ax)
+    area = result.sensel_area_mm2
+    scale, ylabel = ((1000.0 / area, "pressure (kPa)") if np.isfinite(area) and area > 0
+                     else (1.0, "force per sensel (N)"))
+    raw = np.arange(256)
+    ax.plot(raw, result.force_table() * scale, color="C0",
+            label=f"{result.method} ({result.model})")
+    tab = result.points
+    cells = tab["loaded_cells"].to_numpy(float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = tab["raw_sum"].to_numpy(float) / cells
+        y = tab["load_N"].to_numpy(float) / cells * scale
+    used = tab["used"].to_numpy(bool)
+    ax.plot(x[used], y[used], "o", color="C1", ms=4, label="points used")
+    if (~used).any():
+        ax.plot(x[~used], y[~used], "o", mfc="none", color="C3", ms=4, label="not used")
+    ax.set_xlabel("raw reading (0..255)")
+    ax.set_ylabel(ylabel)
+    ax.set_xlim(0, 255)
+    ax.legend(frameon=False)
+    return ax
+
+
+def plot_points(result, ax=None):
+    """Plot predicted vs applied load for every point, with the 1:1 line and +-5 % band.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = _axes(ax)
+    tab = result.points
+    load = tab["load_N"].to_numpy(float)
+    pred = tab["predicted_N"].to_numpy(float)
+    used = tab["used"].to_numpy(bool)
+    top = np.nanmax(np.r_[load, pred, 1e-9]) * 1.05
+    line = np.array([0.0, top])
+    ax.plot(line, line, color="k", lw=1)
+    ax.fill_between(line, 0.95 * line, 1.05 * line, color="0.85", label="+-5 %")
+    ax.plot(load[used], pred[used], "o", color="C0", ms=4, label="used")
+    if (~used).any():
+        ax.plot(load[~used], pred[~used], "o", mfc="none", color="C3", ms=4, label="not used")
+    ax.set_xlabel("applied load (N)")
+    ax.set_ylabel("calibrated load (N)")
+    ax.legend(frameon=False)
+    return ax
+
+
+def plot_error_histogram(result, ax=None):
+    """Histogram of the per-point errors in percent of the applied load (used points).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = _axes(ax)
+    tab = result.points
+    err = tab.loc[tab["used"].astype(bool), "error_pct"].to_numpy(float)
+    err = err[np.isfinite(err)]
+    ax.hist(err, bins=max(5, min(40, len(err) // 3 or 5)), color="C0")
+    ax.axvline(0, color="k", lw=1)
+    ax.set_xlabel("error (% of applied load)")
+    ax.set_ylabel("points")
+    return ax

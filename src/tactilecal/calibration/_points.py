@@ -1,0 +1,253 @@
+"""Calibration points: one loaded frame reduced to its 256-bin histogram of raw values.
+
+A calibration point keeps everything a static calibration needs from a frame: the counts
+of every raw value 0..255 over the frame's working sensels, so that any per-sensel law
+``f(raw)`` gives the frame's total force as ``histogram @ f(arange(256))`` (Zvyagin 2022,
+eq. 2), at a cost independent of the number of sensels.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = [
+    "CalibrationPoint",
+    "frame_histograms",
+    "points_from_frames",
+    "points_to_arrays",
+]
+
+N_LEVELS = 256
+SATURATION_RAW = 255
+
+
+@dataclass
+class CalibrationPoint:
+    """One calibration frame: the histogram of its raw values and the applied load.
+
+    Attributes
+    ----------
+    histogram : numpy.ndarray
+        int64[256], counts of raw values 0..255 over the frame's working, non-NaN sensels.
+    load_N : float
+        Applied load in newtons.
+    raw_sum : float
+        Sum of the raw values (``R_T`` of Zvyagin 2022, eq. 4).
+    loaded_cells : int
+        Number of sensels with raw > 0 (``C_T``).
+    saturated_cells : int
+        Number of sensels with raw == 255.
+    source : str
+        File (or description) the frame came from.
+    frame : int
+        The file's frame number.
+    label : str
+        Free label from the manifest.
+    sensel_area_mm2 : float
+        Area of one sensel (NaN when unknown).
+    working_cells : int
+        Number of working sensels of the frame (histogram total).
+    total_cells : int
+        Number of sensels of the sensor shape (working + masked non-working).
+    note : str
+        How the frame was chosen (e.g. the plateau detection's report).
+    """
+
+    histogram: np.ndarray
+    load_N: float
+    raw_sum: float
+    loaded_cells: int
+    saturated_cells: int
+    source: str = ""
+    frame: int = 0
+    label: str = ""
+    sensel_area_mm2: float = float("nan")
+    working_cells: int = 0
+    total_cells: int = 0
+    note: str = field(default="")
+
+    @property
+    def mean_raw(self):
+        """Mean raw reading of the loaded sensels (I-Scan's x), NaN for an empty frame."""
+        return self.raw_sum / self.loaded_cells if self.loaded_cells else float("nan")
+
+
+def frame_histograms(raw, *, chunk_frames=2048):
+    """Count raw values 0..255 per frame, ignoring NaN sensels.
+
+    Parameters
+    ----------
+    raw : array_like, shape (n_frames, rows, cols)
+        Raw readings (floats are rounded to the nearest integer; NaN are skipped).
+    chunk_frames : int
+        Frames processed at once (bounds the memory of the index array).
+
+    Returns
+    -------
+    numpy.ndarray
+        int64 array (n_frames, 256).
+
+    Raises
+    ------
+    ValueError
+        If a finite value lies outside 0..255.
+
+    Examples
+    --------
+    >>> frame_histograms(np.array([[[0, 3], [3, 255]]]))[0, [0, 3, 255]]
+    array([1, 2, 1])
+    """
+    raw = np.asarray(raw)
+    if raw.ndim == 2:
+        raw = raw[None]
+    if raw.ndim != 3:
+        raise ValueError(f"raw frames have {raw.ndim} dimensions; expected 3 (frame, row, col)")
+    n = raw.shape[0]
+    flat = raw.reshape(n, -1)
+    out = np.zeros((n, N_LEVELS), dtype=np.int64)
+    for start in range(0, n, chunk_frames):
+        block = flat[start:start + chunk_frames]
+        out[start:start + len(block)] = _histogram_block(block)
+    return out
+
+
+def _histogram_block(block):
+    """Histogram each row of a 2-D block of raw values with one ``bincount``."""
+    n = block.shape[0]
+    if block.dtype.kind == "f":
+        valid = np.isfinite(block)
+        values = np.rint(np.where(valid, block, 0)).astype(np.int64)
+    else:
+        valid = None
+        values = block.astype(np.int64)
+    if values.size and (values.min() < 0 or values.max() > SATURATION_RAW):
+        bad = values[(values < 0) | (values > SATURATION_RAW)][0]
+        raise ValueError(f"raw frames contain the value {bad}; expected raw readings 0..255")
+    index = values + (np.arange(n, dtype=np.int64) * N_LEVELS)[:, None]
+    if valid is not None:
+        index = index[valid]
+    return np.bincount(index.ravel(), minlength=n * N_LEVELS).reshape(n, N_LEVELS)
+
+
+def points_from_frames(raw, load_N, *, source="", labels=None, frames=None, mask=None,
+                       sensel_area_mm2=None):
+    """Make calibration points from raw frames and their applied loads.
+
+    Parameters
+    ----------
+    raw : xarray.DataArray or array_like, shape (n, rows, cols)
+        Raw frames (data model of ``docs/data-model.md``); NaN sensels are not counted.
+    load_N : array_like, shape (n,)
+        Applied load of each frame in newtons.
+    source : str
+        Source file recorded in each point.
+    labels : sequence of str, optional
+        One label per frame.
+    frames : sequence of int, optional
+        Frame numbers (default: the DataArray's ``frame`` coordinate, else 1..n).
+    mask : array_like of bool, shape (rows, cols), optional
+        True for non-working sensels to leave out (see :func:`find_dead_sensels`).
+    sensel_area_mm2 : float, optional
+        Sensel area (default: the DataArray's ``sensel_area_mm2`` attribute, else NaN).
+
+    Returns
+    -------
+    list of CalibrationPoint
+
+    Raises
+    ------
+    ValueError
+        If the number of loads or labels differs from the number of frames, or the mask
+        shape differs from the frame shape.
+
+    Examples
+    --------
+    >>> raw = np.zeros((1, 4, 4)); raw[0, 1:3, 1:3] = 10
+    >>> p = points_from_frames(raw, [5.0])[0]
+    >>> p.raw_sum, p.loaded_cells, p.saturated_cells, int(p.histogram[10])
+    (40.0, 4, 0, 4)
+    """
+    attrs = getattr(raw, "attrs", {})
+    if frames is None and hasattr(raw, "coords") and "frame" in raw.coords:
+        frames = np.asarray(raw["frame"].values)
+    if sensel_area_mm2 is None:
+        sensel_area_mm2 = float(attrs.get("sensel_area_mm2", float("nan")))
+    source = source or str(attrs.get("source", ""))
+    values = np.asarray(getattr(raw, "values", raw), dtype=float)
+    if values.ndim == 2:
+        values = values[None]
+    n = values.shape[0]
+    load_N = np.atleast_1d(np.asarray(load_N, dtype=float))
+    _check_length("load_N", len(load_N), n)
+    labels = [""] * n if labels is None else list(labels)
+    _check_length("labels", len(labels), n)
+    frames = np.arange(1, n + 1) if frames is None else np.asarray(frames)
+    _check_length("frames", len(frames), n)
+    total_cells = int(np.isfinite(values[0]).sum())
+    if mask is not None:
+        values = _apply_mask(values, mask)
+    hist = frame_histograms(values)
+    return _points_from_histograms(hist, load_N, source=source, labels=labels, frames=frames,
+                                   sensel_area_mm2=sensel_area_mm2, total_cells=total_cells)
+
+
+def _check_length(name, found, expected):
+    if found != expected:
+        raise ValueError(f"{name} has {found} entries; expected {expected} (one per frame)")
+
+
+def _apply_mask(values, mask):
+    mask = np.asarray(mask, dtype=bool)
+    if mask.shape != values.shape[1:]:
+        raise ValueError(f"mask has shape {mask.shape}; expected {values.shape[1:]} "
+                         "(rows, cols of the frames)")
+    return np.where(mask[None], np.nan, values)
+
+
+def _points_from_histograms(hist, load_N, *, source, labels, frames, sensel_area_mm2,
+                            total_cells, notes=None):
+    levels = np.arange(N_LEVELS)
+    raw_sum = hist @ levels
+    loaded = hist[:, 1:].sum(axis=1)
+    working = hist.sum(axis=1)
+    notes = [""] * len(hist) if notes is None else notes
+    return [
+        CalibrationPoint(histogram=hist[i], load_N=float(load_N[i]), raw_sum=float(raw_sum[i]),
+                         loaded_cells=int(loaded[i]), saturated_cells=int(hist[i, -1]),
+                         source=str(source), frame=int(frames[i]), label=str(labels[i]),
+                         sensel_area_mm2=float(sensel_area_mm2), working_cells=int(working[i]),
+                         total_cells=int(total_cells), note=notes[i])
+        for i in range(len(hist))
+    ]
+
+
+def points_to_arrays(points):
+    """Stack calibration points into arrays for fitting.
+
+    Parameters
+    ----------
+    points : sequence of CalibrationPoint
+
+    Returns
+    -------
+    histograms : numpy.ndarray
+        int64 (n, 256).
+    load_N : numpy.ndarray
+        float64 (n,).
+
+    Raises
+    ------
+    ValueError
+        If ``points`` is empty.
+
+    Examples
+    --------
+    >>> h, f = points_to_arrays(points_from_frames(np.full((2, 2, 2), 9.0), [1.0, 2.0]))
+    >>> h.shape, f.tolist()
+    ((2, 256), [1.0, 2.0])
+    """
+    if len(points) == 0:
+        raise ValueError("points is empty; expected at least one calibration point")
+    hist = np.stack([np.asarray(p.histogram, dtype=np.int64) for p in points])
+    load = np.array([p.load_N for p in points], dtype=float)
+    return hist, load

@@ -1,0 +1,241 @@
+"""The calibration result: parameters, uncertainty, per-point table, JSON round-trip."""
+
+import json
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from tactilecal._jsonutil import dumps, to_jsonable, write_json
+from tactilecal._version import __version__
+from tactilecal.calibration._models import force_table, sensel_force
+
+__all__ = ["CalibrationResult", "load_calibration", "PRESSURE_UNITS"]
+
+# kPa per unit; ``N`` (force per sensel) is handled apart.
+PRESSURE_UNITS = {"kPa": 1.0, "MPa": 1000.0, "psi": 6.894757293168361}
+POINT_COLUMNS = ["file", "frame", "load_N", "raw_sum", "loaded_cells", "saturated_cells",
+                 "used", "reason", "predicted_N", "error_pct"]
+REQUIRED_KEYS = ["method", "model", "params", "sensel_area_mm2", "saturation_pressure_kPa",
+                 "points", "metrics"]
+
+
+@dataclass
+class CalibrationResult:
+    """A fitted static calibration (force per sensel as a function of its raw reading).
+
+    Attributes
+    ----------
+    method : str
+        Calibration method (``"power"``, ``"linear"``, ``"zvyagin"``...).
+    model : str
+        Per-sensel law, a key of :data:`tactilecal.calibration._models.MODELS`. For
+        ``"power"``, force per sensel in newtons = ``A * raw**b``.
+    params : dict
+        Fitted parameters.
+    params_stderr : dict
+        Standard errors of ``params`` (None where not estimated; ``details`` says how).
+    sensel_area_mm2 : float
+        Area of one sensel (NaN when unknown).
+    saturation_pressure_kPa : float
+        Pressure at raw = 255 (NaN when the area is unknown).
+    points : pandas.DataFrame
+        One row per calibration point: file, frame, load_N, raw_sum, loaded_cells,
+        saturated_cells, used, reason, predicted_N, error_pct.
+    metrics : dict
+        Fit quality over the used points.
+    details : dict
+        Method-specific JSON-serialisable intermediate results.
+    options : dict
+        The options the method was called with.
+    """
+
+    method: str
+    model: str
+    params: dict
+    params_stderr: dict
+    sensel_area_mm2: float
+    saturation_pressure_kPa: float
+    points: pd.DataFrame
+    metrics: dict
+    details: dict = field(default_factory=dict)
+    options: dict = field(default_factory=dict)
+    version: str = __version__
+    created: str = field(default_factory=lambda: datetime.now(UTC).isoformat(timespec="seconds"))
+
+    # ------------------------------------------------------------------ predictions
+    def force_table(self):
+        """Force per sensel in newtons at raw = 0..255 (float64[256])."""
+        return force_table(self.model, self.params)
+
+    def predict_sensel_force(self, raw):
+        """Force on each sensel in newtons (same shape as ``raw``; NaN stays NaN).
+
+        Examples
+        --------
+        >>> from tactilecal.calibration import calibrate, points_from_frames
+        >>> frames = np.zeros((2, 3, 3)); frames[0, 1, 1] = 10; frames[1, 1, 1] = 20
+        >>> res = calibrate(points_from_frames(frames, [1.0, 2.0]), method="linear")
+        >>> res.predict_sensel_force(frames)[1, 1, 1].round(6)
+        np.float64(2.0)
+        """
+        return sensel_force(self.model, self.params, np.asarray(getattr(raw, "values", raw)))
+
+    def predict_force(self, raw):
+        """Total force per frame in newtons (NaN sensels ignored).
+
+        Parameters
+        ----------
+        raw : array_like or xarray.DataArray
+            One frame (rows, cols) or frames (n, rows, cols).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            A float for one frame, else an array (n,).
+        """
+        force = self.predict_sensel_force(raw)
+        if force.ndim == 2:
+            return float(np.nansum(force))
+        return np.nansum(force.reshape(force.shape[0], -1), axis=1)
+
+    def predict_histograms(self, histograms):
+        """Total force of frames given as 256-bin histograms (n, 256) -> (n,)."""
+        return np.asarray(histograms, dtype=float) @ self.force_table()
+
+    # ------------------------------------------------------------------ apply
+    def apply(self, recording, units="kPa"):
+        """Convert a raw recording to pressure (or force per sensel).
+
+        Parameters
+        ----------
+        recording : xarray.DataArray
+            Raw recording in the data model (``units`` attribute ``raw``).
+        units : {"kPa", "MPa", "psi", "N"}
+            Output unit; ``"N"`` gives the force on each sensel.
+
+        Returns
+        -------
+        xarray.DataArray
+            Same dims, coords and attributes, with ``units``, ``calibration_method`` and
+            ``calibration_json`` set.
+
+        Raises
+        ------
+        ValueError
+            For an unknown unit, a recording that is not raw, or a missing/inconsistent
+            sensel area.
+        """
+        valid = [*PRESSURE_UNITS, "N"]
+        if units not in valid:
+            raise ValueError(f"units={units!r} is not supported; expected one of {valid}")
+        rec_units = recording.attrs.get("units", "raw")
+        if rec_units != "raw":
+            raise ValueError(f"recording {recording.attrs.get('source', '')!r} has units "
+                             f"{rec_units!r}; expected raw readings (units 'raw')")
+        force = self.predict_sensel_force(recording.values)
+        if units == "N":
+            values = force
+        else:
+            area = self._area_for(recording)
+            values = force / area * 1000.0 / PRESSURE_UNITS[units]
+        out = recording.copy(data=values)
+        out.attrs = {**recording.attrs, "units": units, "calibration_method": self.method,
+                     "calibration_json": self.to_json_text()}
+        return out
+
+    def _area_for(self, recording):
+        rec_area = recording.attrs.get("sensel_area_mm2")
+        area = self.sensel_area_mm2
+        if rec_area is not None and np.isfinite(area):
+            if not np.isclose(float(rec_area), area, rtol=0.01):
+                raise ValueError(f"recording sensel_area_mm2 = {rec_area} differs from the "
+                                 f"calibration's {area}; expected the same sensor model")
+        if not np.isfinite(area):
+            area = float("nan") if rec_area is None else float(rec_area)
+        if not np.isfinite(area) or area <= 0:
+            raise ValueError("sensel area unknown: neither the calibration nor the recording "
+                             "has sensel_area_mm2; expected a positive area to give pressures")
+        return area
+
+    # ------------------------------------------------------------------ reporting
+    def summary(self):
+        """Human-readable summary: parameters with errors, points used and metrics."""
+        lines = [f"Calibration method {self.method!r}, model {self.model!r}"]
+        for name, value in self.params.items():
+            err = self.params_stderr.get(name)
+            err_txt = "" if err is None or np.ndim(err) else f" +/- {err:.4g}"
+            val_txt = f"{value:.6g}" if np.ndim(value) == 0 else str(np.round(value, 6).tolist())
+            lines.append(f"  {name} = {val_txt}{err_txt}")
+        used = self.points["used"].to_numpy(bool)
+        lines.append(f"  points used: {used.sum()} of {len(used)}")
+        for reason, count in self.points.loc[~used, "reason"].value_counts().items():
+            lines.append(f"    not used ({count}): {reason}")
+        lines.append(f"  sensel area: {self.sensel_area_mm2:.4g} mm2, saturation pressure: "
+                     f"{self.saturation_pressure_kPa:.5g} kPa")
+        lines.extend(f"  {k}: {v:.4g}" if isinstance(v, float) else f"  {k}: {v}"
+                     for k, v in self.metrics.items())
+        return "\n".join(lines)
+
+    def __repr__(self):
+        return f"<CalibrationResult {self.method} {self.model} {self.params}>"
+
+    def to_dict(self):
+        """JSON-ready dictionary (keys of the calibration JSON contract)."""
+        return to_jsonable({
+            "method": self.method, "model": self.model, "params": self.params,
+            "params_stderr": self.params_stderr, "sensel_area_mm2": self.sensel_area_mm2,
+            "saturation_pressure_kPa": self.saturation_pressure_kPa,
+            "points": self.points.to_dict(orient="records"), "metrics": self.metrics,
+            "details": self.details, "options": self.options, "version": self.version,
+            "created": self.created,
+        })
+
+    def to_json_text(self):
+        """Return the calibration JSON as text."""
+        return dumps(self.to_dict())
+
+    def to_json(self, path):
+        """Write the calibration JSON atomically to ``path``."""
+        write_json(path, self.to_dict())
+
+    @classmethod
+    def from_dict(cls, data, *, source="calibration"):
+        """Rebuild a result from :meth:`to_dict` output (``source`` names it in errors)."""
+        missing = [k for k in REQUIRED_KEYS if k not in data]
+        if missing:
+            raise ValueError(f"{source} lacks the keys {missing}; expected a calibration JSON "
+                             f"with {REQUIRED_KEYS}")
+        table = pd.DataFrame(data["points"], columns=None if data["points"] else POINT_COLUMNS)
+        nan = float("nan")
+        return cls(
+            method=data["method"], model=data["model"], params=dict(data["params"]),
+            params_stderr=dict(data.get("params_stderr") or {}),
+            sensel_area_mm2=nan if data["sensel_area_mm2"] is None else data["sensel_area_mm2"],
+            saturation_pressure_kPa=(nan if data["saturation_pressure_kPa"] is None
+                                     else data["saturation_pressure_kPa"]),
+            points=table, metrics=dict(data["metrics"]), details=dict(data.get("details") or {}),
+            options=dict(data.get("options") or {}), version=data.get("version", ""),
+            created=data.get("created", ""),
+        )
+
+
+def load_calibration(path):
+    """Read a calibration JSON written by :meth:`CalibrationResult.to_json`.
+
+    Raises
+    ------
+    ValueError
+        If the file is not JSON or lacks a contract key.
+    """
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path} is not valid JSON (line {exc.lineno}: {exc.msg}); "
+                         "expected a calibration JSON") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"{path} holds a {type(data).__name__}; expected a JSON object")
+    return CalibrationResult.from_dict(data, source=str(path))

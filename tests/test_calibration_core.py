@@ -1,0 +1,297 @@
+"""Calibration points, methods, result object, JSON and validation on known truths."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tactilecal.calibration import (
+    METHODS,
+    CalibrationPoint,
+    calibrate,
+    frame_histograms,
+    load_calibration,
+    make_result,
+    points_from_frames,
+    points_to_arrays,
+    validate,
+)
+
+G = 9.80665
+AREA_5051_MM2 = 1.27 * 1.27
+
+
+def _patches(n=40, shape=(20, 20), seed=1, peak=(20, 250)):
+    """Raw frames with one bell-shaped patch each (raw 0 or 3..255)."""
+    rng = np.random.default_rng(seed)
+    raw = np.zeros((n, *shape))
+    for i in range(n):
+        s = int(rng.integers(3, 9))
+        r, c = rng.integers(1, shape[0] - s, size=2)
+        yy, xx = np.mgrid[:s, :s]
+        patch = rng.uniform(*peak) * np.exp(-((yy - s / 2) ** 2 + (xx - s / 2) ** 2) / (s * s / 3))
+        patch = np.clip(np.rint(patch), 0, 255)
+        patch[patch < 3] = 0
+        raw[i, r:r + s, c:c + s] = patch
+    return raw
+
+
+def _power_loads(raw, A=0.0035, b=1.16):
+    return A * (raw ** b).sum(axis=(1, 2))
+
+
+# ---------------------------------------------------------------- points
+def test_histogram_ignores_nan_and_counts_levels():
+    raw = np.array([[[0, 3, np.nan], [255, 3, 7]]])
+    hist = frame_histograms(raw)
+    assert hist.shape == (1, 256)
+    assert hist.sum() == 5
+    assert hist[0, [0, 3, 7, 255]].tolist() == [1, 2, 1, 1]
+
+
+def test_histogram_rejects_out_of_range():
+    with pytest.raises(ValueError, match="value 300; expected raw readings 0..255"):
+        frame_histograms(np.full((1, 2, 2), 300.0))
+
+
+def test_points_from_dataarray_keeps_frames_area_source():
+    raw = _patches(3)
+    da = xr.DataArray(raw, dims=("frame", "row", "col"),
+                      coords={"frame": [5, 6, 7]},
+                      attrs={"sensel_area_mm2": AREA_5051_MM2, "source": "s.csv"})
+    pts = points_from_frames(da, [1.0, 2.0, 3.0], labels=["a", "b", "c"])
+    assert [p.frame for p in pts] == [5, 6, 7]
+    assert pts[0].source == "s.csv" and pts[1].label == "b"
+    assert pts[0].sensel_area_mm2 == pytest.approx(AREA_5051_MM2)
+    assert pts[2].raw_sum == raw[2].sum()
+    assert pts[2].loaded_cells == (raw[2] > 0).sum()
+    assert isinstance(pts[0], CalibrationPoint) and pts[0].histogram.dtype == np.int64
+    hist, load = points_to_arrays(pts)
+    assert hist.shape == (3, 256) and load.tolist() == [1.0, 2.0, 3.0]
+
+
+def test_points_errors():
+    raw = _patches(2)
+    with pytest.raises(ValueError, match="load_N has 1 entries; expected 2"):
+        points_from_frames(raw, [1.0])
+    with pytest.raises(ValueError, match="labels has 3 entries; expected 2"):
+        points_from_frames(raw, [1.0, 2.0], labels=["a", "b", "c"])
+    with pytest.raises(ValueError, match=r"mask has shape \(3, 3\); expected \(20, 20\)"):
+        points_from_frames(raw, [1.0, 2.0], mask=np.zeros((3, 3), bool))
+    with pytest.raises(ValueError, match="points is empty"):
+        points_to_arrays([])
+
+
+def test_mask_removes_sensels_from_histogram():
+    raw = np.full((1, 3, 3), 10.0)
+    mask = np.zeros((3, 3), bool)
+    mask[1, 1] = True
+    p = points_from_frames(raw, [1.0], mask=mask)[0]
+    assert p.loaded_cells == 8 and p.working_cells == 8 and p.total_cells == 9
+
+
+# ---------------------------------------------------------------- methods on a known truth
+@pytest.mark.parametrize("objective", ["l2", "l1", "relative"])
+def test_power_recovers_exact_truth(objective):
+    raw = _patches()
+    pts = points_from_frames(raw, _power_loads(raw))
+    res = calibrate(pts, method="power", objective=objective)
+    assert res.params["b"] == pytest.approx(1.16, abs=1e-6)
+    assert res.params["A"] == pytest.approx(0.0035, rel=1e-5)
+    assert res.metrics["max_abs_error_pct"] < 1e-3
+
+
+def test_power_noisy_truth_within_stderr():
+    raw = _patches(60, seed=3)
+    rng = np.random.default_rng(4)
+    load = _power_loads(raw) * rng.normal(1.0, 0.01, len(raw))
+    res = calibrate(points_from_frames(raw, load), method="power", objective="relative")
+    # 1 % load noise: recovered within 4 standard errors, which are themselves small
+    assert abs(res.params["b"] - 1.16) < 4 * res.params_stderr["b"]
+    assert abs(res.params["A"] - 0.0035) < 4 * res.params_stderr["A"]
+    assert res.params_stderr["b"] < 0.01
+    boot = calibrate(points_from_frames(raw, load), method="power", n_bootstrap=40, seed=0)
+    assert boot.params_stderr["b"] == pytest.approx(res.params_stderr["b"], rel=0.6)
+    assert "bootstrap" in boot.details["stderr_method"]
+
+
+def test_every_method_fits_power_truth():
+    raw = _patches(50, seed=5)
+    pts = points_from_frames(raw, _power_loads(raw), sensel_area_mm2=AREA_5051_MM2)
+    # median errors (%) each method must reach on noise-free power-law data
+    limits = {"linear": 10, "power-2pt": 3, "power": 1e-3, "linear-offset": 5,
+              "piecewise": 0.5, "lut": 1.0, "polynomial": 1.0}
+    assert set(limits) | {"zvyagin"} == set(METHODS)
+    for method, limit in limits.items():
+        res = calibrate(pts, method=method)
+        assert res.metrics["median_abs_error_pct"] < limit, method
+        assert np.all(np.diff(res.force_table()[3:]) >= -1e-12), method  # monotone
+
+
+def test_linear_one_point_frasp01l_header():
+    """FrasP01L: 75.0001 kg, raw sum 4798 over 240 cells, 25.8064 mm2 -> 5.94 kPa/count."""
+    hist = np.zeros(256, dtype=np.int64)
+    hist[20], hist[19] = 238, 2  # 238 x 20 + 2 x 19 = 4798 over 240 loaded cells
+    pt = CalibrationPoint(histogram=hist, load_N=75.0001 * G, raw_sum=4798.0, loaded_cells=240,
+                          saturated_cells=0, source="FrasP01L.asf", sensel_area_mm2=25.8064)
+    res = calibrate([pt], method="linear")
+    kpa_per_count = res.params["A"] / res.sensel_area_mm2 * 1000
+    assert kpa_per_count == pytest.approx(5.94, abs=0.005)
+    assert res.saturation_pressure_kPa == pytest.approx(1514.73, abs=0.05)
+
+
+# Zvyagin (2022) Table 2: A0 (3 significant figures), b0 (3 decimals), p_s in MPa (3 decimals)
+TABLE2 = [(0.00358, 1.164, 1.403), (0.00398, 1.136, 1.336), (0.00413, 1.120, 1.268),
+          (0.00379, 1.141, 1.306), (0.00230, 1.236, 1.347), (0.00232, 1.227, 1.289),
+          (0.00255, 1.205, 1.252), (0.00265, 1.201, 1.273)]
+
+
+@pytest.mark.parametrize(("A0", "b0", "ps_MPa"), TABLE2)
+def test_zvyagin_table2_saturation_pressure(A0, b0, ps_MPa):
+    """p_s = A0 255**b0 / (1.27 mm)**2 (eq. 16) within the printed rounding.
+
+    A0 is printed to 3 significant figures (+-0.5e-5, up to 0.22 %) and b0 to 3 decimals
+    (255**0.0005 = 0.28 %): together up to 0.5 %. The largest deviation is row 7 (0.28 %).
+    """
+    hist = np.zeros(256, dtype=np.int64)
+    hist[255] = 1
+    pt = CalibrationPoint(histogram=hist, load_N=A0 * 255 ** b0, raw_sum=255.0,
+                          loaded_cells=1, saturated_cells=1, sensel_area_mm2=AREA_5051_MM2)
+    res = make_result([pt], method="table2", model="power", params={"A": A0, "b": b0},
+                      params_stderr={}, used=[True], reasons=[""])
+    ps = res.saturation_pressure_kPa / 1000
+    lo = (A0 - 0.5e-5) * 255 ** (b0 - 0.0005) / AREA_5051_MM2
+    hi = (A0 + 0.5e-5) * 255 ** (b0 + 0.0005) / AREA_5051_MM2
+    assert lo - 0.0005 <= ps_MPa <= hi + 0.0005
+    assert ps == pytest.approx(ps_MPa, rel=0.005)
+
+
+# ---------------------------------------------------------------- saturation, selection, errors
+def test_saturated_points_left_out_and_reported():
+    raw = _patches(30, seed=7)
+    raw[0, 10, 10] = 255
+    pts = points_from_frames(raw, _power_loads(raw))
+    res = calibrate(pts, method="power")
+    assert not res.points["used"][0]
+    assert res.points["reason"][0].startswith("saturated: 1 sensels at 255")
+    assert res.metrics["n_used"] == 29
+    kept = calibrate(pts, method="power", keep_saturated=True)
+    assert kept.points["used"].all()
+
+
+def test_calibrate_errors():
+    pts = points_from_frames(_patches(5), np.ones(5))
+    with pytest.raises(ValueError, match=r"method='nope' is unknown; expected one of .*'power'"):
+        calibrate(pts, method="nope")
+    with pytest.raises(ValueError, match="objective='l3' is unknown"):
+        calibrate(pts, method="power", objective="l3")
+    with pytest.raises(ValueError, match=r"does not take the options \['degree'\]"):
+        calibrate(pts, method="power", degree=2)
+    with pytest.raises(ValueError, match="objective='l1' is not available for lut"):
+        calibrate(pts, method="lut", objective="l1")
+    with pytest.raises(ValueError, match="no usable calibration points among 5"):
+        calibrate(points_from_frames(_patches(5), np.zeros(5)), method="power")
+    with pytest.raises(ValueError, match="power-2pt needs two different loads"):
+        calibrate(pts, method="power-2pt")
+    with pytest.raises(ValueError, match="scale_by_working is offered for"):
+        calibrate(pts, method="power", scale_by_working=True)
+
+
+def test_scale_by_working_multiplies_loads():
+    raw = np.full((1, 4, 4), 10.0)
+    mask = np.zeros((4, 4), bool)
+    mask[0, :2] = True  # 2 of 16 sensels not working
+    pt = points_from_frames(raw, [14.0], mask=mask)
+    plain = calibrate(pt, method="linear")
+    scaled = calibrate(pt, method="linear", scale_by_working=True)
+    assert scaled.params["A"] / plain.params["A"] == pytest.approx(14 / 16)
+
+
+# ---------------------------------------------------------------- result object
+def test_json_round_trip_and_apply(tmp_path):
+    raw = _patches(20, seed=9)
+    pts = points_from_frames(raw, _power_loads(raw), sensel_area_mm2=AREA_5051_MM2,
+                             source="dw.csv")
+    res = calibrate(pts, method="power")
+    path = tmp_path / "cal.json"
+    res.to_json(path)
+    import json
+
+    data = json.loads(path.read_text())
+    for key in ["method", "model", "params", "sensel_area_mm2", "saturation_pressure_kPa",
+                "points", "metrics", "params_stderr", "details"]:
+        assert key in data
+    assert set(data["points"][0]) >= {"file", "frame", "load_N", "raw_sum", "loaded_cells",
+                                      "saturated_cells", "used", "reason"}
+    back = load_calibration(path)
+    assert back.params == pytest.approx(res.params)
+    assert back.points["used"].tolist() == res.points["used"].tolist()
+    np.testing.assert_allclose(back.predict_force(raw), _power_loads(raw), rtol=1e-6)
+
+    rec = xr.DataArray(raw[:2], dims=("frame", "row", "col"),
+                       coords={"frame": [1, 2], "time": ("frame", [0.0, 0.1])},
+                       attrs={"units": "raw", "sensel_area_mm2": AREA_5051_MM2})
+    kpa = back.apply(rec, units="kPa")
+    assert kpa.attrs["units"] == "kPa" and kpa.attrs["calibration_method"] == "power"
+    expected = 0.0035 * raw[:2] ** 1.16 / AREA_5051_MM2 * 1000
+    np.testing.assert_allclose(kpa.values, expected, rtol=1e-6, atol=1e-12)
+    psi = back.apply(rec, units="psi")
+    np.testing.assert_allclose(psi.values * 6.894757293168361, kpa.values, rtol=1e-12)
+    newton = back.apply(rec, units="N")
+    assert float(newton[0].sum()) == pytest.approx(_power_loads(raw[:1])[0], rel=1e-6)
+    assert "summary" not in data and "points used: 20 of 20" in res.summary()
+
+
+def test_apply_and_load_errors(tmp_path):
+    raw = _patches(10)
+    res = calibrate(points_from_frames(raw, _power_loads(raw)), method="power")
+    rec = xr.DataArray(raw, dims=("frame", "row", "col"), attrs={"units": "raw"})
+    with pytest.raises(ValueError, match="units='bar' is not supported"):
+        res.apply(rec, units="bar")
+    with pytest.raises(ValueError, match="sensel area unknown"):
+        res.apply(rec, units="kPa")
+    with pytest.raises(ValueError, match="has units 'kPa'; expected raw"):
+        res.apply(rec.assign_attrs(units="kPa"), units="N")
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    with pytest.raises(ValueError, match="bad.json is not valid JSON"):
+        load_calibration(bad)
+    bad.write_text('{"method": "power"}')
+    with pytest.raises(ValueError, match="lacks the keys"):
+        load_calibration(bad)
+
+
+def test_validate_held_out():
+    raw = _patches(40, seed=11)
+    fit = calibrate(points_from_frames(raw, _power_loads(raw)), method="power")
+    test_raw = _patches(20, seed=12)
+    load = _power_loads(test_raw) * 1.04  # every held-out load 4 % above the truth
+    test_raw[0, 0, 0] = 255
+    out = validate(fit, points_from_frames(test_raw, load))
+    s = out["summary"]
+    assert s["n"] == 19 and s["n_saturated_excluded"] == 1
+    assert s["within_5pct"] == 1.0 and s["within_3pct"] == 0.0
+    assert s["median_abs_error_pct"] == pytest.approx(100 * (1 - 1 / 1.04), abs=1e-3)
+    assert out["points"][0]["saturated"] is True
+    assert set(out["points"][1]) >= {"file", "frame", "load_N", "predicted_N", "error_pct"}
+
+
+def test_plots_return_axes():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from tactilecal.calibration import (
+        plot_calibration_curve,
+        plot_error_histogram,
+        plot_points,
+    )
+
+    raw = _patches(20)
+    raw[0, 5, 5] = 255
+    res = calibrate(points_from_frames(raw, _power_loads(raw), sensel_area_mm2=1.6),
+                    method="power")
+    for fn in (plot_calibration_curve, plot_points, plot_error_histogram):
+        ax = fn(res)
+        assert ax.has_data()
+        plt.close(ax.figure)
