@@ -81,7 +81,7 @@ def read_tekscan(path):
     marker = _MARKER.search(raw)
     if marker is None:
         raise ValueError(f"{name} has no 'ASCII_DATA @@' line (after "
-                         f"{raw.count(_NL) + 1} lines); expected a Tekscan ASCII export")
+                         f"{len(raw.splitlines())} lines); expected a Tekscan ASCII export")
     header = parse_header_lines(_decode(raw[:marker.start()]).splitlines(), name)
     for key in ("ROWS", "COLS"):
         if key not in header:
@@ -247,9 +247,13 @@ def _parse_values(body, starts, ends, data_idx, first_line, cols, name):
             io.BytesIO(body), header=None, names=range(cols), comment="F",
             na_values=["B"], keep_default_na=False, dtype=np.float64, engine="c",
             quoting=csv.QUOTE_NONE, skip_blank_lines=True, index_col=False)
-    except ValueError:
+    except ValueError as exc:
+        failure = exc
+    else:
+        failure = None
+    if failure is not None:
         _raise_bad_value(body, starts, ends, data_idx, first_line, name)
-        raise
+        raise failure
     values = table.to_numpy(dtype=np.float64)
     if values.shape[0] != data_idx.size:  # pragma: no cover - guarded by the checks above
         raise ValueError(f"{name}: parsed {values.shape[0]} rows of values; expected "

@@ -1,0 +1,150 @@
+"""read_tekscan bad input: each error names the file and line and what was expected."""
+
+import re
+
+import pytest
+
+from tactilecal.io import read_tekscan
+
+
+def _lines(path):
+    return path.read_bytes().decode().split("\n")
+
+
+def _save(tmp_path, lines, name="broken.csv"):
+    path = tmp_path / name
+    path.write_bytes("\n".join(lines).encode())
+    return path
+
+
+def _edit(tmp_path, source, line_no, new=None):
+    """Copy ``source`` replacing 1-based ``line_no`` (None: delete it)."""
+    lines = _lines(source)
+    if new is None:
+        del lines[line_no - 1]
+    else:
+        lines[line_no - 1] = new
+    return _save(tmp_path, lines, "broken" + source.suffix)
+
+
+def test_truncated_last_frame(iscan_csv, tmp_path):
+    lines = _lines(iscan_csv)[:9268 + 10]  # frame 309 header is line 9268; keep 10 rows
+    lines.append("@@")
+    path = _save(tmp_path, lines)
+    with pytest.raises(ValueError, match=rf"frame 309 of {re.escape(str(path))} \(line 9268\) "
+                                         r"has 10 rows of values; expected 28 \(ROWS\) "
+                                         r"\(truncated file\?\)"):
+        read_tekscan(path)
+
+
+def test_truncated_file_without_terminator(iscan_csv, tmp_path):
+    path = _save(tmp_path, _lines(iscan_csv)[:5000])
+    with pytest.raises(ValueError, match=r"broken.csv ends at line 5000 without the '@@' "
+                                         r"terminator; expected '@@' after the last frame"):
+        read_tekscan(path)
+
+
+def test_frame_missing_a_row_in_the_middle(fscan_asf, tmp_path):
+    path = _edit(tmp_path, fscan_asf, 100)  # a row of frame 2 (line 93 is "Frame 2")
+    with pytest.raises(ValueError, match=r"frame 2 of .*broken.asf \(line 93\) has 59 rows "
+                                         r"of values; expected 60 \(ROWS\)$"):
+        read_tekscan(path)
+
+
+@pytest.mark.parametrize("row, n", [("B,B,5,0", 4), ("B," * 28 + "B", 29)])
+def test_row_with_wrong_number_of_values(iscan_csv, tmp_path, row, n):
+    path = _edit(tmp_path, iscan_csv, 63, row)  # frame 2 is line 58, its row 4 is line 63
+    with pytest.raises(ValueError, match=rf"row 4 of the frame on line 58 of .*broken.csv "
+                                         rf"\(line 63\) has {n} values; expected 28 \(COLS\)"):
+        read_tekscan(path)
+
+
+@pytest.mark.parametrize("token", ["x", "", "nan", "1.2.3", "Foo", '"7"'])
+def test_non_numeric_value(iscan_csv, tmp_path, token):
+    row = "B,B,0,0," + token + ",0,0,0,0,0,0,0,0,B,B,0,0,0,0,0,0,0,0,0,0,0,B,B"
+    path = _edit(tmp_path, iscan_csv, 33, row)
+    with pytest.raises(ValueError, match=rf"line 33 of .*broken.csv, value 5: "
+                                         rf"{re.escape(repr(token))} is not a number; "
+                                         r"expected a number or 'B' \(no sensel\)"):
+        read_tekscan(path)
+
+
+@pytest.mark.parametrize("key, line", [("ROWS", 9), ("COLS", 10)])
+def test_missing_rows_or_cols(iscan_csv, tmp_path, key, line):
+    path = _edit(tmp_path, iscan_csv, line)
+    with pytest.raises(ValueError, match=rf"broken.csv has no {key} line in its header "
+                                         rf"\(lines 1-25\); expected '{key} <number of sensel"):
+        read_tekscan(path)
+
+
+def test_rows_not_an_integer(iscan_csv, tmp_path):
+    path = _edit(tmp_path, iscan_csv, 9, "ROWS 28.5")
+    with pytest.raises(ValueError, match=r"line 9 of .*broken.csv: ROWS is '28.5'; expected "
+                                         r"an integer"):
+        read_tekscan(path)
+
+
+def test_raw_sum_mismatch(iscan_csv, tmp_path):
+    path = _edit(tmp_path, iscan_csv, 58,
+                 "Frame 2, 0.1,, 12/2/2019 6:21:52.44PM,,,Raw Sum=,,306")
+    with pytest.raises(ValueError, match=r"frame 2 of .*broken.csv \(line 58\): Raw Sum in "
+                                         r"the frame line is 306; expected 307, the sum of"):
+        read_tekscan(path)
+
+
+@pytest.mark.parametrize("content", [b"", b"\r\n  \n"])
+def test_empty_file(tmp_path, content):
+    path = tmp_path / "empty.asf"
+    path.write_bytes(content)
+    with pytest.raises(ValueError, match=r"empty.asf is empty; expected a Tekscan ASCII"):
+        read_tekscan(path)
+
+
+@pytest.mark.parametrize("line, new, match", [
+    (23, "UNITS furlongs", r"unknown unit 'furlongs' in UNITS on line 23 of .*broken.csv; "
+                           r"expected one of raw, kPa"),
+    (11, "ROW_SPACING 0.127 leagues", r"unknown unit 'leagues' in ROW_SPACING on line 11"),
+    (13, "SENSEL_AREA 0.016129", r"line 13 of .*: SENSEL_AREA has no unit; expected"),
+    (11, "ROW_SPACING wide", r"line 11 of .*: ROW_SPACING is 'wide'; expected a number"),
+])
+def test_unknown_or_missing_unit(iscan_csv, tmp_path, line, new, match):
+    with pytest.raises(ValueError, match=match):
+        read_tekscan(_edit(tmp_path, iscan_csv, line, new))
+
+
+def test_unknown_calibration_unit(fscan_asf, tmp_path):
+    path = _edit(tmp_path, fscan_asf, 18, "CALIBRATION_POINT_1 75 (stone) 4798 (Raw Sum)\r")
+    with pytest.raises(ValueError, match=r"unknown unit 'stone' in CALIBRATION_POINT_1 on "
+                                         r"line 18 of .*broken.asf"):
+        read_tekscan(path)
+
+
+def test_malformed_calibration_point(fscan_asf, tmp_path):
+    path = _edit(tmp_path, fscan_asf, 18, "CALIBRATION_POINT_1 heavy\r")
+    with pytest.raises(ValueError, match=r"line 18 of .*: CALIBRATION_POINT_1 is 'heavy'; "
+                                         r"expected '<load> \(<unit>\) <raw sum> \(Raw Sum\)"):
+        read_tekscan(path)
+
+
+@pytest.mark.parametrize("line, new, match", [
+    (26, "ASCII DATA", r"broken.csv has no 'ASCII_DATA @@' line \(after 9297 lines\); expected"),
+    (3, "12,0,0", r"line 3 of .*: '12,0,0' is not a header line; expected 'KEY value' lines"),
+    (5, "ROWS 28", r"line 9 of .*: ROWS appears twice in the header \(first on line 5\)"),
+    (58, "Frame 1, 0.1,,,,,Raw Sum=,,307",
+     r"line 58 of .*: frame 1 follows frame 1; expected increasing frame numbers"),
+    (58, "Frame 2, soon,,", r"the time in line 58 of .*broken.csv is 'soon'; expected a number"),
+    (58, "Frames: 2", r"line 58 of .*: 'Frames: 2'; expected 'Frame N' optionally followed"),
+    (57, "garbage", r"line 57 of .*: 'garbage'; expected a 'Frame N' line, a row of values"),
+    (28, "", r"line 29 of .*: a row of values before the first 'Frame N' line; expected"),
+    (9298, "junk", r"line 9298 of .*: 'junk' after the '@@' terminator on line 9297; expected"),
+])
+def test_structure_errors(iscan_csv, tmp_path, line, new, match):
+    with pytest.raises(ValueError, match=match):
+        read_tekscan(_edit(tmp_path, iscan_csv, line, new))
+
+
+def test_single_frame_with_wrong_row_count(tmp_path):
+    path = _save(tmp_path, ["ROWS 3", "COLS 2", "ASCII_DATA @@", "1,2", "3,4", "@@"])
+    with pytest.raises(ValueError, match=r"broken.csv has 2 rows of values and no 'Frame N' "
+                                         r"line; expected 3 rows \(ROWS\) for a single frame"):
+        read_tekscan(path)
