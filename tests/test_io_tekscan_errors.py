@@ -148,3 +148,13 @@ def test_single_frame_with_wrong_row_count(tmp_path):
     with pytest.raises(ValueError, match=r"broken.csv has 2 rows of values and no 'Frame N' "
                                          r"line; expected 3 rows \(ROWS\) for a single frame"):
         read_tekscan(path)
+
+
+@pytest.mark.parametrize("long_line", [33, 29])  # 29: the first row of the first frame
+def test_long_row_balanced_by_a_short_row(iscan_csv, tmp_path, long_line):
+    lines = _lines(iscan_csv)
+    lines[long_line - 1] += ",0"
+    lines[40 - 1] = lines[40 - 1][:-2]  # same number of commas in the file as before
+    path = _save(tmp_path, lines)
+    with pytest.raises(ValueError, match=rf"\(line {long_line}\) has 29 values; expected 28"):
+        read_tekscan(path)

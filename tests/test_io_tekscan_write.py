@@ -123,3 +123,18 @@ def test_netcdf_round_trip(iscan_csv, tmp_path):
                                              ok=True)
     write_netcdf(fitted, out)
     xr.testing.assert_identical(read_netcdf(out), fitted)
+
+
+def test_blocks_and_wide_integers_round_trip(tmp_path, monkeypatch):
+    import tactilecal.io._tekscan_write as writer
+
+    monkeypatch.setattr(writer, "_BLOCK_VALUES", 50)  # 2 frames per block, 3 blocks
+    rng = np.random.default_rng(3)
+    data = _simulated(rng, n_frames=5, units="kPa")
+    data.values[0] = rng.integers(-10**9, 10**9, size=data.shape[1:])  # beyond the lookup
+    data.values[1, 2, 2] = 2.0**60  # integral but not exact as int64 text: float repr
+    out = tmp_path / "wide.csv"
+    write_tekscan(data, out, newline="\r\n")
+    back = read_tekscan(out)
+    np.testing.assert_array_equal(back.values, data.values)
+    assert out.read_bytes().count(b"\r\n") == out.read_bytes().count(b"\n")

@@ -17,6 +17,7 @@ rows per frame, values per row) is checked with vectorised NumPy operations on t
 import csv
 import io
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -75,7 +76,7 @@ def read_tekscan(path):
     path = Path(path)
     name = str(path)
     raw = path.read_bytes()
-    if not raw.strip():
+    if not raw or raw.isspace():
         raise ValueError(f"{name} is empty; expected a Tekscan ASCII export "
                          "('KEY value' header, 'ASCII_DATA @@', frames, '@@')")
     marker = _MARKER.search(raw)
@@ -149,9 +150,25 @@ def _read_body(body, first_line, rows, cols, header, name):
     frame_idx, data_idx = np.flatnonzero(is_frame), np.flatnonzero(is_data)
     frames = _frame_lines(body, starts, ends, frame_idx, data_idx, stop, first_line, rows,
                           header, name)
+    block = body[:end]
+    # Fast checks on counts; the exact per-line checks run only when a count is off.
+    frame_text = b"".join(body[starts[i]:ends[i]] for i in frame_idx)
+    if block.count(b",") - frame_text.count(b",") != data_idx.size * (cols - 1):
+        _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows, cols,
+                           name)
+    if block.count(b"F") != frame_text.count(b"F"):
+        _check_stray_comment(block, starts, ends, data_idx, first_line, name)
+    try:
+        values = _parse_values(block, data_idx.size, cols)
+    except ValueError as exc:
+        failure = exc
+    else:
+        return frames, values
+    # A row with too many values balanced by one with too few passes the comma count;
+    # pandas stops on the long one. Locate the problem and say where it is.
     _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows, cols, name)
-    values = _parse_values(body[:end], starts, ends, data_idx, first_line, cols, name)
-    return frames, values
+    _raise_bad_value(body, starts, ends, data_idx, first_line, name)
+    raise failure
 
 
 def _text(body, starts, ends, i):
@@ -232,32 +249,32 @@ def _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows,
         raise ValueError(f"{where} has {n_values[k]} values; expected {cols} (COLS)")
 
 
-def _parse_values(body, starts, ends, data_idx, first_line, cols, name):
-    """All data rows as a float64 ``(n_rows, cols)`` array, one pandas C-parser call."""
-    if data_idx.size == 0:
+def _check_stray_comment(block, starts, ends, data_idx, first_line, name):
+    """Frame lines are skipped as comments ("F"): an "F" inside a data row must not be."""
+    positions = np.flatnonzero(np.frombuffer(block, np.uint8) == ord("F"))
+    line_of_f = np.searchsorted(starts, positions, side="right") - 1
+    stray = line_of_f[np.isin(line_of_f, data_idx)]
+    _raise_bad_value(block, starts, ends, stray[:1], first_line, name)
+
+
+def _parse_values(block, n_rows, cols):
+    """All data rows as a float64 ``(n_rows, cols)`` array, one pandas C-parser call.
+
+    Frame lines start with "F", which no number or "B" contains, so they are read as
+    comment lines. A first row longer than ``cols`` makes pandas warn and drop values:
+    that warning is raised as an error.
+    """
+    if n_rows == 0:
         return np.empty((0, cols))
-    # Frame lines start with "F", which no number or "B" contains: they are comments.
-    f_positions = np.flatnonzero(np.frombuffer(body, np.uint8) == ord("F"))
-    line_of_f = np.searchsorted(starts, f_positions, side="right") - 1
-    stray = np.flatnonzero(np.isin(line_of_f, data_idx))
-    if stray.size:
-        _raise_bad_value(body, starts, ends, line_of_f[stray[:1]], first_line, name)
-    try:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", pd.errors.ParserWarning)
         table = pd.read_csv(
-            io.BytesIO(body), header=None, names=range(cols), comment="F",
+            io.BytesIO(block), header=None, names=range(cols), comment="F",
             na_values=["B"], keep_default_na=False, dtype=np.float64, engine="c",
             quoting=csv.QUOTE_NONE, skip_blank_lines=True, index_col=False)
-    except ValueError as exc:
-        failure = exc
-    else:
-        failure = None
-    if failure is not None:
-        _raise_bad_value(body, starts, ends, data_idx, first_line, name)
-        raise failure
     values = table.to_numpy(dtype=np.float64)
-    if values.shape[0] != data_idx.size:  # pragma: no cover - guarded by the checks above
-        raise ValueError(f"{name}: parsed {values.shape[0]} rows of values; expected "
-                         f"{data_idx.size}")
+    if values.shape[0] != n_rows:
+        raise ValueError(f"parsed {values.shape[0]} rows of values; expected {n_rows}")
     return values
 
 

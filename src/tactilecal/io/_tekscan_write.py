@@ -9,6 +9,8 @@ from tactilecal.io._units import area_to_mm2, length_to_mm, normalise_unit
 __all__ = ["write_tekscan"]
 
 _MAX_EXACT_INT = 2.0**53
+_LUT_MAX = 100_000
+_BLOCK_VALUES = 2_000_000  # values formatted per block (bounds memory to ~100 MB)
 
 
 def write_tekscan(data, path, *, newline="\n"):
@@ -67,19 +69,20 @@ def write_tekscan(data, path, *, newline="\n"):
     if newline not in ("\n", "\r\n"):
         raise ValueError(f"newline={newline!r}; expected '\\n' or '\\r\\n'")
     values, frames, times = _checked_arrays(data)
-    header = _header_lines(data, frames)
-    rows = _format_rows(values.reshape(-1, values.shape[2]))
+    header = "\n".join([*_header_lines(data, frames), "ASCII_DATA @@", ""]) + "\n"
     frame_lines = _frame_lines(data, values, frames, times)
-    n_rows = values.shape[1]
-    body = []
-    for k, line in enumerate(frame_lines):
-        if k:
-            body.append("")
-        body.append(line)
-        body.extend(rows[k * n_rows:(k + 1) * n_rows])
-    text = "\n".join([*header, "ASCII_DATA @@", "", *body, "@@"]) + "\n"
-    with atomic_path(path) as tmp:
-        tmp.write_bytes(text.replace("\n", newline).encode("utf-8"))
+    with atomic_path(path) as tmp, open(tmp, "wb") as out:
+        out.write(header.replace("\n", newline).encode("utf-8"))
+        step = max(1, _BLOCK_VALUES // max(1, values[0].size))
+        for first in range(0, values.shape[0], step):
+            block = values[first:first + step]
+            text, offsets = _format_rows(block.reshape(-1, block.shape[2]), newline.encode())
+            bounds = offsets[::block.shape[1]]
+            for k, line in enumerate(frame_lines[first:first + step]):
+                lead = b"" if first + k == 0 else newline.encode()
+                out.write(lead + (line + newline).encode("utf-8"))
+                out.write(text[bounds[k]:bounds[k + 1]])
+        out.write(f"@@{newline}".encode())
 
 
 def _checked_arrays(data):
@@ -89,7 +92,7 @@ def _checked_arrays(data):
     if "frame" not in data.coords:
         raise ValueError("write_tekscan: data has no 'frame' coordinate; expected the "
                          "frame numbers (docs/data-model.md)")
-    values = np.asarray(data.values, dtype=np.float64)
+    values = np.ascontiguousarray(data.values, dtype=np.float64)
     if np.isinf(values).any():
         frame = data.frame.values[np.isinf(values).any(axis=(1, 2))][0]
         raise ValueError(f"write_tekscan: frame {frame} holds infinite values; expected "
@@ -203,11 +206,47 @@ def _frame_lines(data, values, frames, times):
     return lines
 
 
-def _format_rows(table):
-    """Comma-joined text of each row: ``B`` for NaN, integers without decimals."""
+def _tokens(table):
+    """Text of each value as a fixed-width bytes array and each text's length."""
     finite = np.isfinite(table)
     integral = finite & (table == np.round(table)) & (np.abs(table) < _MAX_EXACT_INT)
-    tokens = np.where(integral, np.where(integral, table, 0).astype(np.int64).astype(str),
-                      table.astype(str))
-    tokens[~finite] = "B"
-    return [",".join(row) for row in tokens.tolist()]
+    ints = np.where(integral, table, 0).astype(np.int64)
+    low, high = (int(ints.min()), int(ints.max())) if ints.size else (0, 0)
+    rest = finite & ~integral
+    if high - low <= _LUT_MAX:  # raw readings: look the text up, no conversion per value
+        lut = np.array([str(v).encode() for v in range(low, high + 1)] + [b"B"])
+        index = np.where(finite, ints - low, high - low + 1)
+        tokens, lengths = lut[index], np.char.str_len(lut)[index]
+    else:
+        tokens = np.where(finite, ints.astype(bytes), b"B")
+        lengths = None
+    if rest.any():  # shortest text that reads back to the same float64 (numpy's repr)
+        floats = table[rest].astype(bytes)
+        tokens = tokens.astype(f"S{max(tokens.dtype.itemsize, floats.dtype.itemsize)}")
+        tokens[rest] = floats
+        lengths = None
+    return tokens, np.char.str_len(tokens) if lengths is None else lengths
+
+
+def _format_rows(table, newline):
+    """Text of ``table`` as comma-separated lines and the byte offset where each line starts.
+
+    ``B`` stands for NaN, integers are written without decimals. Returns ``(bytes, offsets)``
+    with ``offsets`` of length ``n_rows + 1``.
+
+    Vectorised: every value's text is padded to a fixed width, a separator byte is put
+    after each, and a mask keeps the text bytes and the separators in order.
+    """
+    tokens, lengths = _tokens(table)
+    tokens = np.ascontiguousarray(tokens)
+    n_rows, n_cols = table.shape
+    width = tokens.dtype.itemsize
+    chars = np.zeros((n_rows, n_cols, width + len(newline)), dtype=np.uint8)
+    chars[:, :, :width] = tokens.view(np.uint8).reshape(n_rows, n_cols, width)
+    chars[:, :-1, width] = ord(",")
+    chars[:, -1, width:] = np.frombuffer(newline, np.uint8)
+    keep = np.arange(width + len(newline)) < lengths[:, :, None]
+    keep[:, :-1, width] = True
+    keep[:, -1, width:] = True
+    line_bytes = lengths.sum(axis=1) + (n_cols - 1) + len(newline)
+    return chars[keep].tobytes(), np.concatenate(([0], np.cumsum(line_bytes)))
