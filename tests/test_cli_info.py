@@ -1,0 +1,75 @@
+"""``tactilecal info`` on the real exports and on simulated files with a known answer."""
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tactilecal.cli import main
+from tactilecal.io import write_tekscan
+
+
+def _info_json(capsys, path):
+    assert main(["info", str(path), "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_real_iscan(capsys, iscan_csv):
+    out = _info_json(capsys, iscan_csv)
+    assert (out["sensor_type"], out["catalogue_sensor"]) == ("6900", "6900")
+    assert (out["rows"], out["cols"], out["frames"]) == (28, 28, 309)
+    assert out["duration_s"] == pytest.approx(31.1) and out["units"] == "raw"
+    assert out["sensel_area_mm2"] == pytest.approx(1.6129) and out["calibration"] == {}
+    assert out["blank_sensels"] == 300  # the B border and cross of the 6900's shape
+    assert out["max_raw"] == 100 and out["saturated_frames"] == 0
+
+
+def test_real_fscan(capsys, fscan_asf):
+    out = _info_json(capsys, fscan_asf)
+    assert (out["rows"], out["cols"], out["frames"], out["units"]) == (60, 21, 205, "kPa")
+    assert out["duration_s"] == pytest.approx(204 * 0.032)
+    cal = out["calibration"]
+    assert cal["saturation_pressure_kPa"] == pytest.approx(1514.73)
+    assert cal["calibration_point_1_raw_sum"] == 4798
+    assert cal["calibration_point_1_loaded_cells"] == 240
+    assert out["max_value"] == 760
+    assert out["max_raw"] == pytest.approx(128, abs=0.1)  # 760 kPa / 5.94 kPa per count
+    assert out["saturated_frames"] == 0
+
+
+def test_text_output(capsys, fscan_asf):
+    assert main(["info", str(fscan_asf)]) == 0
+    text = capsys.readouterr().out
+    assert "frames: 205" in text and "units: kPa" in text
+    assert "  calibration_mode_1: Walk" in text and "saturated_frame_numbers: none" in text
+
+
+def test_simulated_truth(capsys, tmp_path):
+    rng = np.random.default_rng(11)
+    values = rng.integers(1, 200, size=(12, 5, 6)).astype(float)
+    values[:, 0, :] = np.nan  # 6 blank sensels
+    values[:, 1, 2] = 0.0  # 2 never-loaded sensels
+    values[:, 4, 5] = 0.0
+    values[[3, 7, 8], 2, 2] = 255.0  # 3 saturated frames
+    data = xr.DataArray(values, dims=("frame", "row", "col"),
+                        coords={"frame": np.arange(1, 13), "time": ("frame", np.arange(12) * 0.01)},
+                        attrs={"units": "raw", "sensor_type": "XYZ"})
+    path = tmp_path / "sim.csv"
+    write_tekscan(data, path)
+    out = _info_json(capsys, path)
+    assert out["blank_sensels"] == 6 and out["never_loaded_sensels"] == 2
+    assert out["saturated_frames"] == 3 and out["saturated_frame_numbers"] == [4, 8, 9]
+    assert out["max_raw"] == 255 and out["catalogue_sensor"] is None
+    assert out["duration_s"] == pytest.approx(0.11)
+
+
+def test_bad_file_exits_1_with_the_reason(capsys, tmp_path):
+    path = tmp_path / "empty.csv"
+    path.write_text("")
+    assert main(["info", str(path)]) == 1
+    assert "tactilecal info: error: " in capsys.readouterr().err
+    with pytest.raises(ValueError, match=r"empty.csv is empty; expected a Tekscan ASCII"):
+        from tactilecal.cli._cmd_info import run
+
+        run(type("Args", (), {"file": str(path), "json": False})())
