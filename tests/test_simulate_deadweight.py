@@ -146,3 +146,31 @@ def test_pad_larger_than_sensor():
 def test_sensor_type_checked():
     with pytest.raises(TypeError, match="sensor: expected a SimulatedSensor"):
         deadweight_session("5051")
+
+
+def test_written_session_reads_back_with_manifest_contract(tmp_path, sensor):
+    import csv
+    import json
+
+    from tactilecal import read_tekscan
+
+    s = deadweight_session(sensor, n_patches=10, seed=8)
+    manifest = s.write(tmp_path / "session")
+    assert manifest == tmp_path / "session" / "manifest.csv"
+    with manifest.open(newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert list(rows[0]) == ["file", "frame", "mass_kg", "pad_mass_g", "label"]
+    assert [r["label"] for r in rows] == s.labels
+    assert sum(r["frame"] == "" for r in rows) == 2
+    for i, row in enumerate(rows):
+        data = read_tekscan(manifest.parent / row["file"])
+        assert data.shape == (12, 44, 44) and data.attrs["units"] == "raw"
+        assert data.attrs["sensor_type"] == "5051"
+        assert data.attrs["row_spacing_mm"] == pytest.approx(1.27)
+        load = (float(row["mass_kg"]) + float(row["pad_mass_g"]) / 1000) * G
+        assert load == pytest.approx(s.load_N[i], rel=1e-12)
+        frame = int(row["frame"]) if row["frame"] else int(s.plateau_frame[i])
+        np.testing.assert_array_equal(data.sel(frame=frame).values, s.raw.values[i])
+    truth = json.loads((manifest.parent / "truth.json").read_text())
+    assert truth["sensor"]["A_N"] == sensor.A_N and truth["sensor"]["b"] == sensor.b
+    assert truth["sensor"]["dead_sensels"] == np.argwhere(sensor.dead).tolist()

@@ -15,6 +15,13 @@ from tactilecal.simulate._deadweight import (
 )
 from tactilecal.simulate._loads import PAD_MASS_G
 from tactilecal.simulate._sensor import SimulatedSensor, make_sensor, sensor_geometry
+from tactilecal.simulate._static import (
+    RampHold,
+    UniformLoad,
+    ramp_hold,
+    ramp_hold_profile,
+    uniform_load,
+)
 
 __all__ = [
     "SimulatedSensor",
@@ -25,4 +32,9 @@ __all__ = [
     "deadweight_session",
     "MANIFEST_COLUMNS",
     "PAD_MASS_G",
+    "UniformLoad",
+    "uniform_load",
+    "RampHold",
+    "ramp_hold",
+    "ramp_hold_profile",
 ]

@@ -9,6 +9,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from tactilecal._atomic import write_text_atomic
+from tactilecal._jsonutil import write_json
 from tactilecal.simulate._loads import (
     G_STANDARD,
     PAD_MASS_G,
@@ -130,13 +131,14 @@ class DeadweightSession:
                     self.pad_mass_g, strict=True)]
 
     def write(self, outdir):
-        """Write one I-Scan ASCII file per patch and ``manifest.csv`` into ``outdir``.
+        """Write one I-Scan ASCII file per patch, ``manifest.csv`` and ``truth.json``.
 
         Each file is a short recording (:meth:`recording`: loading ramp then plateau) so a
         blank ``frame`` in the manifest exercises plateau detection; the other rows name the
         plateau frame equal to ``raw``. The manifest follows the static-calibration contract:
         columns ``file`` (relative to the manifest), ``frame``, ``mass_kg``, ``pad_mass_g``
-        (g = 9.80665 m/s2) and ``label``. Every file is written atomically.
+        (g = 9.80665 m/s2) and ``label``. ``truth.json`` holds :meth:`truth`. Every file is
+        written atomically.
 
         Parameters
         ----------
@@ -161,7 +163,16 @@ class DeadweightSession:
         writer.writerows(rows)
         manifest = outdir / "manifest.csv"
         write_text_atomic(manifest, buf.getvalue())
+        write_json(outdir / "truth.json", self.truth())
         return manifest
+
+    def truth(self):
+        """Return the session's truth: sensor law, gains, dead sensels and per-patch loads."""
+        return {"kind": "dead-weight session (Zvyagin 2022)", "seed": self.seed,
+                "g_m_s2": G_STANDARD, "sensor": self.sensor.truth(),
+                "patches": [{"label": label, "load_N": load, "saturated": sat}
+                            for label, load, sat in zip(self.labels, self.load_N,
+                                                        self.saturated, strict=True)]}
 
 
 def deadweight_session(sensor, *, n_patches=150, masses_kg=(2, 5, 10), pad_sides_cm=(1, 2, 3),
@@ -243,8 +254,9 @@ def deadweight_session(sensor, *, n_patches=150, masses_kg=(2, 5, 10), pad_sides
         size = max(2 * missing, 8)
     else:
         raise ValueError(f"saturated_share: {saturated_share} asks for {n_sat} saturated and "
-                         f"{n_patches - n_sat} unsaturated patches; after {_MAX_BATCHES} "
-                         f"batches only {len(kept[True])} and {len(kept[False])} were drawn")
+                         f"{n_patches - n_sat} unsaturated patches; {_MAX_BATCHES} batches "
+                         f"gave only {len(kept[True])} and {len(kept[False])}: adjust "
+                         "masses_kg, pad_sides_cm or the sensor's A_N")
     patches = sorted(kept[True] + kept[False], key=lambda p: p["order"])
     return _assemble(sensor, patches, blank_frame_share, ramp_frames, plateau_frames, seed, rng)
 

@@ -202,15 +202,38 @@ class SimulatedSensor:
         raw = self.ideal_raw(force) * self.gain
         return self._digitise(raw, _as_rng(rng))
 
-    def _digitise(self, raw, rng):
-        """Add noise, round, apply threshold, saturation and dead sensels (in place)."""
+    def _digitise(self, raw, rng, scratch=None):
+        """Add noise, round, apply threshold, saturation and dead sensels (in place).
+
+        ``scratch`` is an optional buffer like ``raw`` for the noise (reused by callers that
+        digitise long recordings block by block).
+        """
         if self.read_noise > 0:
-            raw += rng.normal(0.0, self.read_noise, size=raw.shape).astype(raw.dtype)
+            noise = rng.standard_normal(dtype=raw.dtype, out=scratch) if scratch is not None \
+                else rng.standard_normal(size=raw.shape, dtype=raw.dtype)
+            noise *= self.read_noise
+            raw += noise
         np.rint(raw, out=raw)
         np.clip(raw, 0, SATURATION_RAW, out=raw)
-        raw[raw < self.noise_threshold] = 0
-        raw[..., self.dead] = 0
+        np.multiply(raw, raw >= self.noise_threshold, out=raw)
+        np.multiply(raw, ~self.dead, out=raw)
         return raw
+
+    def truth(self):
+        """Return the sensor's truth as plain values (law, noise, gains, dead sensels).
+
+        Examples
+        --------
+        >>> t = make_sensor("9500", n_dead=2).truth()
+        >>> t["A_N"], t["b"], len(t["dead_sensels"]), len(t["gain"])
+        (0.0035, 1.16, 2, 14)
+        """
+        return {"sensor_type": self.sensor_type, "rows": self.rows, "cols": self.cols,
+                "law": "force per sensel f = A_N * raw**b (Zvyagin 2022, eq. 1); "
+                       "raw = gain * (f / A_N)**(1/b) + noise",
+                "A_N": self.A_N, "b": self.b, "read_noise": self.read_noise,
+                "noise_threshold": self.noise_threshold,
+                "dead_sensels": np.argwhere(self.dead).tolist(), "gain": self.gain.tolist()}
 
     def attrs(self, *, source="simulated", seconds_per_frame=None):
         """Data-model attributes of a raw recording from this sensor."""

@@ -1,0 +1,69 @@
+"""``tactilecal simulate deadweight`` and ``tactilecal simulate ramp-hold``."""
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from tactilecal import read_tekscan, read_timeseries
+from tactilecal.cli import main
+
+
+def test_deadweight_writes_session_and_manifest(tmp_path, capsys):
+    out = tmp_path / "dw"
+    assert main(["simulate", "deadweight", str(out), "--patches", "6", "--seed", "1"]) == 0
+    printed = capsys.readouterr().out
+    assert str(out / "manifest.csv") in printed and "recordings" in printed
+    with (out / "manifest.csv").open(newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 6 and list(rows[0]) == ["file", "frame", "mass_kg", "pad_mass_g",
+                                                "label"]
+    for row in rows:
+        data = read_tekscan(out / row["file"])
+        assert data.dims == ("frame", "row", "col") and data.shape[1:] == (44, 44)
+        assert data.values.max() > 0
+    assert json.loads((out / "truth.json").read_text())["sensor"]["A_N"] == 0.0035
+
+
+def test_deadweight_is_deterministic_and_json(tmp_path, capsys):
+    for name in ("a", "b"):
+        assert main(["-q", "simulate", "deadweight", str(tmp_path / name), "--patches", "3",
+                     "--seed", "4", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out.split("}\n{")[0] + "}")
+    assert summary["recordings"] == 3 and summary["sensor"] == "5051"
+    with (tmp_path / "a" / "manifest.csv").open(newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    for row in rows:
+        assert (tmp_path / "a" / row["file"]).read_bytes() == \
+            (tmp_path / "b" / row["file"]).read_bytes()
+
+
+def test_deadweight_model_9500_scales_A_N(tmp_path, capsys):
+    assert main(["simulate", "deadweight", str(tmp_path), "--patches", "4", "--model", "9500",
+                 "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["A_N"] == pytest.approx(0.0035 * 5.08 ** 2 / 1.27 ** 2)
+    assert summary["saturated_patches"] == 0
+
+
+def test_ramp_hold_writes_recording_and_loadcell(tmp_path, capsys):
+    out = tmp_path / "rh"
+    assert main(["simulate", "ramp-hold", str(out), "--hold", "0.3", "--ramp", "0.2"]) == 0
+    assert "loadcell" in capsys.readouterr().out
+    assert (out / "loadcell.csv").read_text().startswith("Time (s),Load (N)\n")
+    rec = read_tekscan(out / "recording.csv")
+    lc = read_timeseries(out / "loadcell.csv")
+    assert rec.attrs["seconds_per_frame"] == pytest.approx(0.01)
+    assert np.diff(lc["time"].values).mean() == pytest.approx(0.002)
+    assert lc.values.max() == pytest.approx(889.6, abs=3)
+
+
+def test_errors(tmp_path, capsys):
+    assert main(["simulate", "deadweight", str(tmp_path), "--model", "nope"]) == 1
+    assert "tactilecal simulate: error: unknown sensor 'nope'" in capsys.readouterr().err
+    assert main(["simulate", "deadweight", str(tmp_path), "--patches", "0"]) == 1
+    assert "n_patches: got 0" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as exc:
+        main(["simulate"])
+    assert exc.value.code == 2
