@@ -14,8 +14,10 @@ from tactilecal.calibration._calibrate import (
     select_points,
     validate,
 )
+from tactilecal.calibration._manifest import find_plateau, load_frames, load_points
 from tactilecal.calibration._methods import OBJECTIVES
 from tactilecal.calibration._models import MODELS, force_table, sensel_force
+from tactilecal.calibration._movie import calibrate_movie, movie_points, read_movie_loads
 from tactilecal.calibration._plots import (
     plot_calibration_curve,
     plot_error_histogram,
@@ -28,10 +30,20 @@ from tactilecal.calibration._points import (
     points_to_arrays,
 )
 from tactilecal.calibration._result import CalibrationResult, load_calibration
+from tactilecal.calibration._sensels import (
+    Equilibration,
+    NonWorkingSensels,
+    equilibrate,
+    find_dead_sensels,
+    load_equilibration,
+)
 
 __all__ = [
+    "Equilibration", "NonWorkingSensels", "equilibrate", "find_dead_sensels", "load_frames",
+    "load_equilibration", "calibrate_movie", "movie_points", "read_movie_loads",
     "METHODS", "MODELS", "OBJECTIVES", "CalibrationPoint", "CalibrationResult", "calibrate",
-    "force_table", "frame_histograms", "load_calibration", "make_result",
+    "find_plateau", "force_table", "frame_histograms", "load_calibration", "load_points",
+    "make_result",
     "plot_calibration_curve", "plot_error_histogram", "plot_points", "points_from_frames",
     "points_to_arrays", "select_points", "sensel_force", "validate",
 ]

@@ -73,6 +73,9 @@ class CalibrationResult:
     def predict_sensel_force(self, raw):
         """Force on each sensel in newtons (same shape as ``raw``; NaN stays NaN).
 
+        Equilibration gains and the non-working-sensel mask stored in ``details`` (by
+        ``tactilecal calibrate --equilibration/--mask-dead``) are applied first.
+
         Examples
         --------
         >>> from tactilecal.calibration import calibrate, points_from_frames
@@ -81,7 +84,21 @@ class CalibrationResult:
         >>> res.predict_sensel_force(frames)[1, 1, 1].round(6)
         np.float64(2.0)
         """
-        return sensel_force(self.model, self.params, np.asarray(getattr(raw, "values", raw)))
+        return sensel_force(self.model, self.params, self._prepare_raw(raw))
+
+    def _prepare_raw(self, raw):
+        """Apply the calibration's equilibration gains and non-working mask, if it has them."""
+        from tactilecal.calibration._sensels import Equilibration
+
+        values = np.asarray(getattr(raw, "values", raw), dtype=float)
+        if "equilibration" in self.details:
+            values = Equilibration.from_dict(self.details["equilibration"]).apply(values)
+        dead = self.details.get("non_working_sensels", {}).get("sensels", [])
+        if dead:
+            rows, cols = np.asarray(dead).T
+            values = values.copy()
+            values[..., rows, cols] = np.nan
+        return values
 
     def predict_force(self, raw):
         """Total force per frame in newtons (NaN sensels ignored).

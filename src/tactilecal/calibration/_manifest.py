@@ -1,0 +1,208 @@
+"""Calibration manifests (CSV, one row per point) and plateau detection for blank frames."""
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from tactilecal.calibration._points import _points_from_histograms, frame_histograms
+
+__all__ = ["load_points", "load_frames", "find_plateau"]
+
+
+def find_plateau(total, *, window=3, rel_tol=0.02, min_level=0.5):
+    """Find the steady plateau of a loading record from its per-frame total raw signal.
+
+    Among frames whose total is at least ``min_level`` x the maximum, the centre of the
+    ``window``-frame span with the smallest coefficient of variation seeds the plateau; the
+    plateau is the run of consecutive frames around it whose total stays within ``rel_tol``
+    of the seed span's median, and its middle frame is returned.
+
+    Parameters
+    ----------
+    total : array_like, shape (n,)
+        Per-frame total raw reading.
+    window : int
+        Frames in the rolling span.
+    rel_tol : float
+        Relative band around the plateau level.
+    min_level : float
+        Only frames above this fraction of the maximum are candidates.
+
+    Returns
+    -------
+    index : int
+        0-based index of the chosen frame.
+    first, last : int
+        0-based indices of the plateau's ends.
+    cv : float
+        Coefficient of variation of the total over the plateau.
+
+    Raises
+    ------
+    ValueError
+        If every frame is empty.
+
+    Examples
+    --------
+    >>> find_plateau([0, 10, 50, 99, 100, 101, 100, 99, 60])[:3]
+    (5, 3, 7)
+    """
+    total = pd.Series(np.asarray(total, dtype=float))
+    if not (total > 0).any():
+        raise ValueError("every frame has a total raw reading of 0; expected a loaded plateau")
+    if len(total) < window:
+        i = int(total.to_numpy().argmax())
+        return i, i, i, 0.0
+    roll = total.rolling(window, center=True)
+    cv = (roll.std() / roll.mean()).where(total >= min_level * total.max())
+    seed = int(np.nanargmin(cv.to_numpy()))
+    half = window // 2
+    level = float(total.iloc[max(seed - half, 0):seed + half + 1].median())
+    inside = ((total - level).abs() <= rel_tol * level).to_numpy()
+    first, last = seed, seed
+    while first > 0 and inside[first - 1]:
+        first -= 1
+    while last < len(total) - 1 and inside[last + 1]:
+        last += 1
+    span = total.iloc[first:last + 1]
+    return (first + last) // 2, first, last, float(span.std(ddof=0) / span.mean())
+
+
+def _manifest_table(path):
+    try:
+        table = pd.read_csv(path, dtype=str, keep_default_na=False, skipinitialspace=True)
+    except pd.errors.EmptyDataError:
+        raise ValueError(f"{path} is empty; expected a CSV header with file, frame and "
+                         "load_N or mass_kg") from None
+    table.columns = [c.strip() for c in table.columns]
+    missing = [c for c in ("file", "frame") if c not in table.columns]
+    if missing or not ({"load_N", "mass_kg"} & set(table.columns)):
+        raise ValueError(f"{path} has columns {list(table.columns)}; expected file, frame and "
+                         "load_N or mass_kg (optional pad_mass_g, label)")
+    if table.empty:
+        raise ValueError(f"{path} has no rows; expected one row per calibration point")
+    return table
+
+
+def _number(text, column, where):
+    try:
+        return float(text)
+    except ValueError:
+        raise ValueError(f"{where}: {column} {text!r} is not a number; expected a number") \
+            from None
+
+
+def _row_load_N(row, where):
+    """Load of one manifest row: ``load_N``, else (mass_kg + pad_mass_g / 1000) * g."""
+    from tactilecal.io import G_STANDARD
+
+    if row.get("load_N", ""):
+        return _number(row["load_N"], "load_N", where)
+    if row.get("mass_kg", ""):
+        pad = _number(row["pad_mass_g"], "pad_mass_g", where) if row.get("pad_mass_g") else 0.0
+        return (_number(row["mass_kg"], "mass_kg", where) + pad / 1000.0) * G_STANDARD
+    raise ValueError(f"{where}: load_N and mass_kg are both blank; expected a load")
+
+
+def _read_recording(path, where, cache):
+    from tactilecal.io import read_tekscan
+
+    if path not in cache:
+        if not path.is_file():
+            raise ValueError(f"{where}: file {path} does not exist")
+        rec = read_tekscan(path)
+        units = rec.attrs.get("units", "raw")
+        if units != "raw":
+            raise ValueError(f"{where}: {path.name} has units {units!r}; expected raw "
+                             "readings (units raw) to calibrate")
+        cache[path] = rec
+    return cache[path]
+
+
+def _pick_frame(rec, text, where, name):
+    """Return (0-based index, note) of the manifest's frame or of the detected plateau."""
+    frames = rec["frame"].values
+    if text:
+        number = _number(text, "frame", where)
+        hits = np.flatnonzero(frames == number)
+        if not len(hits):
+            raise ValueError(f"{where}: frame {text} is not in {name} (frames "
+                             f"{frames[0]}..{frames[-1]}); expected one of its frame numbers")
+        return int(hits[0]), ""
+    total = np.nansum(rec.values.reshape(len(frames), -1), axis=1)
+    i, first, last, cv = find_plateau(total)
+    note = (f"frame blank: chose frame {frames[i]}, middle of the plateau frames "
+            f"{frames[first]}..{frames[last]} (raw sum {total[i]:.0f}, variation {cv:.2%})")
+    return i, note
+
+
+def _manifest_frames(manifest_path, equilibration):
+    """Yield (row, frame (1, rows, cols), frame number, note, area, load_N) per manifest row."""
+    path = Path(manifest_path)
+    table = _manifest_table(path)
+    cache = {}
+    for k, row in enumerate(table.to_dict(orient="records")):
+        where = f"{path.name} line {k + 2}"
+        load = _row_load_N(row, where)
+        rec = _read_recording(path.parent / row["file"], where, cache)
+        i, note = _pick_frame(rec, row["frame"], where, row["file"])
+        frame = rec.values[i:i + 1]
+        if equilibration is not None:
+            frame = equilibration.apply(frame)
+        area = float(rec.attrs.get("sensel_area_mm2", np.nan))
+        yield row, frame, int(rec["frame"].values[i]), note, area, load
+
+
+def load_frames(manifest_path, *, equilibration=None):
+    """Return the manifest's chosen frames stacked (n, rows, cols), e.g. to find dead sensels.
+
+    Raises
+    ------
+    ValueError
+        As :func:`load_points`, and if the files' frame shapes differ.
+    """
+    frames = [f[1][0] for f in _manifest_frames(manifest_path, equilibration)]
+    shapes = sorted({f.shape for f in frames})
+    if len(shapes) > 1:
+        raise ValueError(f"{manifest_path}: files have frame shapes {shapes}; expected one "
+                         "sensor model")
+    return np.stack(frames)
+
+
+def load_points(manifest_path, *, mask=None, equilibration=None):
+    """Read a calibration manifest and return its calibration points.
+
+    The manifest is a CSV with one row per point: ``file`` (path relative to the manifest),
+    ``frame`` (the file's frame number; blank = the steady plateau, found by
+    :func:`find_plateau` and reported in the point's ``note``), ``load_N`` or ``mass_kg``
+    with optional ``pad_mass_g`` (g = 9.80665 m/s2), optional ``label``.
+
+    Parameters
+    ----------
+    manifest_path : str or os.PathLike
+        The manifest CSV.
+    mask : array_like of bool, optional
+        Non-working sensels to leave out (see :func:`find_dead_sensels`).
+    equilibration : Equilibration, optional
+        Per-sensel gains applied to every frame first (see :func:`equilibrate`).
+
+    Returns
+    -------
+    list of CalibrationPoint
+
+    Raises
+    ------
+    ValueError
+        Missing columns, a blank or non-numeric load, a missing file, a frame not in its
+        file, a file that is not raw; messages name the manifest line.
+    """
+    points = []
+    for row, frame, number, note, area, load in _manifest_frames(manifest_path, equilibration):
+        total = int(np.isfinite(frame).sum())
+        if mask is not None:
+            frame = np.where(np.asarray(mask, bool)[None], np.nan, frame)
+        points.extend(_points_from_histograms(
+            frame_histograms(frame), [load], source=row["file"], labels=[row.get("label", "")],
+            frames=[number], sensel_area_mm2=area, total_cells=total, notes=[note]))
+    return points

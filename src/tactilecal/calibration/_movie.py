@@ -1,0 +1,250 @@
+"""Movie calibration: every frame of a recording paired with a load-cell reading.
+
+I-Scan's movie calibration pairs each frame with a load from a text file and fails on a
+count mismatch (Gillis 2013, sec. 3.5). With a time column, the load-cell record is aligned
+with the sensor's total raw signal by cross-correlation
+(:func:`tactilecal.dynamic.estimate_lag`), resampled onto the frame times
+(:func:`tactilecal.dynamic.resample_to`), saturated frames are trimmed (the default point
+selection) and every remaining frame becomes a calibration point.
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from tactilecal.calibration._calibrate import calibrate
+from tactilecal.calibration._points import _points_from_histograms, frame_histograms
+from tactilecal.calibration._sensels import find_dead_sensels
+
+__all__ = ["read_movie_loads", "movie_points", "calibrate_movie"]
+
+_CHUNK = 2048
+
+
+def read_movie_loads(path, *, time_col=None, load_col=None):
+    """Read a movie calibration's loads: a time series, or one load per frame.
+
+    A CSV with one column (a header then one load per line, I-Scan's format) gives a plain
+    array with no time; otherwise :func:`tactilecal.io.read_timeseries` reads time and load.
+    Loads are converted to newtons from the unit in the column name (``Load (lbf)``); a
+    column without a unit is taken as newtons.
+
+    Returns
+    -------
+    numpy.ndarray or xarray.DataArray
+        The loads in N (array when the file has no time column).
+
+    Raises
+    ------
+    ValueError
+        For a load column whose unit is not a force or a mass, or a non-numeric load.
+    """
+    from tactilecal.io import force_to_N, mass_to_N, read_timeseries, unit_from_column, unit_kind
+
+    path = Path(path)
+    header = pd.read_csv(path, nrows=0, encoding="utf-8-sig").columns
+    if len(header) > 1 or time_col is not None:
+        series = read_timeseries(path, time_col=time_col, value_col=load_col)
+        if series.attrs.get("units") not in ("N", "unknown"):
+            raise ValueError(f"{path}: load column {series.attrs.get('column')!r} is in "
+                             f"{series.attrs['units']!r}; expected a force or mass unit")
+        return series.assign_attrs(units="N")
+    column = str(header[0]).strip()
+    unit = unit_from_column(column, where=f"column {column!r} of {path}")
+    table = pd.read_csv(path, encoding="utf-8-sig")
+    values = pd.to_numeric(table.iloc[:, 0], errors="coerce").to_numpy(float)
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise ValueError(f"line {bad[0] + 2} of {path}: load {table.iloc[bad[0], 0]!r} is "
+                         "not a number; expected one load per frame")
+    if unit is None:
+        return values
+    kind = unit_kind(unit)
+    if kind not in ("force", "mass"):
+        raise ValueError(f"{path}: load column {column!r} is in {unit!r}; expected a force "
+                         "or mass unit")
+    return force_to_N(values, unit) if kind == "force" else mass_to_N(values, unit)
+
+
+def _histograms(values, mask, equilibration, quiet):
+    """Chunked histograms of all frames (gains and mask applied per chunk)."""
+    from tactilecal.cli._common import progress
+
+    hist = np.zeros((len(values), 256), dtype=np.int64)
+    starts = range(0, len(values), _CHUNK)
+    for s in progress(starts, total=len(starts), desc="histograms",
+                      quiet=quiet or len(values) < 20 * _CHUNK):
+        block = values[s:s + _CHUNK]
+        if equilibration is not None:
+            block = equilibration.apply(block)
+        if mask is not None:
+            block = np.where(mask[None], np.nan, block)
+        hist[s:s + _CHUNK] = frame_histograms(block)
+    return hist
+
+
+def _frame_times(recording, n):
+    if "time" in recording.coords:
+        return np.asarray(recording["time"].values, dtype=float)
+    spf = recording.attrs.get("seconds_per_frame")
+    if spf is None:
+        raise ValueError("recording has neither a time coordinate nor seconds_per_frame; "
+                         "expected frame times to align the load record")
+    return np.arange(n) * float(spf)
+
+
+def _align_loads(loads, total, times, n, name, lag_s, max_lag_s):
+    """Return the load on each frame (NaN outside the record) and an alignment report."""
+    from tactilecal.dynamic import estimate_lag, resample_to
+
+    if not isinstance(loads, xr.DataArray):
+        loads = np.asarray(loads, dtype=float).ravel()
+        if len(loads) != n:
+            raise ValueError(f"loads have {len(loads)} values and no time column; expected "
+                             f"{n} (one per frame of {name}), as I-Scan's movie calibration")
+        return loads, {"lag_s": None, "aligned": "one load per frame (no time column)"}
+    sensor = xr.DataArray(total, dims="time", coords={"time": times}, name="total raw")
+    if lag_s is None:
+        lag_s = float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s))
+    on_frames = resample_to(loads, times, lag_s=lag_s)
+    load = np.full(n, np.nan)
+    load[np.searchsorted(times, on_frames["time"].values)] = on_frames.values
+    return load, {"lag_s": lag_s, "aligned": "cross-correlation with the total raw signal"}
+
+
+def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
+                 equilibration=None, min_load_fraction=0.02, quiet=True):
+    """Make one calibration point per frame of a movie paired with a load-cell record.
+
+    Parameters
+    ----------
+    recording : xarray.DataArray
+        Raw movie (frame, row, col) with a ``time`` coordinate; uint8 values are fine.
+    loads : xarray.DataArray or array_like
+        Load-cell record in N with dim ``time`` (aligned and resampled), or one load per
+        frame (no time: the counts must match).
+    lag_s : float, optional
+        Known lag (s to add to the load times); estimated by cross-correlation if None.
+    max_lag_s : float, optional
+        Bound on the cross-correlation lag search.
+    mask : array_like of bool, optional
+        Non-working sensels to leave out.
+    equilibration : Equilibration, optional
+        Gains applied to each frame first.
+    min_load_fraction : float
+        Frames whose load is below this fraction of the largest load are not made into
+        points (unloaded stretches); they are counted in the report.
+    quiet : bool
+        No progress bar.
+
+    Returns
+    -------
+    points : list of CalibrationPoint
+    report : dict
+        Lag, counts of frames outside the load record and below the load floor, and a text
+        ``report``.
+
+    Raises
+    ------
+    ValueError
+        A count mismatch without a time column, records that do not overlap in time.
+    """
+    hist = _histograms(recording.values, None if mask is None else np.asarray(mask, bool),
+                       equilibration, quiet)
+    return _points_from_movie(recording, hist, loads, lag_s=lag_s, max_lag_s=max_lag_s,
+                              min_load_fraction=min_load_fraction)
+
+
+def _points_from_movie(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction,
+                       signal_N=None):
+    """Align the loads on ``hist @ signal_N`` (default: the raw sum) and make the points."""
+    name = str(recording.attrs.get("source", "recording"))
+    n = len(hist)
+    signal = hist @ (np.arange(256.0) if signal_N is None else signal_N)
+    load, report = _align_loads(loads, signal, _frame_times(recording, n), n, name, lag_s,
+                                max_lag_s)
+    report["aligned_on"] = "raw sum" if signal_N is None else "calibrated force"
+    outside = ~np.isfinite(load)
+    low = ~outside & (load < min_load_fraction * np.nanmax(load))
+    keep = ~outside & ~low
+    frames = (recording["frame"].values if "frame" in recording.coords
+              else np.arange(1, n + 1))
+    area = float(recording.attrs.get("sensel_area_mm2", np.nan))
+    points = _points_from_histograms(
+        hist[keep], load[keep], source=Path(name).name, labels=[""] * int(keep.sum()),
+        frames=frames[keep], sensel_area_mm2=area,
+        total_cells=int(np.isfinite(np.asarray(recording.values[0], dtype=float)).sum()))
+    report.update({
+        "n_frames": n, "n_points": int(keep.sum()), "n_outside_load_record": int(outside.sum()),
+        "n_below_load_floor": int(low.sum()), "min_load_fraction": min_load_fraction,
+        "n_saturated_frames": int((hist[keep, 255] > 0).sum()),
+    })
+    lag_txt = "none" if report["lag_s"] is None else f"{report['lag_s']:.6g} s"
+    report["report"] = (
+        f"movie {name}: {n} frames, lag {lag_txt} ({report['aligned']}, on the "
+        f"{report['aligned_on']}); {report['n_outside_load_record']} frames outside the load "
+        f"record and {report['n_below_load_floor']} below {min_load_fraction:.0%} of the "
+        f"largest load left out; {report['n_points']} points, of which "
+        f"{report['n_saturated_frames']} have saturated sensels")
+    return points, report
+
+
+def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col=None,
+                    lag_s=None, max_lag_s=None, mask_dead=False, equilibration=None,
+                    min_load_fraction=0.02, quiet=True, **options):
+    """Movie calibration: align, resample, trim saturated frames, fit every frame.
+
+    Parameters
+    ----------
+    recording : str, os.PathLike or xarray.DataArray
+        Raw movie (a path is read with :func:`tactilecal.io.read_tekscan`).
+    loads : str, os.PathLike, xarray.DataArray or array_like
+        Load-cell record (a path is read with :func:`read_movie_loads`).
+    method : str
+        Calibration method (see :func:`calibrate`).
+    time_col, load_col : str or int, optional
+        Columns of the load-cell CSV.
+    lag_s, max_lag_s, equilibration, min_load_fraction, quiet
+        See :func:`movie_points`.
+    mask_dead : bool
+        Detect non-working sensels over the movie (:func:`find_dead_sensels`) and mask them.
+    **options
+        Passed to :func:`calibrate` (saturated frames are left out unless
+        ``keep_saturated=True``).
+
+    Returns
+    -------
+    CalibrationResult
+        With ``details["movie"]`` holding the alignment report.
+    """
+    if not isinstance(recording, xr.DataArray):
+        from tactilecal.io import read_tekscan
+
+        recording = read_tekscan(recording)
+    if recording.attrs.get("units", "raw") != "raw":
+        raise ValueError(f"recording {recording.attrs.get('source', '')!r} has units "
+                         f"{recording.attrs['units']!r}; expected raw readings")
+    if isinstance(loads, str | Path):
+        loads = read_movie_loads(loads, time_col=time_col, load_col=load_col)
+    dead = find_dead_sensels(recording.values) if mask_dead else None
+    hist = _histograms(recording.values, None if dead is None else dead.mask, equilibration,
+                       quiet)
+    kwargs = {"max_lag_s": max_lag_s, "min_load_fraction": min_load_fraction}
+    points, report = _points_from_movie(recording, hist, loads, lag_s=lag_s, **kwargs)
+    result = calibrate(points, method=method, **options)
+    if lag_s is None and isinstance(loads, xr.DataArray):
+        # The raw sum is not proportional to the load (b != 1): align again on the force
+        # the first calibration gives, then refit (Gillis 2013 aligns force on force).
+        first_lag = report["lag_s"]
+        points, report = _points_from_movie(recording, hist, loads, lag_s=None,
+                                            signal_N=result.force_table(), **kwargs)
+        report["lag_s_raw_sum"] = first_lag
+        result = calibrate(points, method=method, **options)
+    result.details["movie"] = report
+    if dead is not None:
+        result.details["non_working_sensels"] = dead.to_dict()
+    if equilibration is not None:
+        result.details["equilibration"] = equilibration.to_dict()
+    return result

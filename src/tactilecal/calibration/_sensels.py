@@ -1,0 +1,238 @@
+"""Non-working sensels and equilibration (per-sensel gains from uniform loads).
+
+Gillis (2013), sec. 3.5: equilibration gives every sensel the same output under a uniform
+load, at one or several load levels; non-working sensels must be told apart from sensels
+that read zero because they are not loaded, reported, and left out of averages.
+"""
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy import ndimage
+
+from tactilecal._jsonutil import to_jsonable, write_json
+
+__all__ = ["NonWorkingSensels", "find_dead_sensels", "Equilibration", "equilibrate",
+           "load_equilibration"]
+
+_NEIGHBOURS = np.array([[1, 1, 1], [1, 0, 1], [1, 1, 1]])
+
+
+def _as_frames(raw, name="raw"):
+    values = np.asarray(getattr(raw, "values", raw), dtype=float)
+    if values.ndim == 2:
+        values = values[None]
+    if values.ndim != 3:
+        raise ValueError(f"{name} has {values.ndim} dimensions; expected 3 (frame, row, col)")
+    return values
+
+
+@dataclass
+class NonWorkingSensels:
+    """Sensels that never respond although their neighbours do.
+
+    Attributes
+    ----------
+    mask : numpy.ndarray of bool
+        (rows, cols), True for a non-working sensel.
+    evidence_frames : numpy.ndarray of int
+        (rows, cols), frames in which the sensel's neighbours responded.
+    n_frames : int
+        Frames examined.
+    """
+
+    mask: np.ndarray
+    evidence_frames: np.ndarray = field(repr=False)
+    n_frames: int = 0
+
+    @property
+    def sensels(self):
+        """List of ``[row, col]`` of the non-working sensels."""
+        return np.argwhere(self.mask).tolist()
+
+    def report(self):
+        """One line saying how many sensels were found and where."""
+        where = ", ".join(f"({r}, {c})" for r, c in self.sensels[:20])
+        more = " ..." if self.mask.sum() > 20 else ""
+        return (f"non-working sensels: {int(self.mask.sum())} found over {self.n_frames} frames"
+                + (f" at (row, col) {where}{more}; masked" if self.mask.any() else ""))
+
+    def to_dict(self):
+        """JSON-ready summary (the sensels and how many frames showed each)."""
+        return to_jsonable({"sensels": self.sensels, "n_frames": self.n_frames,
+                            "evidence_frames": self.evidence_frames[self.mask].tolist()})
+
+
+def find_dead_sensels(raw, *, neighbour_share=0.75, min_frames=1, chunk_frames=2048):
+    """Detect non-working sensels across a set of frames.
+
+    A sensel is non-working when it reads 0 in every frame although, in at least
+    ``min_frames`` frames, at least ``neighbour_share`` of its existing 8 neighbours read
+    more than 0 (so an unloaded sensel at the edge of a patch is not mistaken for a dead one).
+
+    Parameters
+    ----------
+    raw : array_like or xarray.DataArray, shape (n, rows, cols)
+        Raw frames (NaN for sensels outside the sensor shape).
+    neighbour_share : float
+        Share (0..1] of the existing neighbours that must respond.
+    min_frames : int
+        Frames of such evidence needed.
+    chunk_frames : int
+        Frames processed at once.
+
+    Returns
+    -------
+    NonWorkingSensels
+
+    Raises
+    ------
+    ValueError
+        If ``neighbour_share`` is outside (0, 1] or ``min_frames`` < 1.
+
+    Examples
+    --------
+    >>> frames = np.full((2, 5, 5), 20.0); frames[:, 2, 2] = 0; frames[1, 0, 0] = 0
+    >>> find_dead_sensels(frames).sensels
+    [[2, 2]]
+    """
+    if not 0 < neighbour_share <= 1:
+        raise ValueError(f"neighbour_share={neighbour_share}; expected a share in (0, 1]")
+    if int(min_frames) < 1:
+        raise ValueError(f"min_frames={min_frames}; expected an integer >= 1")
+    values = _as_frames(raw)
+    exists = np.isfinite(values[0])
+    n_exist = ndimage.convolve(exists.astype(int), _NEIGHBOURS, mode="constant")
+    ever = np.zeros(exists.shape, bool)
+    evidence = np.zeros(exists.shape, int)
+    kernel = _NEIGHBOURS[None]
+    for start in range(0, len(values), chunk_frames):
+        responding = values[start:start + chunk_frames] > 0
+        ever |= responding.any(axis=0)
+        n_resp = ndimage.convolve(responding.astype(int), kernel, mode="constant")
+        evidence += (n_resp >= neighbour_share * np.maximum(n_exist, 1)).sum(axis=0)
+    mask = exists & ~ever & (evidence >= min_frames) & (n_exist > 0)
+    return NonWorkingSensels(mask=mask, evidence_frames=evidence, n_frames=len(values))
+
+
+# ---------------------------------------------------------------------- equilibration
+@dataclass
+class Equilibration:
+    """Per-sensel gains that equalise the raw output under a uniform load.
+
+    ``apply`` multiplies every reading by its sensel's gain (0 stays 0, 255 stays 255 as a
+    saturated reading cannot be corrected, results are clipped to 255, NaN where the gain
+    is unknown: sensels that never responded).
+
+    Attributes
+    ----------
+    gain : numpy.ndarray
+        (rows, cols) gains, NaN for non-working sensels and sensels outside the shape.
+    levels : list of dict
+        Per load level: frames, mean raw, coefficient of variation before and after.
+    """
+
+    gain: np.ndarray
+    levels: list = field(default_factory=list)
+
+    def apply(self, raw):
+        """Return equilibrated frames (float, same shape as ``raw``)."""
+        values = np.asarray(getattr(raw, "values", raw), dtype=float)
+        if values.shape[-2:] != self.gain.shape:
+            raise ValueError(f"frames have shape {values.shape[-2:]}; expected "
+                             f"{self.gain.shape} (the equilibration's sensor)")
+        out = np.clip(values * self.gain, 0.0, 255.0)
+        return np.where(values == 255, 255.0, out)
+
+    def to_dict(self):
+        """JSON-ready dictionary (``kind`` = ``"equilibration"``)."""
+        return to_jsonable({"kind": "equilibration", "gain": self.gain, "levels": self.levels})
+
+    def to_json(self, path):
+        """Write the equilibration JSON atomically."""
+        write_json(path, self.to_dict())
+
+    @classmethod
+    def from_dict(cls, data, *, source="equilibration"):
+        """Rebuild from :meth:`to_dict` output."""
+        if not isinstance(data, dict) or data.get("kind") != "equilibration":
+            raise ValueError(f"{source} is not an equilibration JSON; expected "
+                             "\"kind\": \"equilibration\" and a \"gain\" table")
+        gain = np.array([[np.nan if v is None else v for v in row] for row in data["gain"]],
+                        dtype=float)
+        return cls(gain=gain, levels=list(data.get("levels", [])))
+
+
+def load_equilibration(path):
+    """Read an equilibration JSON written by :meth:`Equilibration.to_json`."""
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path} is not valid JSON (line {exc.lineno}: {exc.msg}); expected "
+                         "an equilibration JSON") from None
+    return Equilibration.from_dict(data, source=str(path))
+
+
+def equilibrate(levels):
+    """Compute per-sensel gains from uniform-load frames at one or several load levels.
+
+    For each level ``l`` the per-sensel mean raw reading ``m_l`` over its frames is
+    compared with the level's mean over the working sensels ``M_l``; the gain is the
+    least-squares slope through the origin over the levels,
+    ``g = sum_l M_l m_l / sum_l m_l**2`` (one level: ``g = M / m``), the I-Scan
+    equilibration of Gillis (2013), sec. 3.5. Saturated means (255) are left out of a
+    sensel's sum; sensels that never respond get NaN (non-working).
+
+    Parameters
+    ----------
+    levels : sequence of array_like or xarray.DataArray
+        One (n, rows, cols) set of raw frames per uniform load level.
+
+    Returns
+    -------
+    Equilibration
+
+    Raises
+    ------
+    ValueError
+        If no level is given, shapes differ, or a level has no loaded sensel.
+
+    Examples
+    --------
+    >>> sens = np.array([[0.9, 1.0], [1.1, 1.0]])
+    >>> eq = equilibrate([50 * sens[None], 100 * sens[None]])
+    >>> eq.apply(50 * sens[None]).round(6).tolist()
+    [[[50.0, 50.0], [50.0, 50.0]]]
+    """
+    if len(levels) == 0:
+        raise ValueError("levels is empty; expected uniform-load frames at one level or more")
+    means = []
+    for k, level in enumerate(levels):
+        frames = _as_frames(level, f"level {k}")
+        if means and frames.shape[1:] != means[0].shape:
+            raise ValueError(f"level {k} has frames of shape {frames.shape[1:]}; expected "
+                             f"{means[0].shape} like level 0")
+        means.append(frames.mean(axis=0))
+    m = np.stack(means)
+    valid = np.isfinite(m) & (m > 0) & (m < 255)
+    M = np.array([np.nanmean(np.where(v, lvl, np.nan)) if v.any() else np.nan
+                  for lvl, v in zip(m, valid, strict=True)])
+    if np.isnan(M).any():
+        raise ValueError(f"level {int(np.flatnonzero(np.isnan(M))[0])} has no loaded, "
+                         "unsaturated sensel; expected a uniform load on the sensor")
+    mz = np.where(valid, m, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        gain = (M[:, None, None] * mz).sum(axis=0) / (mz ** 2).sum(axis=0)
+    gain = np.where(valid.any(axis=0), gain, np.nan)
+    report = [{"level": k, "n_frames": int(len(_as_frames(lvl))), "mean_raw": float(M[k]),
+               "cv_before": _cv(m[k], valid[k]), "cv_after": _cv(m[k] * gain, valid[k])}
+              for k, lvl in enumerate(levels)]
+    return Equilibration(gain=gain, levels=report)
+
+
+def _cv(values, valid):
+    v = values[valid]
+    return float(v.std() / v.mean()) if v.size else float("nan")

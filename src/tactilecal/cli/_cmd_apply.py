@@ -1,0 +1,41 @@
+"""``tactilecal apply``: convert a raw recording to pressure with a calibration."""
+
+from tactilecal.cli._common import info
+
+
+def register(subparsers):
+    """Add the ``apply`` command."""
+    p = subparsers.add_parser(
+        "apply", help="apply a calibration to a raw recording (NetCDF out)",
+        description="Convert RECORDING (Tekscan ASCII or NetCDF, raw) to pressure or force "
+                    "per sensel with CAL.json and write a NetCDF file carrying the "
+                    "calibration (attributes calibration_method, calibration_json).")
+    p.add_argument("calibration", metavar="CAL.json")
+    p.add_argument("recording", metavar="RECORDING")
+    p.add_argument("--out", required=True, metavar="OUT.nc")
+    p.add_argument("--units", default="kPa", choices=["kPa", "MPa", "psi", "N"],
+                   help="output unit (N: force per sensel); default kPa")
+    p.set_defaults(func=run)
+
+
+def _read(path):
+    from pathlib import Path
+
+    from tactilecal import io
+
+    if Path(path).suffix.lower() in (".nc", ".nc4", ".netcdf"):
+        return io.read_netcdf(path)
+    return io.read_tekscan(path)
+
+
+def run(args):
+    """Run ``tactilecal apply``."""
+    from tactilecal.calibration import load_calibration
+    from tactilecal.io import write_netcdf
+
+    result = load_calibration(args.calibration)
+    out = result.apply(_read(args.recording), units=args.units)
+    write_netcdf(out, args.out)
+    info(args, f"{args.recording}: {out.sizes['frame']} frames calibrated with "
+               f"{result.method} ({args.units}) -> {args.out}")
+    return 0

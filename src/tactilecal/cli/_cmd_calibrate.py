@@ -1,0 +1,110 @@
+"""``tactilecal calibrate``: fit a static calibration from a manifest or a movie."""
+
+from pathlib import Path
+
+from tactilecal.cli._common import info, print_json
+
+
+def register(subparsers):
+    """Add the ``calibrate`` command."""
+    p = subparsers.add_parser(
+        "calibrate", help="fit a static calibration (manifest of frames, or a movie)",
+        description="Fit a static calibration to the points of a manifest CSV (file, frame, "
+                    "load_N or mass_kg [+ pad_mass_g], label), or to every frame of a movie "
+                    "paired with a load-cell record (--movie REC --loads CSV).")
+    p.add_argument("manifest", nargs="?", help="manifest CSV (not with --movie)")
+    p.add_argument("--method", default="power",
+                   help="linear, power-2pt, power (default), linear-offset, piecewise, lut, "
+                        "polynomial, zvyagin")
+    p.add_argument("--objective", help="power: l2, l1 or relative; others: l2 or relative")
+    p.add_argument("--degree", type=int, help="polynomial degree (default 3)")
+    p.add_argument("--knots", help="piecewise/lut knots, comma-separated raw values")
+    p.add_argument("--keep-saturated", action="store_true",
+                   help="keep points with saturated (255) sensels in the fit")
+    p.add_argument("--scale-by-working", action="store_true",
+                   help="linear/power-2pt: scale loads by working / all sensels")
+    p.add_argument("--mask-dead", action="store_true",
+                   help="detect non-working sensels across the frames and leave them out")
+    p.add_argument("--equilibration", metavar="EQ.json",
+                   help="per-sensel gains from 'tactilecal equilibrate', applied first")
+    p.add_argument("--n-bootstrap", type=int, default=0,
+                   help="bootstrap resamples for the parameter errors (default: Jacobian)")
+    p.add_argument("--movie", metavar="RECORDING", help="raw recording for movie calibration")
+    p.add_argument("--loads", metavar="LOADCELL.csv",
+                   help="load-cell CSV for --movie (time and load columns, or one load column "
+                        "with one row per frame)")
+    p.add_argument("--time-col", help="--loads time column (name or 0-based index)")
+    p.add_argument("--load-col", help="--loads load column (name or 0-based index)")
+    p.add_argument("--lag", type=float, help="--movie: known lag in s (skip cross-correlation)")
+    p.add_argument("--out", metavar="CAL.json", help="write the calibration JSON here")
+    p.add_argument("--json", action="store_true", help="print the calibration JSON")
+    p.set_defaults(func=run)
+
+
+def _options(args):
+    opts = {"keep_saturated": args.keep_saturated}
+    if args.objective:
+        opts["objective"] = args.objective
+    if args.degree is not None:
+        opts["degree"] = args.degree
+    if args.knots:
+        try:
+            opts["knots"] = [float(k) for k in args.knots.split(",")]
+        except ValueError:
+            raise ValueError(f"--knots {args.knots!r}: expected comma-separated numbers") \
+                from None
+    if args.scale_by_working:
+        opts["scale_by_working"] = True
+    if args.n_bootstrap:
+        opts["n_bootstrap"] = args.n_bootstrap
+    return opts
+
+
+def _manifest_points(args, equilibration):
+    from tactilecal.calibration import find_dead_sensels, load_frames, load_points
+
+    if not args.mask_dead:
+        return load_points(args.manifest, equilibration=equilibration), None
+    dead = find_dead_sensels(load_frames(args.manifest, equilibration=equilibration))
+    return load_points(args.manifest, mask=dead.mask, equilibration=equilibration), dead
+
+
+def run(args):
+    """Run ``tactilecal calibrate``."""
+    from tactilecal.calibration import calibrate, load_equilibration
+
+    equilibration = load_equilibration(args.equilibration) if args.equilibration else None
+    if args.movie:
+        if args.manifest or not args.loads:
+            raise ValueError("--movie needs --loads LOADCELL.csv and no MANIFEST; expected "
+                             "'tactilecal calibrate --movie REC --loads LOADCELL.csv'")
+        from tactilecal.calibration import calibrate_movie
+
+        result = calibrate_movie(args.movie, args.loads, method=args.method,
+                                 time_col=args.time_col, load_col=args.load_col,
+                                 lag_s=args.lag, mask_dead=args.mask_dead,
+                                 equilibration=equilibration, quiet=args.quiet,
+                                 **_options(args))
+        info(args, result.details["movie"]["report"])
+    else:
+        if not args.manifest:
+            raise ValueError("no MANIFEST given; expected 'tactilecal calibrate MANIFEST' "
+                             "or '--movie REC --loads LOADCELL.csv'")
+        points, dead = _manifest_points(args, equilibration)
+        for p in points:
+            if p.note:
+                info(args, f"{p.source}: {p.note}")
+        result = calibrate(points, method=args.method, **_options(args))
+        if dead is not None:
+            result.details["non_working_sensels"] = dead.to_dict()
+            info(args, dead.report())
+        if equilibration is not None:
+            result.details["equilibration"] = equilibration.to_dict()
+    if args.out:
+        result.to_json(Path(args.out))
+        info(args, f"calibration written to {args.out}")
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        print(result.summary())
+    return 0

@@ -1,0 +1,56 @@
+"""``tactilecal validate``: compare a calibration's loads with a manifest's applied loads."""
+
+from tactilecal.cli._common import print_json
+
+
+def register(subparsers):
+    """Add the ``validate`` command."""
+    p = subparsers.add_parser(
+        "validate", help="validate a calibration on (held-out) manifest points",
+        description="Predict the load of every point of MANIFEST with CAL.json and compare "
+                    "it with the applied load. Points with saturated sensels are listed and "
+                    "left out of the summary unless --include-saturated.")
+    p.add_argument("calibration", metavar="CAL.json")
+    p.add_argument("manifest", metavar="MANIFEST")
+    p.add_argument("--include-saturated", action="store_true",
+                   help="count points with saturated sensels in the summary")
+    p.add_argument("--json", action="store_true",
+                   help="print the Validate JSON (points and summary)")
+    p.set_defaults(func=run)
+
+
+def _table(out):
+    lines = [f"{'file':<28} {'frame':>6} {'load_N':>10} {'predicted_N':>12} {'error_%':>8}"]
+    for p in out["points"]:
+        flag = "  saturated" if p["saturated"] else ""
+        lines.append(f"{str(p['file'])[:28]:<28} {p['frame']:>6} {p['load_N']:>10.4g} "
+                     f"{p['predicted_N']:>12.4g} {p['error_pct']:>8.2f}{flag}")
+    s = out["summary"]
+    lines.append(f"n = {s['n']} (saturated left out: {s['n_saturated_excluded']}): "
+                 f"{s['within_5pct']:.1%} within 5 %, {s['within_10pct']:.1%} within 10 %, "
+                 f"median |error| {s['median_abs_error_pct']:.2f} %, "
+                 f"max {s['max_abs_error_pct']:.2f} %")
+    return "\n".join(lines)
+
+
+def run(args):
+    """Run ``tactilecal validate``."""
+    from tactilecal.calibration import (
+        Equilibration,
+        load_calibration,
+        load_points,
+        validate,
+    )
+
+    result = load_calibration(args.calibration)
+    # Non-working sensels read 0 and f(0) = 0, so their mask does not change a prediction;
+    # equilibration gains do, so the calibration's gains are applied to the frames.
+    eq = result.details.get("equilibration")
+    points = load_points(args.manifest,
+                         equilibration=Equilibration.from_dict(eq) if eq else None)
+    out = validate(result, points, include_saturated=args.include_saturated)
+    if args.json:
+        print_json(out)
+    else:
+        print(_table(out))
+    return 0
