@@ -150,23 +150,24 @@ def _read_body(body, first_line, rows, cols, header, name):
     frame_idx, data_idx = np.flatnonzero(is_frame), np.flatnonzero(is_data)
     frames = _frame_lines(body, starts, ends, frame_idx, data_idx, stop, first_line, rows,
                           header, name)
-    block = body[:end]
-    # Fast checks on counts; the exact per-line checks run only when a count is off.
-    frame_text = b"".join(body[starts[i]:ends[i]] for i in frame_idx)
-    if block.count(b",") - frame_text.count(b",") != data_idx.size * (cols - 1):
-        _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows, cols,
-                           name)
-    if block.count(b"F") != frame_text.count(b"F"):
-        _check_stray_comment(block, starts, ends, data_idx, first_line, name)
+    # Fast path: one parse, then one count. A short row is padded with NaN by pandas and a
+    # stray "F" (comment character) truncates a row: both leave more NaN than "B"s. A long
+    # row, a non-numeric value or an empty value make pandas raise. Only then do the exact
+    # per-line checks run, to say which line is wrong.
+    expected_nan = (np.count_nonzero(buf[:end] == ord("B"))
+                    - sum(body[starts[i]:ends[i]].count(b"B") for i in frame_idx))
     try:
-        values = _parse_values(block, data_idx.size, cols)
+        values = _parse_values(body, data_idx.size, cols)
     except ValueError as exc:
         failure = exc
     else:
-        return frames, values
-    # A row with too many values balanced by one with too few passes the comma count;
-    # pandas stops on the long one. Locate the problem and say where it is.
+        found_nan = np.count_nonzero(np.isnan(values))
+        if found_nan == expected_nan:
+            return frames, values
+        failure = ValueError(f"{name}: {found_nan} values read as NaN; expected "
+                             f"{expected_nan}, one per 'B'")
     _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows, cols, name)
+    _check_stray_comment(body[:end], starts, ends, data_idx, first_line, name)
     _raise_bad_value(body, starts, ends, data_idx, first_line, name)
     raise failure
 
@@ -257,19 +258,19 @@ def _check_stray_comment(block, starts, ends, data_idx, first_line, name):
     _raise_bad_value(block, starts, ends, stray[:1], first_line, name)
 
 
-def _parse_values(block, n_rows, cols):
-    """All data rows as a float64 ``(n_rows, cols)`` array, one pandas C-parser call.
+def _parse_values(body, n_rows, cols):
+    """Parse the first ``n_rows`` data rows into a float64 ``(n_rows, cols)`` array (C parser).
 
     Frame lines start with "F", which no number or "B" contains, so they are read as
-    comment lines. A first row longer than ``cols`` makes pandas warn and drop values:
-    that warning is raised as an error.
+    comment lines; the "@@" terminator comes after ``n_rows`` rows and is not read. A first
+    row longer than ``cols`` makes pandas warn and drop values: that warning is an error.
     """
     if n_rows == 0:
         return np.empty((0, cols))
     with warnings.catch_warnings():
         warnings.simplefilter("error", pd.errors.ParserWarning)
         table = pd.read_csv(
-            io.BytesIO(block), header=None, names=range(cols), comment="F",
+            io.BytesIO(body), header=None, names=range(cols), comment="F", nrows=n_rows,
             na_values=["B"], keep_default_na=False, dtype=np.float64, engine="c",
             quoting=csv.QUOTE_NONE, skip_blank_lines=True, index_col=False)
     values = table.to_numpy(dtype=np.float64)
@@ -298,7 +299,7 @@ def _raise_bad_value(body, starts, ends, data_idx, first_line, name):
 
 def _check_raw_sums(data, numbers, raw_sums, lines, name):
     """Compare each frame line's ``Raw Sum`` with the sum of the frame's readings."""
-    sums = np.nansum(data, axis=(1, 2))
+    sums = np.sum(data, axis=(1, 2), where=~np.isnan(data))
     bad = np.flatnonzero(~np.isnan(raw_sums) & (np.abs(sums - raw_sums) > 0.5))
     if bad.size:
         k = bad[0]
