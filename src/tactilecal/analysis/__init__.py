@@ -16,6 +16,13 @@ from tactilecal.analysis._maps import (
     summary,
     total_force,
 )
+from tactilecal.analysis._plots import (
+    peak_frame,
+    plot_cof_path,
+    plot_force_time,
+    plot_pressure_map,
+    plot_profiles,
+)
 from tactilecal.analysis._regions import (
     column_profile,
     high_pressure_zones,
@@ -41,7 +48,12 @@ __all__ = [
     "loaded_mask",
     "max_window_load",
     "mean_pressure",
+    "peak_frame",
     "peak_pressure",
+    "plot_cof_path",
+    "plot_force_time",
+    "plot_pressure_map",
+    "plot_profiles",
     "pressure_map_kPa",
     "row_profile",
     "select_region",
