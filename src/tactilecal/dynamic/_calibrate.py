@@ -1,0 +1,254 @@
+"""The dynamic-calibration workflow: fit a filter, evaluate it, transfer it between sensors.
+
+Gillis (2013), sections 4.3 (calibration on a sine sweep), 4.4.1 (blind tests) and 4.5
+(one sensor's filter applied to another sensor's sweep).
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import signal
+
+from tactilecal.dynamic._align import align
+from tactilecal.dynamic._apply import apply_filter
+from tactilecal.dynamic._filter import CorrectionFilter
+from tactilecal.dynamic._fit import fit_transfer
+from tactilecal.dynamic._records import label, sampling_rate_hz, time_and_values
+from tactilecal.dynamic._transfer import _check_band, transfer_function
+
+__all__ = ["fit_filter", "evaluate", "Evaluation", "compare_filters", "static_factor",
+           "dynamic_part"]
+
+
+def static_factor(sensor, reference):
+    """Return the static calibration factor ``mean(reference) / mean(sensor)`` (4.3.2).
+
+    The thesis statically calibrated the sweep "by taking the average reading of the
+    pressure sensor and the load cell". Use aligned records (same stamps).
+
+    Raises
+    ------
+    ValueError
+        When the sensor's mean is zero.
+    """
+    mean_s = float(np.mean(sensor))
+    if mean_s == 0:
+        raise ValueError(f"{label(sensor, 'sensor')}: mean reading is 0; expected a loaded "
+                         "record to calibrate statically")
+    return float(np.mean(reference)) / mean_s
+
+
+def dynamic_part(values, fs_hz, *, static_cutoff_hz=0.5):
+    """Return ``values`` minus its slow part (zero-phase 4th-order Butterworth low-pass).
+
+    The "dynamic part" of a record is what is left after removing the offset and the slow
+    loading/unloading ramps: content above ``static_cutoff_hz``.
+    """
+    sos = signal.butter(4, static_cutoff_hz, fs=fs_hz, output="sos")
+    return values - signal.sosfiltfilt(sos, values)
+
+
+def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
+               min_coherence=0.9, nperseg=None, lag_method="xcorr", outside="taper",
+               taper_hz=None, n_taps=None):
+    """Fit a dynamic correction filter on a sweep (Gillis 2013, section 4.3).
+
+    Steps: align the records (:func:`align`, lag stored), scale the sensor statically by
+    ``mean(reference) / mean(sensor)`` (the thesis' static calibration of the sweep),
+    estimate the transfer function with coherence (:func:`transfer_function`), fit eq. 4.1
+    (:func:`fit_transfer`), build the filter (:meth:`CorrectionFilter.from_model`).
+
+    Parameters
+    ----------
+    sensor, reference : xarray.DataArray
+        1-D records with a ``time`` coordinate (any rates, any start times).
+    model : {"log10", "log", "log-quadratic"}
+        Model of the transfer function.
+    band_hz : tuple of float, optional
+        Only bins inside are fitted; it is also the filter's calibrated band (default: the
+        range of the coherent bins).
+    method, min_coherence, nperseg
+        See :func:`transfer_function`.
+    lag_method : {"xcorr", "first-peak"}
+        See :func:`estimate_lag`.
+    outside, taper_hz, n_taps
+        See :meth:`CorrectionFilter.from_model`.
+
+    Returns
+    -------
+    CorrectionFilter
+        With ``fit`` (the :class:`TransferFit`; its ``excluded`` also records the static
+        factor) and ``lag_s``.
+
+    Raises
+    ------
+    ValueError
+        See :func:`align`, :func:`transfer_function` (records that do not overlap, a
+        reference shorter than the filter, NaN gaps, irregular time, band beyond Nyquist).
+    """
+    t_s, _ = time_and_values(sensor, "sensor")
+    _check_band(band_hz, sampling_rate_hz(t_s, label(sensor, "sensor")),
+                label(sensor, "sensor"))
+    sens, ref, lag_s = align(sensor, reference, method=lag_method)
+    factor = static_factor(sens, ref)
+    sens = sens * factor
+    tf = transfer_function(sens, ref, method=method, nperseg=nperseg,
+                           min_coherence=min_coherence, band_hz=band_hz)
+    fit = fit_transfer(tf, model=model)
+    fit.excluded["static_factor"] = factor
+    return CorrectionFilter.from_model(fit, fs_hz=tf.fs_hz, band_hz=band_hz, outside=outside,
+                                       taper_hz=taper_hz, n_taps=n_taps, lag_s=lag_s)
+
+
+@dataclass
+class Evaluation:
+    """A filter checked against a reference (Gillis 2013, Figs 4.10-4.14).
+
+    Attributes
+    ----------
+    lag_s, static_factor, fs_hz : float
+        Alignment and static scale used.
+    rms_before_N, rms_after_N : float
+        RMS of the dynamic part of ``sensor - reference`` before and after correction.
+    f_hz, error_before_pct, error_after_pct : numpy.ndarray
+        Amplitude error ``100 (|sensor| / |reference| - 1)`` per coherent bin.
+    time_s, sensor, corrected, reference : numpy.ndarray
+        The aligned records (statically scaled), for plots.
+    """
+
+    lag_s: float
+    static_factor: float
+    fs_hz: float
+    rms_before_N: float
+    rms_after_N: float
+    f_hz: np.ndarray
+    error_before_pct: np.ndarray
+    error_after_pct: np.ndarray
+    time_s: np.ndarray = field(repr=False)
+    sensor: np.ndarray = field(repr=False)
+    corrected: np.ndarray = field(repr=False)
+    reference: np.ndarray = field(repr=False)
+
+    @property
+    def improvement(self):
+        """``rms_before_N / rms_after_N``."""
+        return self.rms_before_N / self.rms_after_N
+
+    def to_dict(self):
+        """Return the JSON-ready figures (without the records)."""
+        return {"lag_s": self.lag_s, "static_factor": self.static_factor,
+                "fs_hz": self.fs_hz, "rms_before_N": self.rms_before_N,
+                "rms_after_N": self.rms_after_N, "improvement": self.improvement,
+                "f_hz": self.f_hz, "error_before_pct": self.error_before_pct,
+                "error_after_pct": self.error_after_pct}
+
+    def summary(self):
+        """Return a one-line description."""
+        return (f"dynamic RMS error {self.rms_before_N:.4g} N before, {self.rms_after_N:.4g} N "
+                f"after ({self.improvement:.2f}x smaller); lag {self.lag_s:.6g} s, static "
+                f"factor {self.static_factor:.4g}")
+
+
+def _amplitude_error_pct(x, ref, fs_hz, nperseg, min_coherence):
+    """``100 (|x| / |ref| - 1)`` per coherent Welch bin (H1 with the reference as input)."""
+    f_hz, p_rr = signal.welch(ref, fs=fs_hz, nperseg=nperseg)
+    _, p_rx = signal.csd(ref, x, fs=fs_hz, nperseg=nperseg)
+    _, p_xx = signal.welch(x, fs=fs_hz, nperseg=nperseg)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        coherence = np.abs(p_rx) ** 2 / (p_rr * p_xx)
+        ratio = np.abs(p_rx) / p_rr
+    return f_hz, 100.0 * (ratio - 1.0), np.nan_to_num(coherence) >= min_coherence
+
+
+def evaluate(filt, sensor, reference, *, lag_s=None, static_cutoff_hz=0.5, nperseg=None,
+             min_coherence=0.9, progress=None):
+    """Evaluate a filter on a sweep or a blind test (Gillis 2013, 4.3.3 and 4.4.1).
+
+    Parameters
+    ----------
+    filt : CorrectionFilter
+    sensor, reference : xarray.DataArray
+        1-D records (any rates and start times; a new session, so the lag is estimated
+        again unless ``lag_s`` is given).
+    lag_s : float, optional
+        Known lag (see :func:`estimate_lag`).
+    static_cutoff_hz : float
+        The dynamic part is the content above it (:func:`dynamic_part`).
+    nperseg, min_coherence
+        Welch segment and coherence threshold of the amplitude-error spectrum (bins where
+        either the raw or the corrected record is incoherent with the reference are left
+        out).
+    progress : callable, optional
+        Passed to :func:`apply_filter`.
+
+    Returns
+    -------
+    Evaluation
+    """
+    from tactilecal.dynamic._align import estimate_lag, resample_to
+
+    if lag_s is None:
+        lag_s = estimate_lag(sensor, reference)
+    corrected_full = apply_filter(sensor, filt, progress=progress)
+    ref = resample_to(reference, sensor, lag_s=lag_s)
+    dim = sensor.dims[0]
+    keep = np.flatnonzero(np.isin(sensor["time"].values, ref["time"].values))
+    sens = np.asarray(sensor.isel({dim: keep}).values, float)
+    corr = np.asarray(corrected_full.isel({dim: keep}).values, float)
+    r = np.asarray(ref.values, float)
+    factor = static_factor(sens, r)
+    sens, corr = sens * factor, corr * factor
+    fs_hz = filt.fs_hz
+    nperseg = int(round(fs_hz)) if nperseg is None else int(nperseg)
+    rms = [float(np.sqrt(np.mean(dynamic_part(x - r, fs_hz,
+                                                static_cutoff_hz=static_cutoff_hz) ** 2)))
+           for x in (sens, corr)]
+    f_hz, before, ok_b = _amplitude_error_pct(sens, r, fs_hz, nperseg, min_coherence)
+    _, after, ok_a = _amplitude_error_pct(corr, r, fs_hz, nperseg, min_coherence)
+    ok = ok_b & ok_a & (f_hz > 0)
+    return Evaluation(float(lag_s), factor, fs_hz, rms[0], rms[1], f_hz[ok], before[ok],
+                      after[ok], np.asarray(ref["time"].values), sens, corr, r)
+
+
+def compare_filters(filters, sensor, reference, **kwargs):
+    """Apply several sensors' filters to one sensor's sweep (Gillis 2013, section 4.5).
+
+    Parameters
+    ----------
+    filters : dict
+        Name -> :class:`CorrectionFilter` (e.g. the sensor's own filter and another
+        sensor's).
+    sensor, reference : xarray.DataArray
+        The sweep to correct and its load cell.
+    **kwargs
+        Passed to :func:`evaluate`.
+
+    Returns
+    -------
+    dict
+        ``{"evaluations": {name: Evaluation.to_dict() figures}, "rms_difference_N":
+        {"a vs b": RMS of the difference between the two corrected records},
+        "max_gain_difference": {"a vs b": largest |G_a - G_b| over 0..max band}}``.
+    """
+    from tactilecal.dynamic._align import estimate_lag
+
+    names = list(filters)
+    if len(names) < 2:
+        raise ValueError(f"filters: {len(names)} given; expected at least 2 to compare")
+    lag_s = kwargs.pop("lag_s", None)
+    if lag_s is None:
+        lag_s = estimate_lag(sensor, reference)
+    evals = {n: evaluate(filters[n], sensor, reference, lag_s=lag_s, **kwargs) for n in names}
+    diff, gain_diff = {}, {}
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            key = f"{a} vs {b}"
+            diff[key] = float(np.sqrt(np.mean((evals[a].corrected - evals[b].corrected) ** 2)))
+            top = max(filters[a].band_hz[1], filters[b].band_hz[1])
+            f = np.linspace(0.0, top, 512)
+            gain_diff[key] = float(np.max(np.abs(filters[a].gain(f) - filters[b].gain(f))))
+    return {"evaluations": {n: {k: v for k, v in e.to_dict().items()
+                                if k in ("rms_before_N", "rms_after_N", "improvement",
+                                         "lag_s", "static_factor")}
+                            for n, e in evals.items()},
+            "rms_difference_N": diff, "max_gain_difference": gain_diff}

@@ -1,0 +1,300 @@
+"""The dynamic-calibration correction filter (Gillis 2013, section 4.3.3, "digital filter").
+
+The filter multiplies a sensor record's spectrum by the fitted transfer function ``Y(f)``
+with **zero phase**. It is realised as a symmetric (linear-phase, type I) FIR of ``n_taps``
+taps designed by frequency sampling (:func:`scipy.signal.firwin2`, Hamming window) and
+applied centred, so no delay is introduced. Its DC gain is set to exactly 1 (see
+:attr:`CorrectionFilter.taps`).
+
+Target gain ``G(f)``:
+
+* from 0 Hz to the top of the calibrated band ``band_hz[1]``: the model ``Y(f)`` (equal to
+  1 at 0 Hz, so static calibrations are untouched) or the measured response;
+* above the band, ``outside="taper"`` (default): a raised-cosine taper from ``Y(hi)`` down to
+  1 over ``taper_hz``, then 1: frequencies the calibration never saw are **not amplified**
+  (left as recorded); ``outside="hold"``: ``Y(hi)`` held to the Nyquist frequency (amplifies
+  noise there by ``Y(hi)``; only for records known to carry signal above the band).
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import fft, signal
+
+from tactilecal._jsonutil import write_json
+from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
+
+__all__ = ["CorrectionFilter", "load_filter", "FORMAT"]
+
+#: Identifies FILTER.json files.
+FORMAT = "tactilecal-dynamic-filter/1"
+_OUTSIDE = ("taper", "hold")
+
+
+def _odd(n):
+    n = int(np.ceil(n))
+    return n + 1 if n % 2 == 0 else n
+
+
+@dataclass
+class CorrectionFilter:
+    """Zero-phase correction filter; build it with :meth:`from_model` or :meth:`from_response`.
+
+    Attributes
+    ----------
+    model : str
+        ``"log"``, ``"log10"``, ``"log-quadratic"`` or ``"response"`` (measured gain).
+    params : dict
+        Model parameters (``{"A": ...}``); empty for ``"response"``.
+    fs_hz : float
+        Sampling rate the filter is designed for.
+    band_hz : tuple of float
+        Calibrated band ``(lo, hi)``.
+    outside : {"taper", "hold"}
+        Gain above ``hi`` (see the module notes).
+    taper_hz : float
+        Width of the taper above ``hi``.
+    n_taps : int
+        FIR length (odd); the frequency resolution is about ``fs_hz / n_taps``.
+    response_f_hz, response_gain : numpy.ndarray or None
+        The measured response of a ``"response"`` filter.
+    fit : TransferFit or None
+        The fit the filter came from.
+    lag_s : float or None
+        Lag found between the calibration records (see :func:`estimate_lag`).
+    """
+
+    model: str
+    params: dict
+    fs_hz: float
+    band_hz: tuple
+    outside: str = "taper"
+    taper_hz: float = 20.0
+    n_taps: int = 4001
+    response_f_hz: np.ndarray | None = None
+    response_gain: np.ndarray | None = None
+    fit: TransferFit | None = None
+    lag_s: float | None = None
+    _taps: np.ndarray | None = field(default=None, repr=False, compare=False)
+    _spectra: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __post_init__(self):
+        lo, hi = (float(v) for v in self.band_hz)
+        self.band_hz = (lo, hi)
+        if not 0 <= lo < hi:
+            raise ValueError(f"band_hz=({lo:g}, {hi:g}); expected 0 <= LO < HI")
+        if hi > self.fs_hz / 2:
+            raise ValueError(f"band_hz=({lo:g}, {hi:g}) reaches beyond the Nyquist frequency "
+                             f"{self.fs_hz / 2:g} Hz (fs_hz={self.fs_hz:g}); expected "
+                             f"HI <= {self.fs_hz / 2:g}")
+        if self.outside not in _OUTSIDE:
+            raise ValueError(f"outside={self.outside!r}; expected 'taper' or 'hold'")
+        if self.taper_hz <= 0:
+            raise ValueError(f"taper_hz={self.taper_hz}; expected > 0")
+        self.n_taps = _odd(self.n_taps)
+
+    # -- construction -------------------------------------------------------------------
+    @classmethod
+    def from_model(cls, fit, *, fs_hz, band_hz=None, outside="taper", taper_hz=None,
+                   n_taps=None, lag_s=None):
+        """Build the filter from a fitted model (eq. 4.1).
+
+        Parameters
+        ----------
+        fit : TransferFit or tuple
+            A fit, or ``(model, params)`` such as ``("log10", {"A": 0.11})``.
+        fs_hz : float
+            Sampling rate of the records it will correct.
+        band_hz : tuple of float, optional
+            Calibrated band (default: the range of the fitted bins).
+        outside : {"taper", "hold"}
+            Gain above the band.
+        taper_hz : float, optional
+            Taper width (default a quarter of the band's top, at least 5 Hz).
+        n_taps : int, optional
+            FIR length (default one second of samples, made odd: 1 Hz resolution).
+        lag_s : float, optional
+            Stored with the filter.
+
+        Returns
+        -------
+        CorrectionFilter
+
+        Examples
+        --------
+        >>> filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000,
+        ...                                    band_hz=(1, 140))
+        >>> [round(float(g), 4) for g in filt.gain([0, 99, 140, 500])]
+        [1.0, 1.22, 1.2364, 1.0]
+        """
+        if isinstance(fit, TransferFit):
+            model, params = fit.model, dict(fit.params)
+            if band_hz is None:
+                band_hz = (float(fit.f_hz.min()), float(fit.f_hz.max()))
+        else:
+            model, params = fit[0], dict(fit[1])
+            fit = None
+            if band_hz is None:
+                raise ValueError("band_hz is required when building from (model, params)")
+        if model not in MODELS:
+            raise ValueError(f"model={model!r}; expected one of {', '.join(MODELS)}")
+        return cls(model, params, float(fs_hz), tuple(band_hz), outside,
+                   taper_hz or max(5.0, band_hz[1] / 4), n_taps or _odd(fs_hz), fit=fit,
+                   lag_s=lag_s)
+
+    @classmethod
+    def from_response(cls, f_hz, gain, *, fs_hz, band_hz=None, outside="taper",
+                      taper_hz=None, n_taps=None, lag_s=None):
+        """Build the filter from a measured gain ``|reference(f)| / |sensor(f)|``.
+
+        The gain is linearly interpolated between the given bins (and to 1 at 0 Hz).
+
+        Parameters
+        ----------
+        f_hz, gain : array_like
+            Measured response (e.g. ``tf.f_hz[tf.used]``, ``tf.gain[tf.used]``).
+        fs_hz, band_hz, outside, taper_hz, n_taps, lag_s
+            As in :meth:`from_model` (default band: the range of ``f_hz``).
+
+        Returns
+        -------
+        CorrectionFilter
+
+        Examples
+        --------
+        >>> filt = CorrectionFilter.from_response([10, 20], [1.1, 1.2], fs_hz=400)
+        >>> [round(float(g), 3) for g in filt.gain([0, 5, 15, 20])]
+        [1.0, 1.05, 1.15, 1.2]
+        """
+        f_hz, gain = np.asarray(f_hz, float), np.asarray(gain, float)
+        if f_hz.size < 2 or f_hz.shape != gain.shape or np.any(np.diff(f_hz) <= 0):
+            raise ValueError(f"f_hz ({f_hz.size} values) and gain ({gain.size} values): "
+                             "expected equal lengths >= 2 and increasing frequencies")
+        if band_hz is None:
+            band_hz = (float(f_hz[0]), float(f_hz[-1]))
+        return cls("response", {}, float(fs_hz), tuple(band_hz), outside,
+                   taper_hz or max(5.0, band_hz[1] / 4), n_taps or _odd(fs_hz),
+                   f_hz, gain, lag_s=lag_s)
+
+    # -- frequency response -------------------------------------------------------------
+    def _inside(self, f_hz):
+        if self.model == "response":
+            f = np.r_[0.0, self.response_f_hz[self.response_f_hz > 0]]
+            g = np.r_[1.0, self.response_gain[self.response_f_hz > 0]]
+            return np.interp(f_hz, f, g)
+        return model_gain(self.model, self.params, f_hz)
+
+    def gain(self, f_hz):
+        """Return the target gain ``G(f)`` (see the module notes)."""
+        f_hz = np.asarray(f_hz, dtype=float)
+        hi = self.band_hz[1]
+        g_hi = self._inside(hi)
+        if self.outside == "hold":
+            return np.where(f_hz <= hi, self._inside(np.minimum(f_hz, hi)), g_hi)
+        x = np.clip((f_hz - hi) / self.taper_hz, 0.0, 1.0)
+        taper = 1.0 + (g_hi - 1.0) * 0.5 * (1.0 + np.cos(np.pi * x))
+        return np.where(f_hz <= hi, self._inside(np.minimum(f_hz, hi)), taper)
+
+    @property
+    def taps(self):
+        """The symmetric FIR (length ``n_taps``) realising :meth:`gain` with zero phase."""
+        if self._taps is None:
+            grid = np.linspace(0.0, self.fs_hz / 2, 8 * self.n_taps + 1)
+            taps = signal.firwin2(self.n_taps, grid, self.gain(grid), fs=self.fs_hz,
+                                  window="hamming")
+            # G(|f|) has a kink at 0 Hz (the log's slope), which the window smooths into a
+            # DC gain above 1 (about 2 % for A = 0.11, log10, 1 Hz resolution). Remove the
+            # excess with a Hamming-shaped bump: it acts within 2 fs/n_taps of 0 Hz only
+            # (side lobes below -43 dB), so the static calibration is kept exactly.
+            bump = signal.get_window("hamming", self.n_taps, fftbins=False)
+            self._taps = taps - (taps.sum() - 1.0) * bump / bump.sum()
+        return self._taps
+
+    def realised_gain(self, f_hz):
+        """Return the gain the FIR actually applies at ``f_hz`` (zero phase, real)."""
+        _, h = signal.freqz(self.taps, worN=np.asarray(f_hz, float), fs=self.fs_hz)
+        return np.abs(h)
+
+    @property
+    def length_s(self):
+        """FIR length in seconds: the shortest record it can correct."""
+        return self.n_taps / self.fs_hz
+
+    def spectrum(self, n_fft):
+        """Real half-spectrum of the centred FIR on an ``n_fft``-point grid (overlap-save)."""
+        if n_fft not in self._spectra:
+            half = self.n_taps // 2
+            circ = np.zeros(n_fft)
+            circ[:half + 1] = self.taps[half:]
+            circ[n_fft - half:] = self.taps[:half]
+            self._spectra[n_fft] = fft.rfft(circ).real
+        return self._spectra[n_fft]
+
+    # -- JSON ---------------------------------------------------------------------------
+    def to_dict(self):
+        """Return the FILTER.json content (keys of the CLI contract first)."""
+        return {
+            "format": FORMAT,
+            "model": self.model,
+            "A": self.params.get("A"),
+            "log_base": MODELS[self.model][0] if self.model in MODELS else None,
+            "lag_s": self.lag_s,
+            "fs_hz": self.fs_hz,
+            "band_hz": list(self.band_hz),
+            "fit": None if self.fit is None else self.fit.to_dict(),
+            "params": self.params,
+            "outside": self.outside,
+            "taper_hz": self.taper_hz,
+            "n_taps": self.n_taps,
+            "response": None if self.response_f_hz is None else {
+                "f_hz": self.response_f_hz, "gain": self.response_gain},
+        }
+
+    @classmethod
+    def from_dict(cls, d, *, where="filter"):
+        """Rebuild a filter from :meth:`to_dict` output (``where`` names it in errors)."""
+        missing = [k for k in ("model", "fs_hz", "band_hz", "params", "outside", "taper_hz",
+                               "n_taps") if k not in d]
+        if d.get("format") != FORMAT or missing:
+            raise ValueError(f"{where}: not a tactilecal dynamic filter (format "
+                             f"{d.get('format')!r}, missing keys {missing}); expected "
+                             f"format {FORMAT!r} as written by 'tactilecal dynamic fit'")
+        response = d.get("response") or {}
+        return cls(d["model"], dict(d["params"]), float(d["fs_hz"]), tuple(d["band_hz"]),
+                   d["outside"], float(d["taper_hz"]), int(d["n_taps"]),
+                   None if not response else np.asarray(response["f_hz"], float),
+                   None if not response else np.asarray(response["gain"], float),
+                   None if d.get("fit") is None else TransferFit.from_dict(d["fit"]),
+                   d.get("lag_s"))
+
+    def save(self, path):
+        """Write FILTER.json atomically."""
+        write_json(path, self.to_dict())
+
+    def summary(self):
+        """Return a one-line description."""
+        pars = ", ".join(f"{k} = {v:.5g}" for k, v in self.params.items())
+        return (f"{self.model} filter ({pars}) for {self.fs_hz:g} Hz, band "
+                f"{self.band_hz[0]:g}..{self.band_hz[1]:g} Hz, above: {self.outside}, "
+                f"{self.n_taps} taps ({self.length_s:.3g} s)")
+
+
+def load_filter(path):
+    """Read a FILTER.json written by :meth:`CorrectionFilter.save`.
+
+    Raises
+    ------
+    ValueError
+        Not JSON, or not a filter file.
+    """
+    import json
+    from pathlib import Path
+
+    try:
+        d = json.loads(Path(path).read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}); "
+                         "expected a FILTER.json written by 'tactilecal dynamic fit'") from None
+    if not isinstance(d, dict):
+        raise ValueError(f"{path}: JSON {type(d).__name__}; expected an object")
+    return CorrectionFilter.from_dict(d, where=str(path))

@@ -1,0 +1,144 @@
+"""Transfer function ``|reference(f)| / |sensor(f)|`` with coherence (Gillis 2013, 4.3.3).
+
+Three estimates on the same Welch frequency grid (:func:`scipy.signal.welch`,
+:func:`scipy.signal.csd`), with the sensor as input ``x`` and the reference as output ``y``:
+
+``"ratio"``
+    The thesis' ratio of amplitude spectra, ``sqrt(P_yy / P_xx)`` (Welch-averaged).
+``"h1"``
+    ``|P_xy| / P_xx``: unbiased by noise on the reference, biased low by sensor noise.
+``"h2"``
+    ``P_yy / |P_xy|``: unbiased by noise on the sensor (the noisier channel here), biased
+    high by reference noise.
+
+The magnitude-squared coherence ``|P_xy|^2 / (P_xx P_yy)`` tells which bins carry the
+loading; bins below ``min_coherence`` are left out of the fit.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import signal
+
+from tactilecal.dynamic._records import label, sampling_rate_hz, time_and_values
+
+__all__ = ["TransferFunction", "transfer_function", "METHODS"]
+
+METHODS = ("ratio", "h1", "h2")
+
+
+@dataclass
+class TransferFunction:
+    """Measured transfer function on a frequency grid.
+
+    Attributes
+    ----------
+    f_hz, gain, coherence : numpy.ndarray
+        Frequencies (Hz), ``|reference| / |sensor|`` and magnitude-squared coherence.
+    used : numpy.ndarray of bool
+        Bins kept for a fit: coherence at least ``min_coherence``, ``f > 0``, inside
+        ``band_hz`` when one was given.
+    method : str
+        ``"ratio"``, ``"h1"`` or ``"h2"``.
+    fs_hz, nperseg, min_coherence : float, int, float
+        How it was computed.
+    excluded : dict
+        Number of bins left out, per reason.
+    """
+
+    f_hz: np.ndarray
+    gain: np.ndarray
+    coherence: np.ndarray
+    used: np.ndarray
+    method: str
+    fs_hz: float
+    nperseg: int
+    min_coherence: float
+    excluded: dict = field(default_factory=dict)
+
+
+def _check_band(band_hz, fs_hz, where):
+    if band_hz is None:
+        return None
+    lo, hi = (float(v) for v in band_hz)
+    if not 0 <= lo < hi:
+        raise ValueError(f"band_hz=({lo:g}, {hi:g}); expected 0 <= LO < HI")
+    if hi > fs_hz / 2:
+        raise ValueError(f"band_hz=({lo:g}, {hi:g}) reaches beyond the Nyquist frequency "
+                         f"{fs_hz / 2:g} Hz of {where} (sampled at {fs_hz:g} Hz); expected "
+                         f"HI <= {fs_hz / 2:g}")
+    return lo, hi
+
+
+def transfer_function(sensor, reference, *, method="h2", nperseg=None, min_coherence=0.9,
+                      band_hz=None):
+    """Estimate ``|reference(f)| / |sensor(f)|`` from aligned records.
+
+    Implements the transfer function of Gillis (2013), section 4.3.3 (Figure 4.9).
+
+    Parameters
+    ----------
+    sensor, reference : xarray.DataArray
+        Aligned 1-D records on the same time stamps (see :func:`align`).
+    method : {"h2", "h1", "ratio"}
+        Estimator, see the module notes. ``"h2"`` (default) is unbiased by sensor noise.
+    nperseg : int, optional
+        Welch segment length (default one second of samples: 1 Hz bins, the thesis' sweep
+        step).
+    min_coherence : float
+        Bins with a lower coherence are not used.
+    band_hz : tuple of float, optional
+        ``(lo, hi)``: only bins inside are used.
+
+    Returns
+    -------
+    TransferFunction
+
+    Raises
+    ------
+    ValueError
+        Unknown method, records of different lengths, a record shorter than ``nperseg``,
+        a band beyond the Nyquist frequency.
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> rng = np.random.default_rng(0)
+    >>> t = np.arange(0, 8, 1 / 400)
+    >>> y = rng.normal(size=t.size)
+    >>> ref = xr.DataArray(y, dims="time", coords={"time": t})
+    >>> sens = ref / 2
+    >>> tf = transfer_function(sens, ref, nperseg=200)
+    >>> bool(np.allclose(tf.gain[tf.used], 2.0))
+    True
+    """
+    if method not in METHODS:
+        raise ValueError(f"method={method!r}; expected one of {', '.join(METHODS)}")
+    t_s, x = time_and_values(sensor, "sensor")
+    t_r, y = time_and_values(reference, "reference")
+    where = label(sensor, "sensor")
+    if t_s.size != t_r.size or not np.allclose(t_s, t_r, rtol=0, atol=1e-6 * (t_s[1] - t_s[0])):
+        raise ValueError(f"{where} and {label(reference, 'reference')} are not on the same "
+                         f"time stamps ({t_s.size} and {t_r.size} samples); expected aligned "
+                         "records (use tactilecal.dynamic.align)")
+    fs_hz = sampling_rate_hz(t_s, where)
+    nperseg = int(round(fs_hz)) if nperseg is None else int(nperseg)
+    if x.size < nperseg:
+        raise ValueError(f"{label(reference, 'reference')}: the overlap with {where} is "
+                         f"{x.size} samples ({x.size / fs_hz:.3g} s); expected at least "
+                         f"nperseg = {nperseg} samples (the filter's 1/resolution)")
+    band = _check_band(band_hz, fs_hz, where)
+    f_hz, pxx = signal.welch(x, fs=fs_hz, nperseg=nperseg)
+    _, pyy = signal.welch(y, fs=fs_hz, nperseg=nperseg)
+    _, pxy = signal.csd(x, y, fs=fs_hz, nperseg=nperseg)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        coherence = np.abs(pxy) ** 2 / (pxx * pyy)
+        gain = {"ratio": np.sqrt(pyy / pxx), "h1": np.abs(pxy) / pxx,
+                "h2": pyy / np.abs(pxy)}[method]
+    coherent = np.nan_to_num(coherence) >= min_coherence
+    in_band = np.ones(f_hz.size, bool) if band is None else (f_hz >= band[0]) & (f_hz <= band[1])
+    used = coherent & in_band & (f_hz > 0) & np.isfinite(gain)
+    excluded = {"low_coherence": int(np.count_nonzero(~coherent & in_band & (f_hz > 0))),
+                "outside_band": int(np.count_nonzero(~in_band)), "zero_frequency": 1}
+    return TransferFunction(f_hz, gain, coherence, used, method, fs_hz, nperseg,
+                            float(min_coherence), excluded)
