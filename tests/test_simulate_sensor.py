@@ -126,3 +126,12 @@ def test_shape_errors():
         s.to_dataarray(np.zeros((2, 3, 3)))
     with pytest.raises(ValueError, match=r"time_s: 3 values; expected one per frame \(2\)"):
         s.to_dataarray(np.zeros((2, 14, 14)), time_s=[0, 1, 2])
+
+
+def test_sensor_model_objects_are_accepted():
+    from tactilecal.sensors import custom_sensor, get_sensor
+
+    s = make_sensor(custom_sensor(10, 20, 2.0, col_spacing_mm=3.0), n_dead=0)
+    assert (s.rows, s.cols, s.row_spacing_mm, s.col_spacing_mm, s.sensel_area_mm2) == \
+        (10, 20, 2.0, 3.0, 6.0)
+    assert make_sensor(get_sensor("5101")).row_spacing_mm == 2.54

@@ -176,7 +176,8 @@ class SimulatedSensor:
         force_N : array_like
             ``(..., rows, cols)`` true force on each sensel in N.
         rng : numpy.random.Generator or int, optional
-            Source of the read noise (a seed is accepted).
+            Source of the read noise (a seed is accepted). ``None`` draws fresh entropy, so
+            pass a generator or seed for reproducible readings.
 
         Returns
         -------
