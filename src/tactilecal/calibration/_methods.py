@@ -144,7 +144,8 @@ def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS, *
     by bounded Brent minimisation.
     """
     _check_objective(objective)
-    grid = np.linspace(*b_bounds, 77)
+    hist = np.asarray(hist, dtype=float)  # one conversion, then BLAS products
+    grid = np.linspace(*b_bounds, 25)
     costs = [_power_cost(b, hist, load_N, objective) for b in grid]
     k = int(np.argmin(costs))
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
