@@ -67,3 +67,13 @@ def test_errors(tmp_path, capsys):
     with pytest.raises(SystemExit) as exc:
         main(["simulate"])
     assert exc.value.code == 2
+
+
+def test_deadweight_saturated_share(tmp_path, capsys):
+    assert main(["simulate", "deadweight", str(tmp_path), "--patches", "8",
+                 "--saturated-share", "0.25", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["saturated_patches"] == 2
+    with (tmp_path / "manifest.csv").open(newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    saturated = [read_tekscan(tmp_path / r["file"]).values.max() == 255 for r in rows]
+    assert sum(saturated) == 2

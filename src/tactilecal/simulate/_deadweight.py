@@ -59,7 +59,7 @@ class ContactModel:
     stiffness_kPa_per_um: float = 60.0
 
 
-@dataclass
+@dataclass(eq=False)
 class DeadweightSession:
     """A simulated dead-weight calibration session with its truth.
 

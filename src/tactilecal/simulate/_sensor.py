@@ -103,7 +103,7 @@ def _custom_geometry(spec):
     return "custom", int(rows), int(cols), pitch, pitch, pitch * pitch
 
 
-@dataclass
+@dataclass(eq=False)
 class SimulatedSensor:
     """A synthetic 8-bit sensel matrix whose calibration truth is known.
 

@@ -86,7 +86,7 @@ def uniform_load(sensor, pressures_kPa, *, frames_per_level=5, seed=0):
     return UniformLoad(sensor.to_dataarray(raw, source="simulated uniform load"), pressure)
 
 
-@dataclass
+@dataclass(eq=False)
 class RampHold:
     """A simulated ramp-and-hold session: sensor movie, load-cell record and truth.
 
