@@ -27,10 +27,10 @@ SENSEL_AREA_5051_MM2 = 1.27 * 1.27
 MODES = {
     "faithful": {"root_choice": "smallest", "outliers": "none", "b_range": "pairs",
                  "saturated": "keep"},
-    "robust": {"root_choice": "best-fit", "outliers": "mad", "b_range": "inliers",
-               "saturated": "drop"},
+    "robust": {"root_choice": "best-fit", "outliers": "trim", "b_range": "inliers",
+               "saturated": "keep"},
 }
-_CHOICES = {"root_choice": ("smallest", "best-fit"), "outliers": ("none", "mad"),
+_CHOICES = {"root_choice": ("smallest", "best-fit"), "outliers": ("none", "trim", "mad"),
             "saturated": ("keep", "drop")}
 
 
@@ -124,8 +124,9 @@ def _pair_matrix(n, pairs):
 
 
 def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_choice=None,
-                outliers=None, b_range=None, saturated=None, max_relerr=0.10, grey_share=0.05,
-                group_tolerance=0.05, sensel_area_mm2=SENSEL_AREA_5051_MM2, labels=None):
+                outliers=None, b_range=None, saturated=None, trim=0.05, max_relerr=0.10,
+                grey_share=0.05, group_tolerance=0.05, sensel_area_mm2=SENSEL_AREA_5051_MM2,
+                labels=None):
     """Run Zvyagin's four steps on calibration patches given as raw-value histograms.
 
     Steps (Zvyagin 2022, Section 3): (1) the degrees-of-three approximation and the exhaustive
@@ -143,14 +144,17 @@ def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_ch
     mode : {"faithful", "robust"}
         ``"faithful"``: the paper as written (smallest root > 3, plain log-log least squares
         on every valid pair, E over the full b range of the pairs, saturated patches kept).
-        ``"robust"``: best-fitting root, MAD-clipped power-law fit, E over the b range of the
-        inlier pairs, patches with saturated sensels left out. See ``docs/zvyagin.md``.
+        ``"robust"``: best-fitting root, power law fitted to the pairs between the 5% and
+        95% quantiles of b, E over that b range; saturated patches kept (leaving them out
+        moved b0 away from the truth on simulated sessions). See ``docs/zvyagin.md``.
     domain : {"strict", "closed"}
         Search domain of I (see :func:`separation_domain`).
     root_choice, outliers, b_range, saturated : optional
         Override one choice of the mode: ``root_choice`` in {"smallest", "best-fit"},
-        ``outliers`` in {"none", "mad"}, ``b_range`` in {"pairs", "inliers"} or
-        ``(b_min, b_max)``, ``saturated`` in {"keep", "drop"}.
+        ``outliers`` in {"none", "trim", "mad"} (see :func:`fit_power_law`), ``b_range``
+        in {"pairs", "inliers"} or ``(b_min, b_max)``, ``saturated`` in {"keep", "drop"}.
+    trim : float
+        Share of pairs cut at each end of the b range when ``outliers="trim"``.
     max_relerr : float
         Raw-sum approximation error |R - Q(I*)| / R from which a patch's pairs are rejected.
     grey_share : float
@@ -238,7 +242,8 @@ def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_ch
         raise ValueError(f"{valid.size} valid pair(s) (A, b); expected at least 3 to fit the "
                          f"power law ({n_rej} pairs with a root > 3 rejected by the "
                          f"{max_relerr:.0%} raw-sum rule)")
-    fit = fit_power_law(pairs["A"][valid], pairs["b"][valid], robust=opts["outliers"] == "mad")
+    fit = fit_power_law(pairs["A"][valid], pairs["b"][valid], outliers=opts["outliers"],
+                        trim=trim)
     outlier = valid[~fit["inlier"]]
     pairs["category"][outlier] = "O"
     b_valid = pairs["b"][valid]
@@ -264,7 +269,8 @@ def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_ch
     domain_ranges = separation_domain(domain)
     return ZvyaginResult(
         mode=mode, options={**opts, "domain": domain, "max_relerr": max_relerr,
-                            "grey_share": grey_share, "group_tolerance": group_tolerance},
+                            "grey_share": grey_share, "group_tolerance": group_tolerance,
+                            "trim": trim},
         labels=labels, load_N=f, loaded_cells=cells, raw_sum=r_sum, raw_relerr=relerr,
         saturated_cells=sat_cells, usable=usable, excluded=excluded, group=group,
         group_names=group_names, separation=sep, d_min=d_min, d_map=d_map,

@@ -21,22 +21,27 @@ def _r_squared(residual, y):
     return float(1.0 - np.sum(residual ** 2) / total) if total > 0 else float("nan")
 
 
-def fit_power_law(a_N, b, *, robust=False, clip=3.5, max_iter=50):
+def fit_power_law(a_N, b, *, outliers="none", trim=0.05, clip=3.5, max_iter=50):
     """Fit A = alpha * b**beta to the (A, b) set by least squares in log-log (eq. 14).
 
     Parameters
     ----------
     a_N, b : numpy.ndarray
         The pair estimates (A in newtons per sensel, b dimensionless, b > 1).
-    robust : bool
-        False (paper as written): one least-squares fit of log A on log b over all pairs.
-        True: iterate that fit, each time keeping only pairs whose log residual lies within
-        ``clip`` robust standard deviations (1.4826 x median absolute deviation) of the
-        median residual, until the kept set stops changing.
+    outliers : {"none", "trim", "mad"}
+        ``"none"`` (paper as written): one least-squares fit of log A on log b over all
+        pairs. ``"trim"``: the same fit over the pairs whose b lies between the ``trim`` and
+        ``1 - trim`` quantiles of b (the cloud bends in log-log, and a few pairs with b far
+        from the bulk have large leverage). ``"mad"``: iterate the fit, each time keeping
+        the pairs whose log residual lies within ``clip`` robust standard deviations
+        (1.4826 x median absolute deviation) of the median residual, until the kept set
+        stops changing.
+    trim : float
+        Share of pairs cut at each end of the b range by ``"trim"``.
     clip : float
-        Clipping threshold in robust standard deviations.
+        Clipping threshold in robust standard deviations (``"mad"``).
     max_iter : int
-        Iteration cap for the robust fit.
+        Iteration cap for ``"mad"``.
 
     Returns
     -------
@@ -53,9 +58,17 @@ def fit_power_law(a_N, b, *, robust=False, clip=3.5, max_iter=50):
     """
     a_N = np.asarray(a_N, dtype=np.float64)
     b = np.asarray(b, dtype=np.float64)
+    if outliers not in ("none", "trim", "mad"):
+        raise ValueError(f"outliers = {outliers!r}; expected 'none', 'trim' or 'mad'")
     inlier = np.ones(b.shape, dtype=bool)
-    coef, resid = _lstsq_loglog(a_N, b)
-    for _ in range(max_iter if robust else 0):
+    if outliers == "trim":
+        if not 0 <= trim < 0.5:
+            raise ValueError(f"trim = {trim}; expected 0 <= trim < 0.5")
+        lo, hi = np.quantile(b, [trim, 1 - trim])
+        inlier = (b >= lo) & (b <= hi)
+    coef, _ = _lstsq_loglog(a_N[inlier], b[inlier])
+    resid = np.log(a_N) - (coef[0] + coef[1] * np.log(b))
+    for _ in range(max_iter if outliers == "mad" else 0):
         centre = np.median(resid[inlier])
         scale = _MAD_TO_SIGMA * np.median(np.abs(resid[inlier] - centre))
         keep = np.abs(resid - centre) <= clip * scale if scale > 0 else inlier

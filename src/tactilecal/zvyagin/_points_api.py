@@ -11,7 +11,8 @@ __all__ = ["calibrate_zvyagin", "OPTIONS"]
 
 #: Options accepted by :func:`calibrate_zvyagin` (see :func:`zvyagin_fit`).
 OPTIONS = ("mode", "domain", "root_choice", "outliers", "b_range", "saturated",
-           "keep_saturated", "max_relerr", "grey_share", "group_tolerance", "sensel_area_mm2")
+           "keep_saturated", "trim", "max_relerr", "grey_share", "group_tolerance",
+           "sensel_area_mm2")
 
 
 def _point_labels(points):
@@ -65,7 +66,7 @@ def calibrate_zvyagin(points, **options):
         One per loaded patch (histogram of raw values and applied load).
     **options
         ``mode`` ("faithful" or "robust"), ``domain``, ``root_choice``, ``outliers``,
-        ``b_range``, ``saturated``, ``max_relerr``, ``grey_share``, ``group_tolerance``,
+        ``b_range``, ``saturated``, ``trim``, ``max_relerr``, ``grey_share``, ``group_tolerance``,
         ``sensel_area_mm2``: see :func:`zvyagin_fit`. ``keep_saturated`` (the static
         methods' spelling) sets ``saturated`` to "keep" (True) or "drop" (False).
 
