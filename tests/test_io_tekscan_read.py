@@ -87,3 +87,16 @@ def test_single_frame_without_frame_line(tmp_path):
     data = read_tekscan(_write(tmp_path, text, name="single.txt"))
     assert data.shape == (1, 2, 2) and data.frame.values.tolist() == [4]
     assert data.attrs["units"] == "kPa" and data.time.values.tolist() == [0.0]
+
+
+def test_spaces_after_commas(tmp_path):
+    text = "ROWS 2\nCOLS 3\nUNITS raw\nASCII_DATA @@\nFrame 1, 0.5\n1, 2, B\n3, 4, 5\n@@\n"
+    data = read_tekscan(_write(tmp_path, text))
+    np.testing.assert_array_equal(data.values, [[[1, 2, np.nan], [3, 4, 5]]])
+
+
+def test_top_level_lazy_exports():
+    import tactilecal
+
+    assert tactilecal.read_tekscan is read_tekscan
+    assert tactilecal.io.G_STANDARD == 9.80665

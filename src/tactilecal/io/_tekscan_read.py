@@ -272,7 +272,8 @@ def _parse_values(body, n_rows, cols):
         table = pd.read_csv(
             io.BytesIO(body), header=None, names=range(cols), comment="F", nrows=n_rows,
             na_values=["B"], keep_default_na=False, dtype=np.float64, engine="c",
-            quoting=csv.QUOTE_NONE, skip_blank_lines=True, index_col=False)
+            quoting=csv.QUOTE_NONE, skip_blank_lines=True, index_col=False,
+            skipinitialspace=True)
     values = table.to_numpy(dtype=np.float64)
     if values.shape[0] != n_rows:
         raise ValueError(f"parsed {values.shape[0]} rows of values; expected {n_rows}")
