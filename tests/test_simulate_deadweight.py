@@ -125,6 +125,9 @@ def test_recording_has_ramp_then_plateau_holding_raw(session):
 
 @pytest.mark.parametrize(("kwargs", "match"), [
     ({"pad_sides_cm": (1, 7)}, r"pad_sides_cm: got \[7\]; expected sides of Zvyagin's Table 1"),
+    ({"pad_sides_cm": ()}, r"pad_sides_cm: got \[\]; expected sides of Zvyagin's Table 1"),
+    ({"masses_kg": (2, -5)}, r"masses_kg: got \(2, -5\); expected one or more positive"),
+    ({"masses_kg": ()}, r"masses_kg: got \(\); expected one or more positive"),
     ({"saturated_share": 1.5}, r"saturated_share: got 1.5; expected a share between 0 and 1"),
     ({"blank_frame_share": -0.1}, r"blank_frame_share: got -0.1"),
     ({"n_patches": 0}, r"n_patches: got 0; expected a positive integer"),

@@ -245,8 +245,8 @@ def deadweight_session(sensor, *, n_patches=150, masses_kg=(2, 5, 10), pad_sides
     ((6, 44, 44), True)
     """
     contact = ContactModel() if contact is None else contact
-    _check_args(sensor, n_patches, pad_sides_cm, saturated_share, blank_frame_share,
-                ramp_frames, plateau_frames)
+    _check_args(sensor, n_patches, masses_kg, pad_sides_cm, saturated_share,
+                blank_frame_share, ramp_frames, plateau_frames)
     rng = np.random.default_rng(seed)
     base = _base_relief(sensor, contact, rng)
     n_sat = int(round(saturated_share * n_patches))
@@ -271,14 +271,17 @@ def deadweight_session(sensor, *, n_patches=150, masses_kg=(2, 5, 10), pad_sides
     return _assemble(sensor, patches, blank_frame_share, ramp_frames, plateau_frames, seed, rng)
 
 
-def _check_args(sensor, n_patches, pad_sides_cm, saturated_share, blank_frame_share,
-                ramp_frames, plateau_frames):
+def _check_args(sensor, n_patches, masses_kg, pad_sides_cm, saturated_share,
+                blank_frame_share, ramp_frames, plateau_frames):
     if not isinstance(sensor, SimulatedSensor):
         raise TypeError(f"sensor: expected a SimulatedSensor; got {type(sensor).__name__}")
     if not (int(n_patches) == n_patches >= 1):
         raise ValueError(f"n_patches: got {n_patches!r}; expected a positive integer")
+    masses = np.asarray(masses_kg, dtype=np.float64).reshape(-1)
+    if masses.size == 0 or not np.all(np.isfinite(masses) & (masses > 0)):
+        raise ValueError(f"masses_kg: got {masses_kg!r}; expected one or more positive masses")
     bad = [s for s in pad_sides_cm if s not in PAD_MASS_G]
-    if bad:
+    if bad or len(pad_sides_cm) == 0:
         raise ValueError(f"pad_sides_cm: got {bad}; expected sides of Zvyagin's Table 1 "
                          f"{sorted(PAD_MASS_G)} cm")
     for name, share in (("saturated_share", saturated_share),
