@@ -138,3 +138,12 @@ def test_blocks_and_wide_integers_round_trip(tmp_path, monkeypatch):
     back = read_tekscan(out)
     np.testing.assert_array_equal(back.values, data.values)
     assert out.read_bytes().count(b"\r\n") == out.read_bytes().count(b"\n")
+
+
+def test_fresh_header_in_tekscan_order(tmp_path):
+    out = tmp_path / "fresh.csv"
+    write_tekscan(_simulated(np.random.default_rng(5)), out)
+    keys = [line.split()[0] for line in out.read_text().split("ASCII_DATA")[0].splitlines()]
+    assert keys[:4] == ["DATA_TYPE", "SENSOR_TYPE", "ROWS", "COLS"]
+    assert keys[-3:] == ["START_FRAME", "END_FRAME", "UNITS"]
+    assert keys.index("SATURATION_PRESSURE") < keys.index("CALIBRATION_POINT_1")

@@ -121,9 +121,30 @@ def _same(text, value, convert):
     return bool(np.isclose(parsed, value, rtol=1e-9, atol=0))
 
 
+# Key order of Tekscan's own exports (I-Scan 6.10I / F-Scan 6.33 in shared/realdata).
+_ORDER = ("DATA_TYPE", "VERSION", "SENSOR_TYPE", "ROWS", "COLS", "ROW_SPACING", "COL_SPACING",
+          "SENSEL_AREA", "NOISE_THRESHOLD", "SECONDS_PER_FRAME", "SCALE_FACTOR", "EXPONENT",
+          "SATURATION_PRESSURE", "CALIBRATION_POINT_1", "CALIBRATION_POINT_2",
+          "CALIBRATION_MODE_1", "CALIBRATION_MODE_2", "SENSITIVITY", "START_FRAME",
+          "END_FRAME", "UNITS")
+
+
+def _ordered(header, verbatim):
+    """Keep the file's key order; put each new key after its predecessor in ``_ORDER``."""
+    keys = [k for k in header if k in verbatim]
+    for key in header:
+        if key in verbatim:
+            continue
+        rank = _ORDER.index(key) if key in _ORDER else len(_ORDER)
+        before = [i for i, k in enumerate(keys) if k in _ORDER and _ORDER.index(k) < rank]
+        keys.insert(before[-1] + 1 if before else 0, key)
+    return {k: header[k] for k in keys}
+
+
 def _header_lines(data, frames):
     attrs = data.attrs
     header = {k[len("tekscan_"):]: str(v) for k, v in attrs.items() if k.startswith("tekscan_")}
+    verbatim = set(header)
     header.setdefault("DATA_TYPE", "MOVIE" if frames.size > 1 else "FRAME")
     managed = {
         "SENSOR_TYPE": attrs.get("sensor_type"),
@@ -154,7 +175,7 @@ def _header_lines(data, frames):
             keep = False
         if not keep:
             header["UNITS"] = str(attrs["units"])
-    return _render_header(header)
+    return _render_header(_ordered(header, verbatim))
 
 
 def _calibration_header(attrs, header):
