@@ -1,0 +1,103 @@
+"""Recognise and load the inputs of a report: calibration JSON, FILTER.json, recordings."""
+
+import hashlib
+import json
+from datetime import UTC, datetime
+from pathlib import Path
+
+import xarray as xr
+
+__all__ = ["load_input", "file_provenance"]
+
+_FILTER_KEYS = ("model", "fs_hz", "band_hz")
+
+
+def file_provenance(path):
+    """Absolute path, size, modification time (UTC) and SHA-256 of a file."""
+    path = Path(path).resolve()
+    digest = hashlib.sha256()
+    with path.open("rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(block)
+    stat = path.stat()
+    return {"path": str(path), "size_bytes": stat.st_size,
+            "modified_utc": datetime.fromtimestamp(stat.st_mtime, UTC).isoformat(
+                timespec="seconds"),
+            "sha256": digest.hexdigest()}
+
+
+def _classify_dict(data, where):
+    from tactilecal.calibration._result import REQUIRED_KEYS, CalibrationResult
+
+    if str(data.get("format", "")).startswith("tactilecal-dynamic-filter") or all(
+            k in data for k in _FILTER_KEYS):
+        return "filter", data
+    if all(k in data for k in REQUIRED_KEYS):
+        return "calibration", CalibrationResult.from_dict(data, source=where)
+    raise ValueError(f"{where}: JSON with keys {sorted(data)[:8]} is neither a calibration "
+                     f"(keys {list(REQUIRED_KEYS)}) nor a dynamic filter (keys "
+                     f"{list(_FILTER_KEYS)})")
+
+
+def _read_json(path):
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}); expected "
+                         "a calibration JSON or a FILTER.json") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"{path}: JSON {type(data).__name__}; expected an object")
+    return data
+
+
+def load_input(item):
+    """Return ``(kind, obj, provenance)`` for one report input.
+
+    Parameters
+    ----------
+    item : str, os.PathLike, CalibrationResult, CorrectionFilter, dict or xarray.DataArray
+        A file (``.json``: calibration or FILTER.json; ``.nc``: NetCDF recording; anything
+        else: Tekscan ASCII export) or an object in memory.
+
+    Returns
+    -------
+    kind : {"calibration", "filter", "recording"}
+    obj : CalibrationResult, dict (FILTER.json content) or xarray.DataArray
+    provenance : dict
+        For a file, :func:`file_provenance` plus ``input``; for an object, what it is.
+
+    Raises
+    ------
+    ValueError
+        For a JSON that is neither kind, or an object of an unknown type.
+    FileNotFoundError
+        For a missing file.
+    """
+    if isinstance(item, xr.DataArray):
+        return "recording", item, {"input": "DataArray in memory",
+                                   "source": str(item.attrs.get("source", ""))}
+    if isinstance(item, dict):
+        kind, obj = _classify_dict(item, "dict input")
+        return kind, obj, {"input": f"{kind} dict in memory"}
+    if hasattr(item, "apply") and hasattr(item, "to_dict") and hasattr(item, "method"):
+        return "calibration", item, {"input": "CalibrationResult in memory",
+                                     "created": getattr(item, "created", "")}
+    if hasattr(item, "to_dict") and hasattr(item, "fs_hz"):
+        return "filter", item.to_dict(), {"input": "CorrectionFilter in memory"}
+    if not isinstance(item, str | Path):
+        raise ValueError(f"report input of type {type(item).__name__}; expected a file path, "
+                         "a CalibrationResult, a filter, a dict or a DataArray")
+    path = Path(item)
+    if not path.is_file():
+        raise FileNotFoundError(f"report input {path} does not exist or is not a file")
+    prov = {"input": str(item), **file_provenance(path)}
+    if path.suffix.lower() == ".json":
+        kind, obj = _classify_dict(_read_json(path), str(path))
+        return kind, obj, prov
+    if path.suffix.lower() in (".nc", ".nc4", ".netcdf"):
+        from tactilecal.io import read_netcdf
+
+        return "recording", read_netcdf(path), prov
+    from tactilecal.io import read_tekscan
+
+    return "recording", read_tekscan(path), prov

@@ -1,0 +1,192 @@
+"""The sections of a report: calibration, dynamic filter, recording, provenance.
+
+Each builder returns a list of HTML blocks. Figures come from the plot functions of the
+subpackage that owns them; a figure that cannot be drawn (a module absent from this
+version, missing intermediate results) is replaced by a note saying why, never by a
+silent gap.
+"""
+
+import base64
+import html
+import io
+from importlib import import_module
+
+import numpy as np
+
+__all__ = ["calibration_blocks", "filter_blocks", "recording_blocks", "figure_html",
+           "table_html", "note_html"]
+
+
+def _esc(value):
+    return html.escape(str(value))
+
+
+def note_html(text):
+    """Return a highlighted note (where a figure or number is not available)."""
+    return f'<p class="note">{_esc(text)}</p>'
+
+
+def table_html(rows, header=None):
+    """Return an HTML table built from an iterable of row tuples."""
+    head = "" if header is None else "<tr>" + "".join(f"<th>{_esc(h)}</th>" for h in header) \
+        + "</tr>"
+    body = "".join("<tr>" + "".join(f"<td>{_esc(_fmt(v))}</td>" for v in row) + "</tr>"
+                   for row in rows)
+    return f"<table>{head}{body}</table>"
+
+
+def _fmt(value):
+    if isinstance(value, float | np.floating):
+        return "n/a" if not np.isfinite(value) else f"{value:.6g}"
+    return value
+
+
+def figure_html(fig, caption):
+    """Embed a matplotlib Figure as a base64 PNG ``<figure>`` with a caption."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=96)
+    data = base64.b64encode(buf.getvalue()).decode("ascii")
+    return (f'<figure><img alt="{_esc(caption)}" src="data:image/png;base64,{data}">'
+            f"<figcaption>{_esc(caption)}</figcaption></figure>")
+
+
+def _new_axes(figsize=(6, 4)):
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=figsize, layout="constrained").subplots()
+
+
+def _try_figure(caption, draw):
+    """Draw a figure with ``draw()`` (returning a Figure or Axes); a note if it fails."""
+    try:
+        out = draw()
+    except Exception as exc:  # any failure becomes a visible note, never a crash
+        return note_html(f"{caption}: not drawn ({type(exc).__name__}: {exc})")
+    fig = out if hasattr(out, "savefig") else np.ravel(out)[0].figure
+    return figure_html(fig, caption)
+
+
+def _module_plots(module_name, obj, what):
+    """Figures from every public ``plot_*`` function of ``module_name`` called on ``obj``."""
+    try:
+        module = import_module(module_name)
+    except ModuleNotFoundError:
+        return [note_html(f"{what} figures: {module_name} is not part of this tactilecal "
+                          "version, so they are not shown")]
+    names = [n for n in getattr(module, "__all__", dir(module)) if n.startswith("plot_")]
+    plots = [(name, getattr(module, name)) for name in names]
+    return [_try_figure(f"{what}: {name[5:].replace('_', ' ')}", lambda fn=fn: fn(obj))
+            for name, fn in plots]
+
+
+def calibration_blocks(result, label):
+    """Summary, parameters, points table and figures of a calibration result."""
+    from tactilecal.calibration import (
+        plot_calibration_curve,
+        plot_error_histogram,
+        plot_points,
+    )
+
+    params = [(k, v, result.params_stderr.get(k)) for k, v in result.params.items()
+              if np.ndim(v) == 0]
+    blocks = [
+        f"<pre>{_esc(result.summary())}</pre>",
+        table_html(params, header=("parameter", "value", "standard error")),
+        table_html(sorted(result.metrics.items()), header=("metric", "value")),
+        _try_figure(f"{label}: calibration curve",
+                    lambda: plot_calibration_curve(result, ax=_new_axes())),
+        _try_figure(f"{label}: calibrated against applied load",
+                    lambda: plot_points(result, ax=_new_axes())),
+        _try_figure(f"{label}: error histogram",
+                    lambda: plot_error_histogram(result, ax=_new_axes())),
+    ]
+    if result.method == "zvyagin" or result.details:
+        if result.method == "zvyagin":
+            blocks += _module_plots("tactilecal.zvyagin._plots", result, "Zvyagin (2022)")
+        else:
+            blocks.append(note_html(f"method {result.method!r} keeps intermediate results "
+                                    f"under 'details' ({', '.join(sorted(result.details))})"))
+    return blocks
+
+
+def _draw_fit(fit):
+    ax = _new_axes()
+    f = np.asarray(fit["f_hz"], dtype=float)
+    ax.plot(f, np.asarray(fit["measured"], dtype=float), ".", ms=4, label="measured")
+    ax.plot(f, np.asarray(fit["fitted"], dtype=float), "-", label=f"fit ({fit['model']})")
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("|load cell| / |sensor|")
+    ax.legend(frameon=False)
+    return ax
+
+
+def filter_blocks(data, label):
+    """Parameters and fit figures of a dynamic filter (FILTER.json content)."""
+    keys = ("model", "A", "log_base", "lag_s", "fs_hz", "band_hz", "outside", "n_taps")
+    blocks = [table_html([(k, data.get(k)) for k in keys if k in data],
+                         header=("key", "value"))]
+    fit = data.get("fit")
+    if not fit:
+        return blocks + [note_html(f"{label}: no fitted transfer function stored (fit is "
+                                   "empty), so no fit figure")]
+    blocks.append(table_html([(k, fit.get(k)) for k in ("r2", "rmse", "method")],
+                             header=("fit", "value")))
+    try:
+        from tactilecal.dynamic._plots import plot_transfer
+    except ImportError:
+        blocks.append(note_html("tactilecal.dynamic._plots.plot_transfer is not part of this "
+                                "version; the fit is drawn from the filter file's points"))
+        return blocks + [_try_figure(f"{label}: transfer function and fit",
+                                     lambda: _draw_fit(fit))]
+    from tactilecal.dynamic import CorrectionFilter
+
+    blocks.append(_try_figure(
+        f"{label}: transfer function, fitted model and filter gain (Gillis 2013 Fig. 4.9)",
+        lambda: plot_transfer(CorrectionFilter.from_dict(data, where=label))))
+    return blocks + [note_html("time-history, spectra and error figures need the evaluation "
+                               "records, which a FILTER.json does not hold")]
+
+
+def recording_blocks(recording, label, *, calibration=None, threshold_kPa=0.0,
+                     nonworking=None):
+    """Key numbers and figures of one recording (force, peak map, centre path, profiles)."""
+    from tactilecal import analysis
+
+    attrs = recording.attrs
+    info = [(k, attrs[k]) for k in ("source", "sensor_type", "units", "sensel_area_mm2",
+                                    "row_spacing_mm", "col_spacing_mm", "seconds_per_frame",
+                                    "sensitivity", "calibration_method",
+                                    "saturation_pressure_kPa") if k in attrs]
+    info.insert(0, ("frames x rows x cols", " x ".join(str(n) for n in recording.shape)))
+    blocks = [table_html(info, header=("property", "value"))]
+    if attrs.get("units") == "raw" and calibration is None:
+        return blocks + [note_html(f"{label} holds raw readings and no calibration was "
+                                   "given, so force and pressure cannot be shown; pass a "
+                                   "calibration JSON (--cal)")]
+    if attrs.get("units") == "raw":
+        recording = calibration.apply(recording, units="kPa")
+        blocks.append(note_html(f"raw readings calibrated with method "
+                                f"{calibration.method!r} ({calibration.model})"))
+    s = analysis.summary(recording, threshold_kPa=threshold_kPa).compute()
+    i = analysis.peak_frame(s)
+    t = s["time"].values if "time" in s.coords else np.arange(s.sizes["frame"])
+    numbers = [
+        ("duration [s]", float(t[-1] - t[0]) if len(t) else float("nan")),
+        ("peak total force [N]", float(s.force_N[i])),
+        ("time of peak force [s]", float(t[i])),
+        ("frame of peak force", recording["frame"].values[i]),
+        ("largest contact area [mm2]", float(s.contact_area_mm2.max())),
+        ("largest sensel pressure [kPa]", float(s.peak_kPa.max())),
+        ("loaded-sensel threshold [kPa]", float(threshold_kPa)),
+    ]
+    blocks.append(table_html(numbers, header=("quantity", "value")))
+    blocks += [
+        _try_figure(f"{label}: total force and contact area against time",
+                    lambda: analysis.plot_force_time(s)),
+        _try_figure(f"{label}: pressure map at the peak-force frame",
+                    lambda: analysis.plot_pressure_map(recording, i)),
+        _try_figure(f"{label}: centre-of-force path", lambda: analysis.plot_cof_path(s)),
+        _try_figure(f"{label}: row and column profiles at the peak-force frame",
+                    lambda: analysis.plot_profiles(recording, i, nonworking=nonworking)),
+    ]
+    return blocks

@@ -1,0 +1,141 @@
+"""The HTML report: sections, embedded figures, provenance, errors, headless Chromium."""
+
+import hashlib
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from tactilecal.calibration import calibrate, points_from_frames
+from tactilecal.dynamic import CorrectionFilter, fit_transfer
+from tactilecal.dynamic._transfer import TransferFunction
+from tactilecal.io import write_netcdf
+from tactilecal.report import build_report, load_input, write_report
+from tactilecal.simulate import deadweight_session, make_sensor
+
+
+@pytest.fixture(scope="module")
+def session():
+    return deadweight_session(make_sensor("5051", seed=1), n_patches=30, seed=3)
+
+
+@pytest.fixture(scope="module")
+def files(session, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("report")
+    result = calibrate(points_from_frames(session.raw, session.load_N), method="power")
+    result.to_json(folder / "cal.json")
+    f = np.arange(0.0, 140.0)
+    tf = TransferFunction(f, 1 + 0.11 * np.log10(f + 1), np.ones_like(f), f > 0, "h2",
+                          4000.0, 400, 0.9)
+    CorrectionFilter.from_model(fit_transfer(tf, model="log10"), fs_hz=4000.0).save(
+        folder / "FILTER.json")
+    write_netcdf(session.recording(0), folder / "patch.nc")
+    return folder
+
+
+def images(text):
+    return re.findall(r'<img alt="([^"]*)" src="([^"]*)"', text)
+
+
+def test_calibration_filter_and_raw_recording(files):
+    text = build_report([files / "patch.nc", files / "FILTER.json"],
+                        calibration=files / "cal.json", command="tactilecal report ...")
+    imgs = images(text)
+    assert all(src.startswith("data:image/png;base64,") for _, src in imgs)
+    assert not re.search(r'(src|href)="(?!data:)', text)  # nothing fetched from outside
+    captions = [alt for alt, _ in imgs]
+    for expected in ["cal.json: calibration curve", "cal.json: calibrated against applied load",
+                     "cal.json: error histogram",
+                     "FILTER.json: transfer function, fitted model and filter gain",
+                     "patch.nc: total force and contact area against time",
+                     "patch.nc: pressure map at the peak-force frame",
+                     "patch.nc: centre-of-force path",
+                     "patch.nc: row and column profiles at the peak-force frame"]:
+        assert any(c.startswith(expected) for c in captions), expected
+    assert "raw readings calibrated with method &#x27;power&#x27;" in text
+    # calibration given with --cal comes first, then the inputs in order
+    heads = re.findall(r"<h2>([^<]*)</h2>", text)
+    assert heads == ["Calibration: cal.json", "Recording: patch.nc",
+                     "Dynamic filter: FILTER.json", "Provenance"]
+    # provenance: each file's SHA-256, versions, command
+    for name in ("cal.json", "FILTER.json", "patch.nc"):
+        digest = hashlib.sha256((files / name).read_bytes()).hexdigest()
+        assert digest in text and str((files / name).resolve()) in text
+    for item in ("tactilecal", "numpy", "matplotlib", "report created (UTC)",
+                 "tactilecal report ..."):
+        assert f"<td>{item}</td>" in text
+
+
+def test_peak_force_number_is_the_calibrated_peak(files, session):
+    _, result, _ = load_input(files / "cal.json")
+    rec = session.recording(0)
+    from tactilecal.analysis import total_force
+
+    peak = float(total_force(result.apply(rec, units="kPa")).max())
+    text = build_report([rec], calibration=result)
+    assert f"<td>peak total force [N]</td><td>{peak:.6g}</td>" in text
+
+
+def test_raw_recording_without_calibration_says_so(session, tmp_path):
+    text = build_report([session.recording(0)])
+    assert "holds raw readings and no calibration was given" in text
+    assert images(text) == []
+
+
+def test_real_fscan_recording(fscan_asf, tmp_path):
+    out = write_report([fscan_asf], tmp_path / "walk.html", title="walk <p10>")
+    text = out.read_text()
+    assert "<title>walk &lt;p10&gt;</title>" in text
+    assert len(images(text)) == 4
+    # frame 9: sum of its kPa values x 25.8064 mm2 x 1e-3 = 924.359 N (numpy nansum)
+    assert "<td>peak total force [N]</td><td>924.359</td>" in text
+
+
+def test_errors_and_atomic_write(files, tmp_path):
+    bad = tmp_path / "other.json"
+    bad.write_text('{"hello": 1}')
+    out = tmp_path / "r.html"
+    out.write_text("previous report")
+    with pytest.raises(ValueError, match=r"other.json: JSON with keys \['hello'\] is neither"):
+        write_report([bad], out)
+    assert out.read_text() == "previous report"  # untouched on failure
+    with pytest.raises(ValueError, match="not valid JSON"):
+        (tmp_path / "broken.json").write_text("{")
+        write_report([tmp_path / "broken.json"], out)
+    with pytest.raises(FileNotFoundError, match="report input .*missing.csv does not exist"):
+        write_report([tmp_path / "missing.csv"], out)
+    with pytest.raises(ValueError, match="no report inputs"):
+        write_report([], out)
+    with pytest.raises(ValueError, match="report input of type int"):
+        write_report([3], out)
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        write_report([files / "cal.json"], tmp_path / "nope" / "r.html")
+
+
+CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                  "--no-first-run", "--disable-background-networking",
+                  "--disable-component-update", "--disable-sync",
+                  "--virtual-time-budget=5000", "--dump-dom"]
+MARK_IMAGES = ('<script>window.addEventListener("load",()=>{for(const i of document.images)'
+               '{i.setAttribute("data-natural-width",i.naturalWidth)}'
+               'document.body.setAttribute("data-checked","yes")});</script></body>')
+
+
+def test_report_renders_its_figures_in_chromium(files, tmp_path):
+    browser = shutil.which("chromium") or shutil.which("chromium-browser")
+    if browser is None:
+        pytest.skip("headless Chromium not installed (Debian package 'chromium'); "
+                    "rendering not checked")
+    out = write_report([files / "patch.nc"], tmp_path / "r.html",
+                       calibration=files / "cal.json")
+    n_images = len(images(out.read_text()))
+    page = tmp_path / "checked.html"
+    page.write_text(out.read_text().replace("</body>", MARK_IMAGES))
+    run = subprocess.run([browser, *CHROMIUM_FLAGS, f"--user-data-dir={tmp_path / 'profile'}",
+                          page.as_uri()], capture_output=True, text=True, timeout=120)
+    assert 'data-checked="yes"' in run.stdout, run.stderr[-2000:]
+    widths = [int(w) for w in re.findall(r'data-natural-width="(\d+)"', run.stdout)]
+    assert len(widths) == n_images == 7
+    assert all(w > 100 for w in widths)  # every embedded PNG decoded to a real image
