@@ -93,6 +93,14 @@ def test_no_overlap_error_names_file():
         resample_to(ref, t + 5.0)
 
 
+def test_unrelated_records_do_not_overlap():
+    rng = np.random.default_rng(0)
+    t = np.arange(0, 2, 1e-3)
+    with pytest.raises(ValueError, match="s.csv and c.csv: records do not overlap in time"):
+        estimate_lag(_record(t, rng.normal(size=t.size), "s.csv"),
+                     _record(t, rng.normal(size=t.size), "c.csv"))
+
+
 def test_nan_gap_error():
     t = np.arange(0, 1, 1e-3)
     v = np.sin(t)

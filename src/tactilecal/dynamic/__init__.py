@@ -20,8 +20,16 @@ from tactilecal.dynamic._calibrate import (
     fit_filter,
     static_factor,
 )
+from tactilecal.dynamic._centrifuge import (
+    prototype_frequency_hz,
+    row_mean,
+    to_prototype,
+    water_head_factor,
+    water_head_pressure_kPa,
+)
 from tactilecal.dynamic._filter import CorrectionFilter, load_filter
 from tactilecal.dynamic._fit import MODELS, TransferFit, fit_transfer, model_gain
+from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
 from tactilecal.dynamic._transfer import TransferFunction, transfer_function
 
 __all__ = [
@@ -32,4 +40,7 @@ __all__ = [
     "apply_filter",
     "fit_filter", "evaluate", "Evaluation", "compare_filters", "static_factor",
     "dynamic_part",
+    "row_mean", "water_head_pressure_kPa", "water_head_factor", "to_prototype",
+    "prototype_frequency_hz",
+    "plot_transfer", "plot_time", "plot_spectra", "plot_error",
 ]

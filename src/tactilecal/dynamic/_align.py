@@ -23,6 +23,9 @@ MAX_RATIO_TERMS = 1000
 #: ``TAPS_PER_PHASE`` taps per polyphase branch (twice scipy's default length).
 KAISER_BETA = 10.0
 TAPS_PER_PHASE = 40
+#: Smallest correlation coefficient of the overlapping records at the lag found by
+#: ``"xcorr"``; below it the records are taken not to show the same loading.
+MIN_CORRELATION = 0.5
 
 
 def _polyphase(values, fs_in_hz, fs_out_hz):
@@ -68,7 +71,19 @@ def _parabolic_offset(y, i):
     return 0.0 if curvature == 0 else float(0.5 * (left - right) / curvature)
 
 
-def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s):
+def _check_similar(x_sens, x_ref, lag, where):
+    """Raise unless the records correlate at the best integer lag (same loading seen)."""
+    start_s, start_r = max(lag, 0), max(-lag, 0)
+    n = min(x_sens.size - start_s, x_ref.size - start_r)
+    r = np.corrcoef(x_sens[start_s:start_s + n], x_ref[start_r:start_r + n])[0, 1] if (
+        n > 2) else np.nan
+    if not r >= MIN_CORRELATION:
+        raise ValueError(f"{where}: records do not overlap in time (at the best alignment "
+                         f"they share {max(n, 0)} samples with correlation {r:.3g}); expected "
+                         f"records of the same loading (correlation >= {MIN_CORRELATION})")
+
+
+def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where):
     """Lag from the peak of the cross-correlation of the de-meaned records."""
     x_ref, _ = _polyphase(x_ref, fs_ref, fs_sens)
     corr = signal.correlate(x_sens - x_sens.mean(), x_ref - x_ref.mean(), mode="full",
@@ -81,6 +96,7 @@ def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s):
     if not np.isfinite(corr[i]):
         raise ValueError(f"max_lag_s={max_lag_s}: no lag that small is possible between "
                          "these records; expected a larger bound")
+    _check_similar(x_sens, x_ref, int(lags[i]), where)
     window = corr[max(i - 1, 0):i + 2]
     offset = _parabolic_offset(window, 1) if window.size == 3 and np.all(
         np.isfinite(window)) else 0.0
@@ -136,7 +152,8 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
     ------
     ValueError
         Unknown method, bad records (see ``time_and_values``), irregular time stamps, no
-        prominent peak.
+        prominent peak, or (``"xcorr"``) records that do not overlap: their correlation
+        at the best lag is below ``MIN_CORRELATION`` (0.5).
 
     Notes
     -----
@@ -158,7 +175,8 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
     fs_sens = sampling_rate_hz(t_sens, label(sensor, "sensor"))
     fs_ref = sampling_rate_hz(t_ref, label(reference, "reference"))
     if method == "xcorr":
-        return _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s)
+        where = f"{label(sensor, 'sensor')} and {label(reference, 'reference')}"
+        return _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where)
     if method == "first-peak":
         return (_first_peak_time(t_sens, x_sens, prominence, label(sensor, "sensor"))
                 - _first_peak_time(t_ref, x_ref, prominence, label(reference, "reference")))

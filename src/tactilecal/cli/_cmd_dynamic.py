@@ -1,0 +1,188 @@
+"""``tactilecal dynamic fit|apply|evaluate``: dynamic calibration (Gillis 2013, section 4)."""
+
+from tactilecal.cli._common import info, print_json, progress
+
+
+def register(subparsers):
+    """Add the ``dynamic`` command and its ``fit``, ``apply`` and ``evaluate`` actions."""
+    p = subparsers.add_parser(
+        "dynamic", help="dynamic calibration: fit, apply and evaluate a correction filter",
+        description="Dynamic calibration of Gillis (2013): fit Y = A log(f + 1) + 1 to "
+                    "|reference(f)| / |sensor(f)| on a sine sweep, correct records with the "
+                    "zero-phase filter, and evaluate it on blind tests.")
+    sub = p.add_subparsers(dest="action", metavar="ACTION", required=True)
+
+    f = sub.add_parser("fit", help="fit a filter on a sweep (FILTER.json out)",
+                       description="SENSOR and REFERENCE are time-series CSVs (time, value); "
+                                   "SENSOR may also be a Tekscan recording or NetCDF, whose "
+                                   "frames are summed. Records may have different rates "
+                                   "and start times: they are aligned first.")
+    f.add_argument("sensor", metavar="SENSOR")
+    f.add_argument("reference", metavar="REFERENCE")
+    f.add_argument("--out", required=True, metavar="FILTER.json")
+    f.add_argument("--json", action="store_true", help="print the result as JSON")
+    f.add_argument("--model", default="log", choices=["log", "log10", "log-quadratic"],
+                   help="log: natural log (default, MATLAB's log); log10: decimal log; "
+                        "log-quadratic: Y = A L + B L^2 + 1, L = ln(f + 1)")
+    f.add_argument("--band", nargs=2, type=float, metavar=("LO", "HI"),
+                   help="fit only LO..HI Hz; also the calibrated band (default: the "
+                        "coherent bins)")
+    f.add_argument("--method", default="h2", choices=["h2", "h1", "ratio"],
+                   help="transfer-function estimator (default h2)")
+    f.add_argument("--outside", default="taper", choices=["taper", "hold"],
+                   help="gain above the band: taper to 1 (default) or hold")
+    f.set_defaults(func=run_fit)
+
+    a = sub.add_parser("apply", help="correct a record or every sensel of a recording",
+                       description="INPUT a time-series CSV (output CSV with the same "
+                                   "columns, every value column filtered) or a Tekscan "
+                                   "recording / NetCDF (every sensel filtered along time, "
+                                   "NetCDF out; NetCDF is streamed in chunks).")
+    a.add_argument("filter", metavar="FILTER.json")
+    a.add_argument("input", metavar="INPUT")
+    a.add_argument("--out", required=True, metavar="OUTPUT")
+    a.add_argument("--chunk-frames", type=int, default=65536,
+                   help="frames per chunk when streaming NetCDF (default 65536)")
+    a.set_defaults(func=run_apply)
+
+    e = sub.add_parser("evaluate", help="error before/after correction, figures",
+                       description="Amplitude error against frequency and RMS error of the "
+                                   "dynamic part before and after correction; with --out, "
+                                   "evaluation.json and the figures (thesis Figs 4.9-4.14).")
+    e.add_argument("filter", metavar="FILTER.json")
+    e.add_argument("sensor", metavar="SENSOR")
+    e.add_argument("reference", metavar="REFERENCE")
+    e.add_argument("--json", action="store_true", help="print the result as JSON")
+    e.add_argument("--out", metavar="DIR", help="folder for evaluation.json and PNG figures")
+    e.set_defaults(func=run_evaluate)
+
+
+def _bar(args, desc):
+    quiet = getattr(args, "quiet", False)
+    return lambda blocks: progress(blocks, desc=desc, quiet=quiet)
+
+
+def run_fit(args):
+    """Run ``tactilecal dynamic fit``."""
+    from tactilecal.dynamic import fit_filter
+    from tactilecal.dynamic._io import read_record
+
+    sensor, reference = read_record(args.sensor), read_record(args.reference)
+    filt = fit_filter(sensor, reference, model=args.model, band_hz=args.band,
+                      method=args.method, outside=args.outside)
+    filt.save(args.out)
+    if args.json:
+        print_json(filt.to_dict())
+    else:
+        print(filt.fit.summary())
+        print(f"lag_s = {filt.lag_s:.6g} (added to {args.reference}'s times), "
+              f"static factor {filt.fit.excluded['static_factor']:.6g}")
+        print(filt.summary())
+    info(args, f"filter written to {args.out}")
+    return 0
+
+
+def _apply_csv(filt, args):
+    import numpy as np
+    import pandas as pd
+    import xarray as xr
+
+    from tactilecal._atomic import atomic_path
+    from tactilecal.dynamic import apply_filter
+    from tactilecal.io import read_timeseries
+
+    series = read_timeseries(args.input)  # checks the time column, units, numbers
+    table = pd.read_csv(args.input, encoding="utf-8-sig", skipinitialspace=True)
+    table.columns = [str(c).strip() for c in table.columns]
+    time_col = series.attrs["time_column"]
+    value_cols = [c for c in table.columns
+                  if c != time_col and pd.api.types.is_numeric_dtype(table[c])]
+    data = xr.DataArray(table[value_cols].to_numpy(float), dims=("time", "column"),
+                        coords={"time": series["time"].values},
+                        attrs={"source": args.input})
+    out = apply_filter(data, filt, progress=_bar(args, "filtering"))
+    table[value_cols] = np.asarray(out.values)
+    with atomic_path(args.out) as tmp:
+        table.to_csv(tmp, index=False, float_format="%.10g")
+    return f"{len(value_cols)} column(s) x {len(table)} rows"
+
+
+def _apply_recording(filt, args):
+    from tactilecal.dynamic import apply_filter
+    from tactilecal.dynamic._io import kind_of, read_recording
+    from tactilecal.io import write_netcdf
+
+    lazy = kind_of(args.input) == "netcdf"
+    data = read_recording(args.input, chunks={"frame": args.chunk_frames} if lazy else None)
+    if lazy and data.dims and data.dims[0] in data.chunksizes:
+        data = data.chunk({data.dims[0]: args.chunk_frames})
+    out = apply_filter(data, filt, progress=_bar(args, "filtering"))
+    if out.chunks is not None and not args.quiet:
+        import sys
+
+        from dask.diagnostics import ProgressBar
+
+        with ProgressBar(out=sys.stderr):
+            write_netcdf(out, args.out)
+    else:
+        write_netcdf(out, args.out)
+    return f"{out.shape[0]} frames x {out[0].size} sensels"
+
+
+def run_apply(args):
+    """Run ``tactilecal dynamic apply``."""
+    from tactilecal.dynamic import load_filter
+    from tactilecal.dynamic._io import kind_of
+
+    filt = load_filter(args.filter)
+    if kind_of(args.input) == "timeseries":
+        what = _apply_csv(filt, args)
+    else:
+        what = _apply_recording(filt, args)
+    info(args, f"{args.input}: {what} corrected with {args.filter} -> {args.out}")
+    return 0
+
+
+def _write_figures(ev, filt, folder):
+    from tactilecal.dynamic import _plots
+
+    figures = {"time.png": _plots.plot_time(ev), "spectra.png": _plots.plot_spectra(ev),
+               "error.png": _plots.plot_error(ev), "transfer.png": _plots.plot_transfer(filt)}
+    from tactilecal._atomic import atomic_path
+
+    for name, fig in figures.items():
+        with atomic_path(folder / name) as tmp:
+            fig.savefig(tmp, dpi=120)
+    return sorted(figures)
+
+
+def run_evaluate(args):
+    """Run ``tactilecal dynamic evaluate``."""
+    from pathlib import Path
+
+    import numpy as np
+
+    from tactilecal._jsonutil import write_json
+    from tactilecal.dynamic import evaluate, load_filter
+    from tactilecal.dynamic._io import read_record
+
+    filt = load_filter(args.filter)
+    ev = evaluate(filt, read_record(args.sensor), read_record(args.reference),
+                  progress=_bar(args, "filtering"))
+    result = ev.to_dict()
+    result.update(filter=args.filter, sensor=args.sensor, reference=args.reference)
+    if args.out:
+        folder = Path(args.out)
+        folder.mkdir(parents=True, exist_ok=True)
+        result["figures"] = _write_figures(ev, filt, folder)
+        write_json(folder / "evaluation.json", result)
+    if args.json:
+        print_json(result)
+    else:
+        print(ev.summary())
+        if ev.f_hz.size:
+            print(f"amplitude error over {ev.f_hz.size} coherent bins "
+                  f"({ev.f_hz.min():g}..{ev.f_hz.max():g} Hz): median |error| "
+                  f"{np.median(np.abs(ev.error_before_pct)):.3g} % before, "
+                  f"{np.median(np.abs(ev.error_after_pct)):.3g} % after")
+    return 0

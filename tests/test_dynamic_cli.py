@@ -1,0 +1,126 @@
+"""``tactilecal dynamic fit|apply|evaluate`` on short simulated sessions written to files."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tactilecal.cli import main
+from tactilecal.io import read_netcdf, write_netcdf
+from tactilecal.simulate._dynamic import random_sine_sets, sensel_matrix, sine_sweep
+
+FAST = {"fs_sensor_hz": 1000.0, "fs_reference_hz": 1250.0, "sensor_noise_N": 0.2,
+        "reference_noise_N": 0.05}
+
+
+def _csv(record, path, value="Force (N)"):
+    pd.DataFrame({"Time (s)": record.time.values, value: record.values}).to_csv(
+        path, index=False, float_format="%.10g")
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("dyn")
+    sweep = sine_sweep(step_hz=2, cycles_high=10, seed=0, **FAST)
+    blind = random_sine_sets(n_sets=8, f_range_hz=(10, 140), cycles_range=(5, 40), seed=7,
+                             **FAST)
+    return {"d": d, "sweep": sweep,
+            "sensor": _csv(sweep.sensor, d / "sensor.csv"),
+            "cell": _csv(sweep.reference, d / "cell.csv", "Load (lbf)"),
+            "blind_sensor": _csv(blind.sensor, d / "blind_sensor.csv"),
+            "blind_cell": _csv(blind.reference, d / "blind_cell.csv")}
+
+
+@pytest.fixture(scope="module")
+def filter_json(files):
+    out = files["d"] / "FILTER.json"
+    assert main(["-q", "dynamic", "fit", files["sensor"], files["cell"], "--out", str(out),
+                 "--model", "log10"]) == 0
+    return out
+
+
+def test_fit_writes_the_contract_keys(files, filter_json, capsys):
+    d = json.loads(filter_json.read_text())
+    for key in ("model", "A", "log_base", "lag_s", "fs_hz", "band_hz", "fit"):
+        assert key in d
+    assert d["model"] == "log10" and d["log_base"] == "10"
+    # the load cell column is in lbf; the sensor in N: the static factor absorbs it
+    assert d["A"] == pytest.approx(0.11, rel=0.05)
+    assert d["lag_s"] == pytest.approx(files["sweep"].lag_s, abs=1e-3)
+    assert d["fs_hz"] == pytest.approx(1000.0)
+    assert "r2" in d["fit"] and len(d["fit"]["residuals"]) == len(d["fit"]["f_hz"])
+    out = files["d"] / "F2.json"
+    assert main(["-q", "dynamic", "fit", files["sensor"], files["cell"], "--out", str(out),
+                 "--json", "--band", "2", "120"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["model"] == "log" and printed["log_base"] == "e"
+    assert printed["band_hz"] == [2.0, 120.0]
+    assert printed["A"] == pytest.approx(0.11 / np.log(10), rel=0.05)
+
+
+def test_apply_csv_keeps_columns(files, filter_json):
+    out = files["d"] / "corrected.csv"
+    assert main(["-q", "dynamic", "apply", str(filter_json), files["blind_sensor"], "--out",
+                 str(out)]) == 0
+    before, after = pd.read_csv(files["blind_sensor"]), pd.read_csv(out)
+    assert list(after.columns) == list(before.columns)
+    np.testing.assert_allclose(after["Time (s)"], before["Time (s)"])
+    assert after["Force (N)"].mean() == pytest.approx(before["Force (N)"].mean(), rel=1e-3)
+    assert after["Force (N)"].std() > before["Force (N)"].std()  # dynamic part restored
+
+
+def test_apply_netcdf_every_sensel(files, filter_json):
+    rec = sensel_matrix(files["sweep"], shape=(2, 3))
+    src, out = files["d"] / "rec.nc", files["d"] / "rec_dyn.nc"
+    write_netcdf(rec, src)
+    assert main(["-q", "dynamic", "apply", str(filter_json), str(src), "--out", str(out),
+                 "--chunk-frames", "5000"]) == 0
+    back = read_netcdf(out)
+    assert back.dims == rec.dims and back.shape == rec.shape
+    from tactilecal.dynamic import apply_filter, load_filter
+
+    expected = apply_filter(rec, load_filter(filter_json))
+    np.testing.assert_allclose(back.values, expected.values, atol=1e-9)
+    assert "dynamic_filter" in back.attrs
+
+
+def test_fit_sums_a_recording(files, tmp_path):
+    rec = sensel_matrix(files["sweep"], shape=(2, 2), noise_N=0.0)
+    src = tmp_path / "rec.nc"
+    write_netcdf(rec, src)
+    out = tmp_path / "F.json"
+    assert main(["-q", "dynamic", "fit", str(src), files["cell"], "--out", str(out)]) == 0
+    assert json.loads(out.read_text())["A"] == pytest.approx(0.11 / np.log(10), rel=0.05)
+
+
+def test_evaluate_blind_test(files, filter_json, capsys):
+    out = files["d"] / "eval"
+    assert main(["-q", "dynamic", "evaluate", str(filter_json), files["blind_sensor"],
+                 files["blind_cell"], "--json", "--out", str(out)]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["rms_before_N"] > 3 * result["rms_after_N"]
+    assert len(result["error_before_pct"]) == len(result["f_hz"]) > 10
+    for name in ("time.png", "spectra.png", "error.png", "transfer.png", "evaluation.json"):
+        assert (out / name).stat().st_size > 1000 or name.endswith(".json")
+
+
+def test_cli_errors(files, filter_json, tmp_path, capsys):
+    late = tmp_path / "late.csv"
+    t = np.arange(0, 2, 1e-3)
+    pd.DataFrame({"t": t + 1000.0, "F (N)": np.sin(9 * t)}).to_csv(late, index=False)
+    assert main(["dynamic", "apply", str(filter_json), str(late), "--out",
+                 str(tmp_path / "x.csv")]) == 0  # apply needs no reference
+    irregular = tmp_path / "irregular.csv"
+    pd.DataFrame({"t": np.r_[0, np.cumsum(np.r_[np.full(1500, 1e-3), 0.01])],
+                  "F (N)": np.ones(1502)}).to_csv(irregular, index=False)
+    assert main(["dynamic", "fit", str(irregular), files["cell"], "--out",
+                 str(tmp_path / "f.json")]) == 1
+    assert "irregular.csv: irregular time column" in capsys.readouterr().err
+    assert main(["dynamic", "fit", files["sensor"], files["cell"], "--out",
+                 str(tmp_path / "f.json"), "--band", "1", "900"]) == 1
+    assert "reaches beyond the Nyquist frequency 500" in capsys.readouterr().err
+    assert main(["dynamic", "apply", str(late), files["sensor"], "--out",
+                 str(tmp_path / "y.csv")]) == 1
+    assert "late.csv: not valid JSON" in capsys.readouterr().err
