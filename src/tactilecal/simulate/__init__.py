@@ -4,7 +4,8 @@ Power-law sensels with gain spread, read noise, noise threshold, saturation and 
 (:func:`make_sensor`); dead-weight calibration sessions on uneven pads like Zvyagin (2022)
 (:func:`deadweight_session`); uniform loads for equilibration (:func:`uniform_load`);
 ramp-and-hold loading-machine sessions with a load-cell record like Gillis (2013)
-(:func:`ramp_hold`).
+(:func:`ramp_hold`); sine sweeps and blind tests of Gillis (2013) Table 4.2 seen by a sensor
+with a known frequency-dependent gain (:func:`sine_sweep`, :func:`random_sine_sets`).
 """
 
 from tactilecal.simulate._deadweight import (
@@ -12,6 +13,12 @@ from tactilecal.simulate._deadweight import (
     ContactModel,
     DeadweightSession,
     deadweight_session,
+)
+from tactilecal.simulate._dynamic import (
+    DynamicSession,
+    random_sine_sets,
+    sensel_matrix,
+    sine_sweep,
 )
 from tactilecal.simulate._loads import PAD_MASS_G
 from tactilecal.simulate._sensor import SimulatedSensor, make_sensor, sensor_geometry
@@ -37,4 +44,8 @@ __all__ = [
     "RampHold",
     "ramp_hold",
     "ramp_hold_profile",
+    "DynamicSession",
+    "sine_sweep",
+    "random_sine_sets",
+    "sensel_matrix",
 ]
