@@ -136,6 +136,7 @@ def test_malformed_calibration_point(fscan_asf, tmp_path):
     (58, "Frames: 2", r"line 58 of .*: 'Frames: 2'; expected 'Frame N' optionally followed"),
     (57, "garbage", r"line 57 of .*: 'garbage'; expected a 'Frame N' line, a row of values"),
     (28, "", r"line 29 of .*: a row of values before the first 'Frame N' line; expected"),
+    (9297, "@@ end", r"line 9297 of .*: '@@ end'; expected '@@' \(end of data\)"),
     (9298, "junk", r"line 9298 of .*: 'junk' after the '@@' terminator on line 9297; expected"),
 ])
 def test_structure_errors(iscan_csv, tmp_path, line, new, match):

@@ -60,7 +60,10 @@ def test_unit_from_column():
     ("t,F\n0,1\n1,abc\n2,3\n", {}, r"line 3 of .*lc.csv, column 'F': 'abc'; expected a finite"),
     ("t,F\n0,1\n1,\n2,3\n", {}, r"line 3 of .*, column 'F': an empty cell; expected a finite"),
     ("t,F\n0,1\n1,nan\n", {}, r"line 3 of .*, column 'F': 'nan'; expected a finite number"),
-    ("t,F\n0,1\n\n2,3\n", {}, r"line 3 of .*, column 't': an empty cell"),
+    ("t,F\n0,1\n\n2,x\n", {}, r"line 4 of .*, column 'F': 'x'; expected"),  # blank skipped
+    ("t,F\n0,1\n\n2,3\n2,4\n", {}, r"line 5 of .*: time 2 s follows 2 s"),
+    ("t,F\n0,1\n1\n", {}, r"line 3 of .*, column 'F': an empty cell; expected a finite"),
+    ("t,F\n0,1\n1,inf\n", {}, r"line 3 of .*, column 'F': 'inf'; expected a finite"),
     ("t,F\n0,1\n", {}, r"lc.csv has 1 data rows; expected at least 2"),
     ("", {}, r"lc.csv is empty; expected a header row"),
     ("t,F\n0,1\n1,2\n1,3\n", {}, r"line 4 of .*: time 1 s follows 1 s; expected strictly incr"),
@@ -71,3 +74,8 @@ def test_unit_from_column():
 def test_bad_input(tmp_path, text, kwargs, match):
     with pytest.raises(ValueError, match=match):
         read_timeseries(_csv(tmp_path, text), **kwargs)
+
+
+def test_blank_lines_carry_no_data(tmp_path):
+    data = read_timeseries(_csv(tmp_path, "t (s),F (N)\n0,1\n\n0.5,2\n\n\n"))
+    assert data.values.tolist() == [1.0, 2.0] and data.time.values.tolist() == [0.0, 0.5]

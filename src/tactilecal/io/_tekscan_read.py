@@ -137,6 +137,9 @@ def _read_body(body, first_line, rows, cols, header, name):
         raise ValueError(f"{name} ends at line {first_line + len(starts) - 1} without the "
                          "'@@' terminator; expected '@@' after the last frame (truncated file?)")
     stop = terminators[0]
+    if body[starts[stop]:ends[stop]].strip() != b"@@":
+        raise ValueError(f"line {first_line + stop} of {name}: "
+                         f"{_text(body, starts, ends, stop)!r}; expected '@@' (end of data)")
     _check_after_terminator(body, starts, ends, stop, first_line, name)
     end = int(starts[stop])
     starts, ends, empty, first = starts[:stop], ends[:stop], empty[:stop], first[:stop]

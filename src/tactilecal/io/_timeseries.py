@@ -57,18 +57,27 @@ def _pick(columns, choice, default, role, name):
     return choice
 
 
-def _numeric(table, column, name):
-    """Column as float64; raise naming the line of the first non-numeric or empty cell."""
+def _first_bad_cell(path, column, name):
+    """Slow path (only after the fast parse failed): raise naming the first bad cell's line."""
+    table = _as_text(path)
     raw = table[column]
     values = pd.to_numeric(raw, errors="coerce").to_numpy(dtype=np.float64)
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
-        i = bad[0]
-        cell = raw.iloc[i]
-        found = "an empty cell" if pd.isna(cell) or str(cell).strip() == "" else repr(cell)
-        raise ValueError(f"line {i + 2} of {name}, column {column!r}: {found}; expected a "
+        line = table.index[bad[0]] + 2
+        cell = raw.iloc[bad[0]]
+        found = "an empty cell" if str(cell).strip() == "" else repr(cell)
+        raise ValueError(f"line {line} of {name}, column {column!r}: {found}; expected a "
                          "finite number")
-    return values
+
+
+def _as_text(path):
+    """Every cell as text, blank lines dropped, index = 0-based line number after the header."""
+    table = pd.read_csv(path, encoding="utf-8-sig", dtype=str, skip_blank_lines=False,
+                        keep_default_na=False, skipinitialspace=True)
+    table.columns = [str(c).strip() for c in table.columns]
+    blank = (table.fillna("").apply(lambda column: column.str.strip()) == "").all(axis=1)
+    return table[~blank.to_numpy()]
 
 
 def read_timeseries(path, time_col=None, value_col=None):
@@ -109,39 +118,59 @@ def read_timeseries(path, time_col=None, value_col=None):
     """
     path = Path(path)
     name = str(path)
-    table = _load(path, name)
-    t_name = _pick(table.columns, time_col, 0, "time_col", name)
-    v_name = _pick(table.columns, value_col, 1, "value_col", name)
+    columns = _columns(path, name)
+    t_name = _pick(columns, time_col, 0, "time_col", name)
+    v_name = _pick(columns, value_col, 1, "value_col", name)
     t_unit = unit_from_column(t_name, where=f"column {t_name!r} of {name}") or "s"
     if unit_kind(t_unit) != "time":
         raise ValueError(f"time column {t_name!r} of {name} is in {t_unit!r}; expected a "
                          "time unit (s, ms, us, min)")
-    times = time_to_s(_numeric(table, t_name, name), t_unit)
-    values, units = _convert_values(_numeric(table, v_name, name), v_name, name)
+    raw_times, raw_values = _load_columns(path, columns, t_name, v_name, name)
+    times = time_to_s(raw_times, t_unit)
+    values, units = _convert_values(raw_values, v_name, name)
     steps = np.flatnonzero(np.diff(times) <= 0)
     if steps.size:
         i = steps[0] + 1
-        raise ValueError(f"line {i + 2} of {name}: time {times[i]:g} s follows "
+        line = _line_numbers(path)[i] if len(times) else i + 2
+        raise ValueError(f"line {line} of {name}: time {times[i]:g} s follows "
                          f"{times[i - 1]:g} s; expected strictly increasing times")
     return xr.DataArray(values, dims="time", coords={"time": times}, name=str(v_name),
                         attrs={"units": units, "source": name, "column": str(v_name),
                                "time_column": str(t_name)})
 
 
-def _load(path, name):
+def _columns(path, name):
     text = path.read_text(encoding="utf-8-sig")
     if not text.strip():
         raise ValueError(f"{name} is empty; expected a header row and at least 2 rows")
-    table = pd.read_csv(path, encoding="utf-8-sig", dtype=str, skip_blank_lines=False,
-                        keep_default_na=False, skipinitialspace=True)
-    table.columns = [str(c).strip() for c in table.columns]
-    blank = table.apply(lambda column: column.str.strip() == "").all(axis=1).to_numpy()
-    filled = np.flatnonzero(~blank)
-    # drop trailing blank lines only; inner blank lines stay and fail with their line number
-    table = table.iloc[:filled[-1] + 1 if filled.size else 0]
-    if len(table) < 2:
-        raise ValueError(f"{name} has {len(table)} data rows; expected at least 2")
-    return table
+    header = pd.read_csv(path, encoding="utf-8-sig", nrows=0, skipinitialspace=True)
+    return [str(c).strip() for c in header.columns]
+
+
+def _load_columns(path, columns, t_name, v_name, name):
+    """Both columns as float64 in one C-parser pass; on any problem find the bad line."""
+    wanted = sorted({columns.index(t_name), columns.index(v_name)})
+    try:
+        table = pd.read_csv(path, encoding="utf-8-sig", usecols=wanted, dtype=np.float64,
+                            keep_default_na=False, skipinitialspace=True, engine="c")
+        table.columns = [columns[i] for i in wanted]
+        pair = table[t_name].to_numpy(), table[v_name].to_numpy()
+        ok = np.isfinite(pair[0]).all() and np.isfinite(pair[1]).all()
+    except ValueError:
+        ok = False
+    if not ok:
+        _first_bad_cell(path, t_name, name)
+        _first_bad_cell(path, v_name, name)
+        raise ValueError(f"{name}: columns {t_name!r}, {v_name!r} could not be read as "
+                         "numbers")  # pragma: no cover - the slow path names the cell
+    if len(pair[0]) < 2:
+        raise ValueError(f"{name} has {len(pair[0])} data rows; expected at least 2")
+    return pair
+
+
+def _line_numbers(path):
+    """File line number of each data row (blank lines skipped), for error messages."""
+    return np.asarray(_as_text(path).index) + 2
 
 
 def _convert_values(values, column, name):
