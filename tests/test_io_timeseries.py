@@ -79,3 +79,10 @@ def test_bad_input(tmp_path, text, kwargs, match):
 def test_blank_lines_carry_no_data(tmp_path):
     data = read_timeseries(_csv(tmp_path, "t (s),F (N)\n0,1\n\n0.5,2\n\n\n"))
     assert data.values.tolist() == [1.0, 2.0] and data.time.values.tolist() == [0.0, 0.5]
+
+
+def test_byte_order_mark(tmp_path):
+    path = tmp_path / "bom.csv"
+    path.write_bytes(b"\xef\xbb\xbfTime (s),Force (N)\r\n0,1\r\n1,2\r\n")
+    data = read_timeseries(path)
+    assert data.attrs["time_column"] == "Time (s)" and data.values.tolist() == [1.0, 2.0]

@@ -73,7 +73,7 @@ def _first_bad_cell(path, column, name):
 
 def _as_text(path):
     """Every cell as text, blank lines dropped, index = 0-based line number after the header."""
-    table = pd.read_csv(path, encoding="utf-8-sig", dtype=str, skip_blank_lines=False,
+    table = pd.read_csv(path, dtype=str, skip_blank_lines=False,
                         keep_default_na=False, skipinitialspace=True)
     table.columns = [str(c).strip() for c in table.columns]
     blank = (table.fillna("").apply(lambda column: column.str.strip()) == "").all(axis=1)
@@ -140,18 +140,26 @@ def read_timeseries(path, time_col=None, value_col=None):
 
 
 def _columns(path, name):
-    text = path.read_text(encoding="utf-8-sig")
-    if not text.strip():
+    if _is_blank(path):
         raise ValueError(f"{name} is empty; expected a header row and at least 2 rows")
-    header = pd.read_csv(path, encoding="utf-8-sig", nrows=0, skipinitialspace=True)
+    header = pd.read_csv(path, nrows=0, skipinitialspace=True)
     return [str(c).strip() for c in header.columns]
+
+
+def _is_blank(path, block=1 << 20):
+    """Return True when the file holds only whitespace (reads up to the first text)."""
+    with open(path, "rb") as f:
+        while chunk := f.read(block):
+            if chunk.lstrip(b"\xef\xbb\xbf").strip():
+                return False
+    return True
 
 
 def _load_columns(path, columns, t_name, v_name, name):
     """Both columns as float64 in one C-parser pass; on any problem find the bad line."""
     wanted = sorted({columns.index(t_name), columns.index(v_name)})
     try:
-        table = pd.read_csv(path, encoding="utf-8-sig", usecols=wanted, dtype=np.float64,
+        table = pd.read_csv(path, usecols=wanted, dtype=np.float64,
                             keep_default_na=False, skipinitialspace=True, engine="c")
         table.columns = [columns[i] for i in wanted]
         pair = table[t_name].to_numpy(), table[v_name].to_numpy()
