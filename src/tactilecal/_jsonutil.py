@@ -2,6 +2,7 @@
 
 import json
 import math
+import os
 
 import numpy as np
 
@@ -11,7 +12,7 @@ from tactilecal._atomic import write_text_atomic
 def to_jsonable(obj):
     """Convert NumPy scalars/arrays (recursively) to JSON-serialisable Python objects.
 
-    Non-finite floats become ``None`` (JSON has no NaN).
+    Non-finite floats become ``None`` (JSON has no NaN); paths become strings.
 
     Examples
     --------
@@ -26,6 +27,8 @@ def to_jsonable(obj):
         return to_jsonable(obj.tolist())
     if isinstance(obj, np.generic):
         return to_jsonable(obj.item())
+    if isinstance(obj, os.PathLike):
+        return os.fspath(obj)
     if isinstance(obj, float) and not math.isfinite(obj):
         return None
     return obj
