@@ -299,7 +299,8 @@ def _fine_shape(sensor):
 
 def _base_relief(sensor, contact, rng):
     """Return the base relief in um on the fine grid (one field for the whole session)."""
-    sigma = contact.base_corr_mm / (sensor.row_spacing_mm / _SUB)
+    sigma = contact.base_corr_mm / (np.array([sensor.row_spacing_mm, sensor.col_spacing_mm])
+                                    / _SUB)
     return smooth_field(rng, _fine_shape(sensor), sigma, contact.base_relief_um)
 
 
@@ -332,7 +333,7 @@ def _pad_forces(sensor, base, contact, side_mm, load_N, rng):
     r0 = rng.integers(0, fy - ny + 1, size=n)
     c0 = rng.integers(0, fx - nx + 1, size=n)
     gap = sliding_window_view(base, (ny, nx))[r0, c0]
-    gap = gap + smooth_field(rng, (n, ny, nx), contact.pad_corr_mm / cell_r,
+    gap = gap + smooth_field(rng, (n, ny, nx), contact.pad_corr_mm / np.array([cell_r, cell_c]),
                              contact.pad_relief_um)
     gap = gap + _tilt(rng, n, ny, nx, contact.tilt_um)
     pressure = winkler_contact(gap, load_N, stiffness_kPa_per_um=contact.stiffness_kPa_per_um,

@@ -17,9 +17,10 @@ def smooth_field(rng, shape, sigma_cells, std):
 
     White noise filtered with :func:`scipy.ndimage.gaussian_filter` over the last two axes
     (leading axes are independent fields), then rescaled to ``std`` per field.
+    ``sigma_cells`` is one smoothing length or ``(rows, cols)`` lengths, in cells.
     """
     noise = rng.standard_normal(shape)
-    sigma = (0,) * (len(shape) - 2) + (sigma_cells, sigma_cells)
+    sigma = (0,) * (len(shape) - 2) + tuple(np.broadcast_to(sigma_cells, 2))
     field = gaussian_filter(noise, sigma=sigma, mode="wrap", truncate=3.0)
     field -= field.mean(axis=(-2, -1), keepdims=True)
     scale = field.std(axis=(-2, -1), keepdims=True)
