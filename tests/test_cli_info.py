@@ -21,7 +21,8 @@ def test_real_iscan(capsys, iscan_csv):
     assert (out["rows"], out["cols"], out["frames"]) == (28, 28, 309)
     assert out["duration_s"] == pytest.approx(31.1) and out["units"] == "raw"
     assert out["sensel_area_mm2"] == pytest.approx(1.6129) and out["calibration"] == {}
-    assert out["blank_sensels"] == 300  # the B border and cross of the 6900's shape
+    # B rows 0,1,13,14,26,27 (6 x 28) + B cols 0,1,13,14,26,27 in the other 22 rows (6 x 22)
+    assert out["blank_sensels"] == 6 * 28 + 6 * 22 == 300
     assert out["max_raw"] == 100 and out["saturated_frames"] == 0
 
 
