@@ -1,0 +1,89 @@
+"""``tactilecal analyze RECORDING [--cal CAL.json] [--json] [--out summary.csv]``."""
+
+import numpy as np
+
+from tactilecal.cli._common import info, print_json, progress
+
+COLUMNS = ["force_N", "contact_area_mm2", "cof_row_mm", "cof_col_mm", "peak_kPa", "mean_kPa"]
+
+
+def register(subparsers):
+    """Add the ``analyze`` command."""
+    p = subparsers.add_parser(
+        "analyze", help="per-frame force, area, centre of force and pressures of a recording",
+        description="Total force [N], contact area [mm2], centre of force [mm], peak and mean "
+                    "pressure [kPa] of every frame of a recording (Tekscan ASCII export or "
+                    "NetCDF). Raw recordings need --cal.")
+    p.add_argument("recording", help="Tekscan ASCII export (.csv, .asf...) or NetCDF (.nc)")
+    p.add_argument("--cal", metavar="CAL.json", help="calibration JSON for raw recordings")
+    p.add_argument("--threshold-kpa", type=float, default=0.0, metavar="KPA",
+                   help="a sensel is loaded above this pressure (default 0)")
+    p.add_argument("--out", metavar="summary.csv", help="write the per-frame table as CSV")
+    p.add_argument("--json", action="store_true",
+                   help="print the overview and the per-frame table as JSON")
+    p.set_defaults(func=run)
+
+
+def overview(table, source):
+    """Return the headline numbers of a per-frame table (pandas DataFrame) as a dict."""
+    force = table["force_N"].to_numpy(float)
+    i = int(np.nanargmax(force)) if np.isfinite(force).any() else 0
+    return {
+        "file": source, "frames": len(table),
+        "duration_s": float(table["time_s"].iloc[-1] - table["time_s"].iloc[0])
+        if len(table) else None,
+        "peak_force_N": float(force[i]), "peak_force_frame": int(table["frame"].iloc[i]),
+        "peak_force_time_s": float(table["time_s"].iloc[i]),
+        "mean_force_N": float(np.nanmean(force)),
+        "max_contact_area_mm2": float(table["contact_area_mm2"].max()),
+        "max_pressure_kPa": float(table["peak_kPa"].max()),
+    }
+
+
+def per_frame_table(recording, *, calibration=None, threshold_kPa=0.0):
+    """Return :func:`tactilecal.analysis.summary` as a DataFrame with frame and time_s."""
+    from tactilecal.analysis import summary
+
+    ds = summary(recording, calibration=calibration, threshold_kPa=threshold_kPa).compute()
+    table = ds.to_dataframe().reset_index()
+    if "frame" not in table:
+        table["frame"] = np.arange(1, len(table) + 1)
+    table["time_s"] = table["time"] if "time" in table else np.nan
+    return table[["frame", "time_s", *COLUMNS]]
+
+
+def run(args):
+    """Analyse one recording; print an overview (or JSON) and optionally write the CSV."""
+    from tactilecal._atomic import atomic_path
+    from tactilecal.report import load_input
+
+    bar = progress(total=3, desc="analyze", quiet=args.quiet)
+    kind, recording, _ = load_input(args.recording)
+    if kind != "recording":
+        raise ValueError(f"{args.recording} is a {kind} file; expected a recording")
+    bar.update()
+    calibration = None
+    if args.cal:
+        kind, calibration, _ = load_input(args.cal)
+        if kind != "calibration":
+            raise ValueError(f"--cal {args.cal} is a {kind} file; expected a calibration JSON")
+    table = per_frame_table(recording, calibration=calibration,
+                            threshold_kPa=args.threshold_kpa)
+    bar.update()
+    if args.out:
+        with atomic_path(args.out) as tmp:
+            table.to_csv(tmp, index=False)
+        info(args, f"per-frame table written to {args.out}")
+    bar.update()
+    bar.close()
+    head = overview(table, str(args.recording))
+    if args.json:
+        print_json({"overview": head, "calibration": args.cal,
+                    "threshold_kPa": args.threshold_kpa,
+                    "frames": table.to_dict(orient="records")})
+        return 0
+    width = max(len(k) for k in head)
+    for key, value in head.items():
+        text = f"{value:.6g}" if isinstance(value, float) else value
+        print(f"{key:<{width}}  {text}")
+    return 0

@@ -1,0 +1,39 @@
+"""``tactilecal report INPUT... --out report.html``: one self-contained HTML page."""
+
+import shlex
+import sys
+
+from tactilecal.cli._common import info, progress
+
+
+def register(subparsers):
+    """Add the ``report`` command."""
+    p = subparsers.add_parser(
+        "report", help="write a self-contained HTML report",
+        description="One HTML page with embedded figures for calibration JSONs (curve, "
+                    "points, error histogram, Zvyagin figures), FILTER.json files (transfer "
+                    "function fit) and recordings (force against time, pressure map at the "
+                    "peak frame, centre-of-force path, profiles), and a provenance section.")
+    p.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="calibration JSON, FILTER.json, Tekscan export or NetCDF recording")
+    p.add_argument("--out", required=True, metavar="report.html", help="output HTML file")
+    p.add_argument("--cal", metavar="CAL.json", help="calibration for raw recordings")
+    p.add_argument("--filter", metavar="FILTER.json", help="dynamic filter to report")
+    p.add_argument("--title", help="page title")
+    p.add_argument("--threshold-kpa", type=float, default=0.0, metavar="KPA",
+                   help="loaded-sensel threshold for contact areas (default 0)")
+    p.set_defaults(func=run)
+
+
+def run(args):
+    """Build the report and write it atomically."""
+    from tactilecal.report import write_report
+
+    def bar(iterable):
+        return progress(iterable, total=len(iterable), desc="report", quiet=args.quiet)
+
+    path = write_report(args.inputs, args.out, calibration=args.cal, filter=args.filter,
+                        title=args.title, threshold_kPa=args.threshold_kpa,
+                        command=shlex.join(["tactilecal", *sys.argv[1:]]), progress=bar)
+    info(args, f"report written to {path}")
+    return 0

@@ -1,0 +1,27 @@
+"""``tactilecal report``: writes the page, records the command, exit codes."""
+
+import re
+
+import pytest
+
+from tactilecal.cli import main
+
+
+def test_report_cli_writes_page(fscan_asf, tmp_path, capsys):
+    out = tmp_path / "walk.html"
+    assert main(["-q", "report", str(fscan_asf), "--out", str(out), "--title", "walk"]) == 0
+    text = out.read_text()
+    assert len(re.findall(r'<img alt="[^"]*" src="data:image/png;base64,', text)) == 4
+    assert "<td>command</td><td>tactilecal " in text
+    assert capsys.readouterr().err == ""  # --quiet: no bar, no message
+
+
+def test_report_cli_exit_codes(tmp_path, capsys):
+    bad = tmp_path / "x.json"
+    bad.write_text("[1, 2]")
+    assert main(["report", str(bad), "--out", str(tmp_path / "r.html")]) == 1
+    assert "x.json: JSON list; expected an object" in capsys.readouterr().err
+    assert not (tmp_path / "r.html").exists()
+    with pytest.raises(SystemExit) as usage:
+        main(["report", str(bad)])  # --out missing
+    assert usage.value.code == 2
