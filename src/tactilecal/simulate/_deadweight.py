@@ -27,7 +27,7 @@ MANIFEST_COLUMNS = ("file", "frame", "mass_kg", "pad_mass_g", "label")
 _SUB = 4
 """Fine contact cells per sensel pitch (pad edges resolved to a quarter sensel)."""
 
-_MAX_BATCHES = 50
+_MAX_BATCHES = 20
 
 
 @dataclass(frozen=True)
