@@ -252,23 +252,37 @@ def deadweight_session(sensor, *, n_patches=150, masses_kg=(2, 5, 10), pad_sides
     n_sat = int(round(saturated_share * n_patches))
     wanted = {True: n_sat, False: n_patches - n_sat}
     kept = {True: [], False: []}
-    size = n_patches
+    size, drawn = n_patches, {True: 0, False: 0}
     for b in range(_MAX_BATCHES):
         batch = _draw_patches(sensor, base, contact, masses_kg, pad_sides_cm, size, rng)
         for j, sat in enumerate(batch["saturated"]):
+            drawn[bool(sat)] += 1
             if len(kept[bool(sat)]) < wanted[bool(sat)]:
                 kept[bool(sat)].append({"order": (b, j)} | {k: v[j] for k, v in batch.items()})
-        missing = sum(wanted[k] - len(kept[k]) for k in kept)
-        if not missing:
+        size = _next_batch_size(wanted, kept, drawn, n_patches)
+        if not size or _hopeless(wanted, kept, drawn):
             break
-        size = max(2 * missing, 8)
-    else:
+    if size:
         raise ValueError(f"saturated_share: {saturated_share} asks for {n_sat} saturated and "
-                         f"{n_patches - n_sat} unsaturated patches; {_MAX_BATCHES} batches "
-                         f"gave only {len(kept[True])} and {len(kept[False])}: adjust "
+                         f"{n_patches - n_sat} unsaturated patches; {sum(drawn.values())} "
+                         f"draws gave only {len(kept[True])} and {len(kept[False])}: adjust "
                          "masses_kg, pad_sides_cm or the sensor's A_N")
     patches = sorted(kept[True] + kept[False], key=lambda p: p["order"])
     return _assemble(sensor, patches, blank_frame_share, ramp_frames, plateau_frames, seed, rng)
+
+
+def _next_batch_size(wanted, kept, drawn, n_patches):
+    """Return how many candidates to draw next (0 when done), from the acceptance rates."""
+    total = drawn[True] + drawn[False]
+    need = [(wanted[k] - len(kept[k])) * total / max(drawn[k], 1) for k in kept
+            if len(kept[k]) < wanted[k]]
+    return min(int(np.ceil(1.2 * max(need))) + 8, 20 * n_patches) if need else 0
+
+
+def _hopeless(wanted, kept, drawn, patience=200):
+    """Return True when a wanted kind of patch never came up in ``patience`` draws."""
+    total = drawn[True] + drawn[False]
+    return total >= patience and any(drawn[k] == 0 and wanted[k] > len(kept[k]) for k in kept)
 
 
 def _check_args(sensor, n_patches, masses_kg, pad_sides_cm, saturated_share,
