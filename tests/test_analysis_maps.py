@@ -135,3 +135,15 @@ def test_errors():
     mm.attrs = {**rec.attrs, "units": "mm"}
     with pytest.raises(ValueError, match="units 'mm' are a length; expected raw"):
         analysis.peak_pressure(mm)
+
+
+def test_calibration_given_as_json_path(tmp_path):
+    from tactilecal.calibration import calibrate, points_from_frames
+
+    sensor = make_sensor("5051", gain_spread=0.0, read_noise=0.0, n_dead=0, seed=1)
+    session = deadweight_session(sensor, n_patches=20, seed=3)
+    result = calibrate(points_from_frames(session.raw, session.load_N), method="power")
+    result.to_json(tmp_path / "cal.json")
+    by_path = analysis.total_force(session.raw, calibration=tmp_path / "cal.json")
+    np.testing.assert_allclose(by_path, result.predict_force(session.raw.values), rtol=1e-12)
+    np.testing.assert_allclose(by_path, session.load_N, rtol=0.05)  # a fitted law, 5 %

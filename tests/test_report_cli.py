@@ -9,8 +9,11 @@ from tactilecal.cli import main
 
 def test_report_cli_writes_page(fscan_asf, tmp_path, capsys):
     out = tmp_path / "walk.html"
-    assert main(["-q", "report", str(fscan_asf), "--out", str(out), "--title", "walk"]) == 0
+    assert main(["-q", "report", str(fscan_asf), "--out", str(out), "--title", "walk <p10>"]) == 0
     text = out.read_text()
+    assert "<title>walk &lt;p10&gt;</title>" in text
+    # frame 9: sum of its kPa values x 25.8064 mm2 x 1e-3 = 924.359 N (numpy nansum)
+    assert "<td>peak total force [N]</td><td>924.359</td>" in text
     assert len(re.findall(r'<img alt="[^"]*" src="data:image/png;base64,', text)) == 4
     assert "<td>command</td><td>tactilecal " in text
     assert capsys.readouterr().err == ""  # --quiet: no bar, no message

@@ -156,9 +156,11 @@ def write_report(inputs, path, *, calibration=None, filter=None, title=None, thr
     FileNotFoundError
         For a missing input or output folder.
     """
+    path = Path(path)
+    if not path.parent.is_dir():
+        raise FileNotFoundError(f"cannot write {path}: folder {path.parent} does not exist")
     text = build_report(inputs, calibration=calibration, filter=filter, title=title,
                         threshold_kPa=threshold_kPa, nonworking=nonworking, command=command,
                         progress=progress)
-    path = Path(path)
     write_text_atomic(path, text)
     return path
