@@ -11,13 +11,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
+from tactilecal.sensors import get_sensor
+
 __all__ = ["SimulatedSensor", "make_sensor", "sensor_geometry"]
 
 SATURATION_RAW = 255
 """Largest 8-bit reading; a sensel at or above it reads 255 (saturated)."""
-
-_FALLBACK = {"5051": (44, 44, 1.27), "9500": (14, 14, 5.08)}
-
 
 def _as_rng(rng):
     """Return ``rng`` as a :class:`numpy.random.Generator` (seeds and generators accepted)."""
@@ -58,7 +57,7 @@ def sensor_geometry(model):
     if isinstance(model, tuple | list):
         return _custom_geometry(model)
     if isinstance(model, str | int):
-        model = _catalogue_entry(str(model))
+        model = get_sensor(str(model))
     try:
         rows, cols = int(model.rows), int(model.cols)
         dr, dc = float(model.row_spacing_mm), float(model.col_spacing_mm)
@@ -67,28 +66,6 @@ def sensor_geometry(model):
                          f"sensor object; got {model!r}") from None
     area = float(getattr(model, "sensel_area_mm2", dr * dc))
     return str(getattr(model, "name", "custom")), rows, cols, dr, dc, area
-
-
-def _catalogue_entry(name):
-    """Look ``name`` up in :mod:`tactilecal.sensors` (small fallback if it is absent)."""
-    try:
-        from tactilecal.sensors import get_sensor
-    except ImportError:  # pragma: no cover - only before the catalogue existed
-        if name not in _FALLBACK:
-            raise ValueError(f"model: unknown sensor {name!r}; expected one of "
-                             f"{sorted(_FALLBACK)}") from None
-        rows, cols, pitch = _FALLBACK[name]
-        return _Geometry(name, rows, cols, pitch)
-    return get_sensor(name)
-
-
-class _Geometry:
-    """Minimal sensor description used by the fallback lookup."""
-
-    def __init__(self, name, rows, cols, pitch):
-        self.name, self.rows, self.cols = name, rows, cols
-        self.row_spacing_mm = self.col_spacing_mm = pitch
-        self.sensel_area_mm2 = pitch * pitch
 
 
 def _custom_geometry(spec):
