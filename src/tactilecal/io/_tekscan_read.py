@@ -1,7 +1,7 @@
 """Reader for Tekscan I-Scan / F-Scan ASCII exports (``.csv``, ``.asf``, any extension).
 
-Layout (Tekscan I-Scan and F-Scan user manuals, "ASCII export"; checked on the real files
-in ``shared/realdata``)::
+Layout, as written by Tekscan I-Scan 6.10I and F-Scan 6.33 (the two real exports in
+``shared/realdata``, see its README)::
 
     KEY value                 header lines (ROWS, COLS, UNITS, ...)
     ASCII_DATA @@
