@@ -147,3 +147,15 @@ def test_fresh_header_in_tekscan_order(tmp_path):
     assert keys[:4] == ["DATA_TYPE", "SENSOR_TYPE", "ROWS", "COLS"]
     assert keys[-3:] == ["START_FRAME", "END_FRAME", "UNITS"]
     assert keys.index("SATURATION_PRESSURE") < keys.index("CALIBRATION_POINT_1")
+
+
+def test_netcdf3_limit_is_explained(tmp_path, monkeypatch):
+    import tactilecal.io._netcdf as netcdf
+
+    monkeypatch.setattr(netcdf, "_engine", lambda: "scipy")
+    big = xr.DataArray(np.array([2**40]), dims="x")
+    out = tmp_path / "big.nc"
+    with pytest.raises(ValueError, match=r"cannot write .*big.nc as NetCDF3 \(h5py is not "
+                                         r"installed.*install h5py or convert to float64"):
+        write_netcdf(big, out)
+    assert not out.exists() and list(tmp_path.iterdir()) == []

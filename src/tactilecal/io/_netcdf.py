@@ -53,8 +53,17 @@ def write_netcdf(data, path):
             encoded.append(key)
     if encoded:
         out.attrs[_JSON_ATTRS] = ",".join(encoded)
+    engine = _engine()
     with atomic_path(path, suffix=".nc") as tmp:
-        out.to_netcdf(tmp, engine=_engine())
+        try:
+            out.to_netcdf(tmp, engine=engine)
+        except ValueError as exc:
+            if engine != "scipy":
+                raise
+            raise ValueError(f"cannot write {path} as NetCDF3 (h5py is not installed, so "
+                             f"the scipy engine is used): {exc}; expected values NetCDF3 "
+                             "can hold (e.g. int64 within the int32 range): install h5py "
+                             "or convert to float64") from None
 
 
 def read_netcdf(path):
