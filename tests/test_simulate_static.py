@@ -91,6 +91,9 @@ def test_ramp_hold_deterministic_and_errors(sensor):
         ramp_hold(sensor, pad_fraction=1.5)
     with pytest.raises(ValueError, match=r"loads_N: got \[\]; expected one or more"):
         ramp_hold(sensor, loads_N=[])
+    with pytest.raises(ValueError, match=r"frame_rate_hz: 0.01 Hz over the 24 s sequence "
+                                         r"gives 0 frames; expected at least 2"):
+        ramp_hold(sensor, frame_rate_hz=0.01)
     with pytest.raises(ValueError, match=r"loadcell_start_offset_s: 100 s leaves no load-cell"):
         ramp_hold(sensor, loadcell_start_offset_s=100)
 

@@ -249,6 +249,9 @@ def ramp_hold(sensor, *, loads_N=(222.4, 444.8, 667.2, 889.6), hold_s=3.0, ramp_
     rng = np.random.default_rng(seed)
     knots_t, knots_f = ramp_hold_profile(loads_N, hold_s=hold_s, ramp_s=ramp_s, lead_s=lead_s)
     n_frames = int(np.floor(knots_t[-1] * frame_rate_hz + 1e-9))
+    if n_frames < 2:
+        raise ValueError(f"frame_rate_hz: {frame_rate_hz} Hz over the {knots_t[-1]:g} s "
+                         f"sequence gives {n_frames} frames; expected at least 2")
     time = np.arange(n_frames) / frame_rate_hz
     load = np.interp(time, knots_t, knots_f)
     weights = _platen_weights(sensor, pad_fraction, platen_unevenness, rng)
