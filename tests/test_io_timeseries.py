@@ -44,7 +44,10 @@ def test_columns_by_name_and_index(tmp_path):
     path = _csv(tmp_path, "idx,Force (N),Time (s),Load (kN)\n1,10,0,1\n2,20,1,2\n3,30,2,3\n")
     by_name = read_timeseries(path, time_col="Time (s)", value_col="Load (kN)")
     by_index = read_timeseries(path, time_col=2, value_col=-1)
-    assert by_name.identical(by_index)
+    from_cli = read_timeseries(path, time_col="2", value_col="3")
+    assert by_name.identical(by_index) and by_name.identical(from_cli)
+    numeric_name = _csv(tmp_path, "t,0,1\n0,5,7\n1,6,8\n", name="n.csv")
+    assert read_timeseries(numeric_name, value_col="1").values.tolist() == [7.0, 8.0]
     assert by_name.values.tolist() == [1000.0, 2000.0, 3000.0]
 
 

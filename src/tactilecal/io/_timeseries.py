@@ -46,6 +46,8 @@ def unit_from_column(column, *, where="column name"):
 def _pick(columns, choice, default, role, name):
     if choice is None:
         choice = default
+    if isinstance(choice, str) and choice not in columns and re.fullmatch(r"-?\d+", choice):
+        choice = int(choice)  # "2" from a command line: an index unless a column is named so
     if isinstance(choice, int | np.integer) and not isinstance(choice, bool):
         if not -len(columns) <= choice < len(columns):
             raise ValueError(f"{role}={choice} is out of range for {name}, which has "
@@ -93,7 +95,8 @@ def read_timeseries(path, time_col=None, value_col=None):
     path : str or os.PathLike
         Comma-separated file, first line the column names.
     time_col, value_col : str or int, optional
-        Column names or 0-based indices (default: the first and the second column).
+        Column names or 0-based indices (default: the first and the second column). A
+        string of digits (from a command line) is an index unless a column has that name.
 
     Returns
     -------
