@@ -251,17 +251,31 @@ def summary(recording, *, threshold_kPa=0.0, calibration=None):
     >>> [round(float(s[v][0]), 3) for v in s.data_vars]
     [0.4, 2.0, 0.75, 0.25, 300.0, 200.0]
     """
-    if _units(recording)[1] == "raw":
-        recording = pressure_map_kPa(recording, calibration=calibration)
-    pressure = pressure_map_kPa(recording)
+    if not np.isfinite(threshold_kPa) or threshold_kPa < 0:
+        raise ValueError(f"threshold_kPa is {threshold_kPa!r}; expected a finite value >= 0")
+    pressure = pressure_map_kPa(recording, calibration=calibration)
+    area_mm2 = sensel_area_mm2(recording)
+    row_mm, col_mm = spacing_mm(recording)
+    # one NaN-free copy, then plain sums and dot products (no temporary per quantity)
+    filled = pressure.fillna(0.0)
+    loaded = pressure > threshold_kPa
+    n_loaded = loaded.sum(_PLANE)
+    load_kPa = filled.sum(_PLANE)
+    force = load_kPa * (area_mm2 * 1e-3)
+    weight = load_kPa.where(load_kPa > 0)
+    rows = xr.DataArray(pressure["row"].values * row_mm, dims="row")
+    cols = xr.DataArray(pressure["col"].values * col_mm, dims="col")
     ds = xr.Dataset({
-        "force_N": total_force(pressure),
-        "contact_area_mm2": contact_area(pressure, threshold_kPa=threshold_kPa),
-        **centre_of_force(pressure).data_vars,
-        "peak_kPa": peak_pressure(pressure),
-        "mean_kPa": mean_pressure(pressure, threshold_kPa=threshold_kPa),
+        "force_N": _named(force, "force_N", "N"),
+        "contact_area_mm2": _named((n_loaded * area_mm2).astype(float),
+                                   "contact_area_mm2", "mm2"),
+        "cof_row_mm": _named(filled.dot(rows).sum("col") / weight, "cof_row_mm", "mm"),
+        "cof_col_mm": _named(filled.dot(cols).sum("row") / weight, "cof_col_mm", "mm"),
+        "peak_kPa": _named(pressure.max(_PLANE, skipna=True), "peak_kPa", "kPa"),
+        "mean_kPa": _named(xr.dot(filled, loaded.astype(float), dim=_PLANE)
+                           / n_loaded.where(n_loaded > 0), "mean_kPa", "kPa"),
     })
-    ds.attrs = {k: recording.attrs[k] for k in ("source", "calibration_json", "sensor_type")
-                if k in recording.attrs}
+    ds.attrs = {k: pressure.attrs[k] for k in ("source", "calibration_json", "sensor_type")
+                if k in pressure.attrs}
     ds.attrs["threshold_kPa"] = float(threshold_kPa)
     return ds
