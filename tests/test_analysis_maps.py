@@ -147,3 +147,23 @@ def test_calibration_given_as_json_path(tmp_path):
     by_path = analysis.total_force(session.raw, calibration=tmp_path / "cal.json")
     np.testing.assert_allclose(by_path, result.predict_force(session.raw.values), rtol=1e-12)
     np.testing.assert_allclose(by_path, session.load_N, rtol=0.05)  # a fitted law, 5 %
+
+
+def test_summary_matches_the_single_functions():
+    rng = np.random.default_rng(5)
+    rec = moving_patch().copy(data=rng.gamma(1.0, 20.0, size=(6, 16, 12)))
+    rec[:, 3, 4] = np.nan
+    rec[2] = 0.0  # an unloaded frame
+    s = analysis.summary(rec, threshold_kPa=10.0)
+    single = {
+        "force_N": analysis.total_force(rec),
+        "contact_area_mm2": analysis.contact_area(rec, threshold_kPa=10.0),
+        **analysis.centre_of_force(rec).data_vars,
+        "peak_kPa": analysis.peak_pressure(rec),
+        "mean_kPa": analysis.mean_pressure(rec, threshold_kPa=10.0),
+    }
+    for name, values in single.items():
+        np.testing.assert_allclose(s[name], values, rtol=1e-12, equal_nan=True, err_msg=name)
+    assert np.isnan(s.mean_kPa[2]) and np.isnan(s.cof_row_mm[2])
+    with pytest.raises(ValueError, match=r"threshold_kPa is -2.0; expected a finite value >= 0"):
+        analysis.summary(rec, threshold_kPa=-2.0)
