@@ -108,6 +108,8 @@ def test_writer_bad_input(tmp_path):
         write_tekscan(data.assign_coords(frame=[3, 3, 5, 6, 7]), tmp_path / "a.csv")
     with pytest.raises(ValueError, match=r"would not read back; expected a single line"):
         write_tekscan(data.assign_attrs(tekscan_TIME="a\nb"), tmp_path / "a.csv")
+    with pytest.raises(ValueError, match=r"data has no frames; expected at least one"):
+        write_tekscan(data.isel(frame=slice(0, 0)), tmp_path / "a.csv")
     with pytest.raises(ValueError, match=r"newline='\\r'; expected"):
         write_tekscan(data, tmp_path / "a.csv", newline="\r")
 

@@ -92,6 +92,8 @@ def _checked_arrays(data):
     if "frame" not in data.coords:
         raise ValueError("write_tekscan: data has no 'frame' coordinate; expected the "
                          "frame numbers (docs/data-model.md)")
+    if data.sizes["frame"] == 0:
+        raise ValueError("write_tekscan: data has no frames; expected at least one")
     values = np.ascontiguousarray(data.values, dtype=np.float64)
     if np.isinf(values).any():
         frame = data.frame.values[np.isinf(values).any(axis=(1, 2))][0]
@@ -118,7 +120,7 @@ def _same(text, value, convert):
         parsed = convert(float(number), unit.strip()) if unit else float(number)
     except (ValueError, AttributeError):
         return False
-    return bool(np.isclose(parsed, value, rtol=1e-9, atol=0))
+    return parsed == value  # the reader made ``value`` from this text the same way
 
 
 # Key order of Tekscan's own exports (I-Scan 6.10I / F-Scan 6.33 in shared/realdata).
@@ -145,7 +147,7 @@ def _header_lines(data, frames):
     attrs = data.attrs
     header = {k[len("tekscan_"):]: str(v) for k, v in attrs.items() if k.startswith("tekscan_")}
     verbatim = set(header)
-    header.setdefault("DATA_TYPE", "MOVIE" if frames.size > 1 else "FRAME")
+    header.setdefault("DATA_TYPE", "MOVIE")  # the only DATA_TYPE seen in real exports
     managed = {
         "SENSOR_TYPE": attrs.get("sensor_type"),
         "ROWS": str(data.sizes["row"]), "COLS": str(data.sizes["col"]),
