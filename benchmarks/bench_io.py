@@ -4,7 +4,8 @@ Writes a simulated 44 x 44 export (random raw readings 0..255, I-Scan layout wit
 lines carrying time and Raw Sum, a B border like a real sensor's shape) and a plain CSV
 holding the same numbers (one sensel row per line, no header, no frame lines). Times are
 the best of ``--repeat`` interleaved runs; the printed ratio is
-``baseline time / read_tekscan time`` (1.0 = as fast as pandas, goal >= 0.5).
+``baseline time / read_tekscan time`` (1.0 = as fast as pandas, goal >= 0.5). The writer is
+timed once against ``DataFrame.to_csv`` writing the plain CSV.
 
 Usage: ``python benchmarks/bench_io.py [--frames 10000] [--repeat 3]``
 """
@@ -55,8 +56,10 @@ def main():
         write_tekscan(data, export)
         t_write = time.perf_counter() - start
         values = data.values.reshape(-1, data.sizes["col"])
+        start = time.perf_counter()
         pd.DataFrame(values).to_csv(plain, header=False, index=False, na_rep="B",
                                     float_format="%.0f")
+        t_to_csv = time.perf_counter() - start
         check = read_tekscan(export)
         assert np.array_equal(check.values, data.values, equal_nan=True)
         n_values = data.size
@@ -77,6 +80,8 @@ def main():
         print(f"read_tekscan     {n_values / t_reader / 1e6:8.2f} M values/s")
         print(f"pandas.read_csv  {n_values / t_base / 1e6:8.2f} M values/s (C engine, baseline)")
         print(f"write_tekscan    {n_values / t_write / 1e6:8.2f} M values/s (one run)")
+        print(f"DataFrame.to_csv {n_values / t_to_csv / 1e6:8.2f} M values/s (one run, "
+              f"same numbers, no frame lines): writer ratio {t_to_csv / t_write:.2f}")
         print(f"ratio read_tekscan / pandas.read_csv throughput: {t_base / t_reader:.2f} "
               "(goal >= 0.5)")
 
