@@ -25,7 +25,7 @@ body{font-family:system-ui,sans-serif;max-width:1000px;margin:2em auto;padding:0
 h1{border-bottom:2px solid #444}h2{margin-top:2em;border-bottom:1px solid #aaa}
 table{border-collapse:collapse;margin:0.8em 0}td,th{border:1px solid #ccc;padding:2px 8px;
 text-align:left;font-size:0.9em}th{background:#eee}figure{margin:1em 0}
-img{max-width:100%}figcaption{font-size:0.9em;color:#555}
+figure{display:inline-block;vertical-align:top;width:47%;margin:0.5em}img{max-width:100%}figcaption{font-size:0.9em;color:#555}
 pre{background:#f6f6f6;padding:0.6em;overflow-x:auto}.note{background:#fff4d6;padding:0.4em}
 """
 _PACKAGES = ("numpy", "scipy", "pandas", "xarray", "matplotlib", "dask")

@@ -9,9 +9,12 @@ silent gap.
 import base64
 import html
 import io
+import json
 from importlib import import_module
 
 import numpy as np
+
+from tactilecal._jsonutil import to_jsonable
 
 __all__ = ["calibration_blocks", "filter_blocks", "recording_blocks", "figure_html",
            "table_html", "note_html"]
@@ -93,6 +96,10 @@ def calibration_blocks(result, label):
         f"<pre>{_esc(result.summary())}</pre>",
         table_html(params, header=("parameter", "value", "standard error")),
         table_html(sorted(result.metrics.items()), header=("metric", "value")),
+        table_html([("created", getattr(result, "created", "")),
+                    ("tactilecal version", getattr(result, "version", "")),
+                    ("options", json.dumps(to_jsonable(getattr(result, "options", {}))))],
+                   header=("calibration record", "value")),
         _try_figure(f"{label}: calibration curve",
                     lambda: plot_calibration_curve(result, ax=_new_axes())),
         _try_figure(f"{label}: calibrated against applied load",
@@ -104,8 +111,8 @@ def calibration_blocks(result, label):
         if result.method == "zvyagin":
             blocks += _module_plots("tactilecal.zvyagin._plots", result, "Zvyagin (2022)")
         else:
-            blocks.append(note_html(f"method {result.method!r} keeps intermediate results "
-                                    f"under 'details' ({', '.join(sorted(result.details))})"))
+            blocks.append(f"<p>Method {_esc(repr(result.method))} keeps intermediate results "
+                          f"under 'details': {_esc(', '.join(sorted(result.details)))}.</p>")
     return blocks
 
 
