@@ -111,3 +111,13 @@ def test_high_pressure_zones_hand_worked():
     assert int(labels.max()) == 4 and labels.dims == ("frame", "row", "col")
     with pytest.raises(ValueError, match="connectivity is 3; expected 1"):
         analysis.label_zones(rec, 50.0, connectivity=3)
+
+
+def test_windows_and_profiles_on_dask_backed_recordings():
+    rng = np.random.default_rng(3)
+    rec = recording(rng.gamma(2.0, 30.0, size=(8, 9, 7)))
+    lazy = rec.chunk({"frame": 3})
+    win = analysis.max_window_load(lazy, window=(3, 2))
+    assert win.force_N.chunks is not None  # stays lazy until computed
+    xr.testing.assert_allclose(win.compute(), analysis.max_window_load(rec, window=(3, 2)))
+    xr.testing.assert_allclose(analysis.row_profile(lazy).compute(), analysis.row_profile(rec))
