@@ -159,3 +159,10 @@ def test_long_row_balanced_by_a_short_row(iscan_csv, tmp_path, long_line):
     path = _save(tmp_path, lines)
     with pytest.raises(ValueError, match=rf"\(line {long_line}\) has 29 values; expected 28"):
         read_tekscan(path)
+
+
+def test_space_before_b_in_a_comma_only_file(tmp_path):
+    path = _save(tmp_path, ["ROWS 2", "COLS 2", "ASCII_DATA @@", "Frame 1", "1,2", "3, B", "@@"])
+    with pytest.raises(ValueError, match=r"line 6 of .*broken.csv, value 2: ' B' is not a "
+                                         r"number; expected a number or 'B'"):
+        read_tekscan(path)
