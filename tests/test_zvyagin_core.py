@@ -74,9 +74,12 @@ def test_search_map_equals_plain_eq8_everywhere_sampled():
     for _ in range(40):
         k = [rng.integers(len(r)) for r in ranges]
         vec = [int(r[i]) for r, i in zip(ranges, k, strict=True)]
-        assert d_map[tuple(k)] == pytest.approx(patch_discrepancy(h, vec).mean(), rel=1e-12)
+        # the map is accumulated in float32
+        assert d_map[tuple(k)] == pytest.approx(patch_discrepancy(h, vec).mean(), rel=1e-5)
     assert d_min == pytest.approx(patch_discrepancy(h, sep).mean(), rel=1e-12)
-    assert d_min == pytest.approx(d_map.min())
+    assert d_min == pytest.approx(float(d_map.min()), rel=1e-5)
+    # no vector of the domain beats I* (exact float64 check on the near-minimal ones)
+    assert d_min <= min(patch_discrepancy(h, v).mean() for v in [(4, 10, 28, 82), sep])
 
 
 def test_search_is_exhaustive_on_a_small_case():
@@ -95,7 +98,7 @@ def test_search_is_exhaustive_on_a_small_case():
 
 
 def test_closed_domain_reaches_I1_equal_9():
-    # sensels at 8 and 26: the signed errors cancel when 8 -> 3 and 26 -> 27?  Use d on a grid
+    # the closed domain adds I1 = 9 (and I2 = 27, ...); its map entries are eq. (8) too
     h = _hist([[4, 4, 8, 9, 9, 26, 80, 242]])
     _, _, d_closed = search_separation(h, domain="closed")
     assert d_closed.shape == (6, 18, 54, 162)

@@ -22,7 +22,13 @@ from tactilecal.zvyagin._approx import (
     separation_domain,
 )
 from tactilecal.zvyagin._calibrate import MODES, SENSEL_AREA_5051_MM2, load_groups, zvyagin_fit
-from tactilecal.zvyagin._fit import energy, fit_power_law, minimise_energy, patch_power_sums
+from tactilecal.zvyagin._fit import (
+    energy,
+    fit_power_law,
+    minimise_energy,
+    patch_power_sums,
+    saturation_pressure_MPa,
+)
 from tactilecal.zvyagin._pairs import polynomial_roots, quartic_coefficients, solve_pairs
 from tactilecal.zvyagin._points_api import OPTIONS, calibrate_zvyagin
 from tactilecal.zvyagin._result import PAIR_CATEGORIES, ZvyaginResult
@@ -47,6 +53,7 @@ __all__ = [
     "polynomial_roots",
     "quartic_coefficients",
     "raw_sums",
+    "saturation_pressure_MPa",
     "search_separation",
     "separation_domain",
     "solve_pairs",

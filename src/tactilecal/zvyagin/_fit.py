@@ -3,7 +3,8 @@
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-__all__ = ["fit_power_law", "patch_power_sums", "energy", "minimise_energy"]
+__all__ = ["fit_power_law", "patch_power_sums", "energy", "minimise_energy",
+           "saturation_pressure_MPa"]
 
 _RAW = np.arange(256, dtype=np.float64)
 #: MAD -> standard deviation for normal residuals
@@ -135,3 +136,23 @@ def minimise_energy(histograms, load_N, alpha, beta, b_range, *, n_grid=201):
     at_bound = grid.size > 1 and k in (0, grid.size - 1)
     return {"b0": b0, "A0": float(alpha * b0 ** beta), "E": e0, "b_range": (lo, hi),
             "at_bound": bool(at_bound), "b_grid": grid, "E_grid": e_grid}
+
+
+def saturation_pressure_MPa(a_N, b, sensel_area_mm2):
+    """Saturation pressure p_s = A * 255**b / S_sensel in MPa (Zvyagin 2022, eq. 16).
+
+    Parameters
+    ----------
+    a_N : float
+        A of f = A * X**b, newtons per sensel.
+    b : float
+        Exponent.
+    sensel_area_mm2 : float
+        Sensel area in mm2 (5051: 1.27 x 1.27 = 1.6129); N / mm2 = MPa.
+
+    Examples
+    --------
+    >>> round(saturation_pressure_MPa(0.00358, 1.164, 1.27 * 1.27), 3)  # Table 2, row 1: 1.403
+    1.404
+    """
+    return a_N * 255.0 ** b / sensel_area_mm2

@@ -4,6 +4,7 @@ import warnings
 
 import numpy as np
 
+from tactilecal._jsonutil import to_jsonable
 from tactilecal.zvyagin._calibrate import zvyagin_fit
 from tactilecal.zvyagin._fit import energy
 
@@ -109,7 +110,7 @@ def calibrate_zvyagin(points, **options):
     res = zvyagin_fit(hist, load, labels=_point_labels(points), sensel_area_mm2=area, **opts)
     res._histograms_used = np.asarray(hist)[res.usable]
     reasons = [res.excluded.get(k, "") for k in range(len(points))]
-    details = res.to_details()
+    details = to_jsonable(res.to_details())
     details["stderr_note"] = ("params_stderr from the curvature of E(b0) along the power law "
                               "(conditional on alpha and beta)")
     return make_result(points, method="zvyagin", model="power",

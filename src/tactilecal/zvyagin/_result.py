@@ -4,6 +4,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tactilecal.zvyagin._fit import saturation_pressure_MPa
+
 __all__ = ["ZvyaginResult", "PAIR_CATEGORIES", "summarise_d_map"]
 
 #: One character per pair in the chart of Figure 8.
@@ -111,7 +113,7 @@ class ZvyaginResult:
     @property
     def p_s_MPa(self):
         """Saturation pressure p_s = A0 * 255**b0 / S_sensel in MPa (eq. 16)."""
-        return self.A0 * 255.0 ** self.b0 / self.sensel_area_mm2
+        return saturation_pressure_MPa(self.A0, self.b0, self.sensel_area_mm2)
 
     @property
     def error_pct(self):

@@ -1,0 +1,209 @@
+"""Zvyagin (2022) end to end: truth recovered, Table 2, bad input, JSON round trip."""
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+import tactilecal
+from tactilecal.calibration import load_calibration, points_from_frames
+from tactilecal.zvyagin import (
+    SENSEL_AREA_5051_MM2,
+    ZvyaginResult,
+    calibrate_zvyagin,
+    load_groups,
+    patch_power_sums,
+    saturation_pressure_MPa,
+    zvyagin_fit,
+)
+from tactilecal.zvyagin._synthetic import synthetic_patches
+
+# Table 2 of Zvyagin (2022) as printed in the source: A0 (as printed), b0, p_s (MPa).
+TABLE2 = [
+    ("Sensor1 21 Mar", "0.00358", 1.164, 1.403), ("Sensor1 31 Mar", "0.00398", 1.136, 1.336),
+    ("Sensor1 14 Apr", "0.00413", 1.120, 1.268), ("Sensor1 18 Apr", "0.00379", 1.141, 1.306),
+    ("Sensor2 21 Mar", "0.0023", 1.236, 1.347), ("Sensor2 31 Mar", "0.00232", 1.227, 1.289),
+    ("Sensor2 14 Apr", "0.00255", 1.205, 1.252), ("Sensor2 18 Apr", "0.00265", 1.201, 1.273),
+]
+
+
+@pytest.mark.parametrize(("row", "a_txt", "b0", "ps_MPa"), TABLE2)
+def test_table2_saturation_pressure(row, a_txt, b0, ps_MPa):
+    """p_s = A0 255^b0 / (1.27 mm)^2 (eq. 16) within what the printed rounding allows.
+
+    A0 is printed to its last digit u (0.00001, or 0.0001 for '0.0023'): relative slack
+    u / 2 / A0 (0.12-2.2%); b0 to 0.001: 0.0005 ln 255 = 0.28%; p_s to 0.001 MPa.
+    """
+    a0 = float(a_txt)
+    unit = 10.0 ** -len(a_txt.split(".")[1])
+    tol = 0.5 * unit / a0 + 0.0005 * np.log(255) + 0.0005 / ps_MPa
+    got = saturation_pressure_MPa(a0, b0, SENSEL_AREA_5051_MM2)
+    assert got == pytest.approx(ps_MPa, rel=tol), row
+
+
+def _synthetic(n=60, seed=3, **kw):
+    return synthetic_patches(n, A_N=0.0035, b=1.16, seed=seed, **kw)
+
+
+@pytest.mark.parametrize("mode", ["faithful", "robust"])
+def test_truth_recovered_on_synthetic_patches(mode):
+    h, load, _ = _synthetic(seed=3)
+    res = zvyagin_fit(h, load, mode=mode)
+    # A and b trade off along a ridge (the pairs' power law); loads are what is pinned down
+    assert res.b0 == pytest.approx(1.16, abs=0.08)
+    assert res.A0 == pytest.approx(0.0035, rel=0.35)
+    hv, fv, _ = _synthetic(seed=4)
+    err = res.A0 * patch_power_sums(hv, res.b0)[:, 0] / fv - 1
+    assert np.mean(np.abs(err) < 0.05) >= 0.8
+    assert res.power_law["r2"] > 0.8
+    assert res.p_s_MPa == pytest.approx(saturation_pressure_MPa(res.A0, res.b0, 1.6129))
+    assert set(res.category_counts()) <= set("VORNX")
+    assert sum(res.category_counts().values()) == 60 * 59 // 2
+    assert np.all(res.pair_matrix == res.pair_matrix.T)
+    assert sum(r["pairs"] for r in res.share_table) == 60 * 59 // 2
+
+
+def test_share_table_and_groups():
+    g, names = load_groups(np.array([19.619, 49.1, 98.2, 19.7, 98.07]))
+    assert g.tolist() == [0, 1, 2, 0, 2] and names == ["2 kg", "5 kg", "10 kg"]
+    h, load, _ = _synthetic(seed=5)
+    res = zvyagin_fit(h, load)
+    rows = {r["loads"]: r for r in res.share_table}
+    assert list(rows) == ["2 kg - 2 kg", "2 kg - 5 kg", "2 kg - 10 kg", "5 kg - 5 kg",
+                          "5 kg - 10 kg", "10 kg - 10 kg"]
+    for r in rows.values():
+        assert r["share"] == pytest.approx(r["valid"] / r["pairs"])
+
+
+def test_modes_differ_only_where_documented():
+    h, load, _ = _synthetic(seed=6)
+    faithful = zvyagin_fit(h, load)
+    robust = zvyagin_fit(h, load, mode="robust")
+    assert faithful.separation == robust.separation
+    assert faithful.options["outliers"] == "none" and robust.options["outliers"] == "trim"
+    assert (robust.pairs["category"] == "O").sum() > 0
+    assert (faithful.pairs["category"] == "O").sum() == 0
+    assert robust.final["b_range"][1] < faithful.final["b_range"][1]
+
+
+def test_calibrate_entry_point_and_json_round_trip(tmp_path):
+    from tactilecal.simulate import deadweight_session, make_sensor
+
+    s = deadweight_session(make_sensor("5051", seed=1), n_patches=40, seed=2)
+    points = points_from_frames(s.raw, s.load_N)
+    cal = tactilecal.calibrate(points, method="zvyagin", mode="robust")
+    assert cal.method == "zvyagin" and cal.model == "power"
+    assert cal.params["A"] == pytest.approx(cal.details["final"]["A0"])
+    assert cal.saturation_pressure_kPa == pytest.approx(1000 * cal.details["p_s_MPa"])
+    assert cal.params_stderr["b"] > 0
+    path = tmp_path / "cal.json"
+    cal.to_json(path)
+    back = load_calibration(path)
+    res = ZvyaginResult.from_details(back.details)
+    direct = ZvyaginResult.from_details(json.loads(json.dumps(cal.details)))
+    assert res.summary() == direct.summary()
+    assert res.separation == tuple(cal.details["separation"])
+    assert res.d_summary["n_vectors"] == 725_305
+
+
+def test_keep_saturated_alias_and_unknown_option():
+    h, load, _ = _synthetic(n=10, seed=7)
+    from tactilecal.calibration import CalibrationPoint
+
+    pts = [CalibrationPoint(histogram=hh, load_N=f, raw_sum=float(hh @ np.arange(256)),
+                            loaded_cells=int(hh[1:].sum()), saturated_cells=int(hh[255]),
+                            sensel_area_mm2=1.6129) for hh, f in zip(h, load, strict=True)]
+    assert calibrate_zvyagin(pts, keep_saturated=False).options["saturated"] == "drop"
+    with pytest.raises(ValueError, match=r"unknown options \['n_bootstrap'\]"):
+        calibrate_zvyagin(pts, n_bootstrap=10)
+    for p in pts:
+        p.sensel_area_mm2 = float("nan")
+    with pytest.warns(UserWarning, match=r"no sensel area .* p_s \(eq. 16\) is unknown"):
+        calibrate_zvyagin(pts)
+
+
+# ---------------------------------------------------------------- bad input
+def test_fewer_than_two_usable_patches():
+    h, load, _ = _synthetic(n=3, seed=8)
+    h[1:] = 0
+    h[1:, 0] = 100
+    with pytest.warns(UserWarning, match=r"patches patch 1, patch 2 have no loaded sensel"):
+        with pytest.raises(ValueError, match=r"1 usable patch\(es\) of 3; expected at least 2 "
+                                             r"\(left out: patch 1: empty frame"):
+            zvyagin_fit(h, load)
+
+
+def test_empty_frames_are_left_out_with_a_warning():
+    h, load, _ = _synthetic(n=30, seed=9)
+    h[4] = 0
+    with pytest.warns(UserWarning, match=r"patches patch 4 have no loaded sensel"):
+        res = zvyagin_fit(h, load)
+    assert not res.usable[4] and res.excluded == {4: "empty frame"}
+    assert (res.pair_matrix[4, np.arange(30) != 4] == "X").all()
+
+
+def test_saturated_patches_dropped_on_request():
+    h, load, _ = _synthetic(n=30, seed=10, pad_sides_cm=(1, 2))
+    sat = np.nonzero(h[:, 255] > 0)[0]
+    assert sat.size > 0
+    res = zvyagin_fit(h, load, saturated="drop")
+    assert set(res.excluded) == set(sat.tolist())
+    assert "saturated sensels" in res.excluded[int(sat[0])]
+
+
+def test_one_load_warns():
+    h, load, _ = synthetic_patches(30, masses_kg=(5,), pad_sides_cm=(2, 3, 4), seed=11)
+    with pytest.warns(UserWarning, match=r"all 30 usable patches carry one load \(5 kg\)"):
+        zvyagin_fit(h, load)
+
+
+def test_no_root_above_three():
+    h = np.zeros((3, 256), dtype=np.int64)
+    h[:, 50] = [10, 20, 40]           # more sensels ...
+    load = np.array([100.0, 50.0, 25.0])   # ... carry less load: no root Y > 3
+    with pytest.raises(ValueError, match=r"no pair of the 3 usable patches has a root Y > 3"):
+        zvyagin_fit(h, load)
+
+
+def test_too_few_valid_pairs():
+    h, load, _ = _synthetic(n=6, seed=12)
+    with pytest.raises(ValueError, match=r"valid pair\(s\) \(A, b\); expected at least 3 .* "
+                                         r"rejected by the 0% raw-sum rule"):
+        zvyagin_fit(h, load, max_relerr=0.0)
+
+
+def test_bad_loads_labels_and_options():
+    h, load, _ = _synthetic(n=5, seed=13)
+    bad = load.copy()
+    bad[2] = -1
+    with pytest.raises(ValueError, match=r"load_N of patches patch 2 is \[-1.0\]; expected"):
+        zvyagin_fit(h, bad)
+    with pytest.raises(ValueError, match=r"load_N has 4 values; expected one per patch \(5\)"):
+        zvyagin_fit(h, load[:4])
+    with pytest.raises(ValueError, match=r"labels has 2 names; expected one per patch \(5\)"):
+        zvyagin_fit(h, load, labels=["a", "b"])
+    with pytest.raises(ValueError, match=r"mode = 'paper'; expected one of"):
+        zvyagin_fit(h, load, mode="paper")
+    with pytest.raises(ValueError, match=r"saturated = 'clip'; expected one of"):
+        zvyagin_fit(h, load, saturated="clip")
+    with pytest.raises(ValueError, match=r"b_range = \(1.5, 1.2\); expected 0 < b_min < b_max"):
+        zvyagin_fit(h, load, b_range=(1.5, 1.2))
+    with pytest.raises(ValueError, match=r"b_range = 'all'; expected"):
+        zvyagin_fit(h, load, b_range="all")
+
+
+def test_energy_minimum_at_range_end_warns():
+    h, load, _ = _synthetic(n=30, seed=14)
+    with pytest.warns(UserWarning, match=r"E\(b0\) is smallest at the end of the b range"):
+        res = zvyagin_fit(h, load, b_range=(1.3, 1.5))
+    assert res.final["at_bound"] and res.b0 == pytest.approx(1.3)
+
+
+def test_no_silent_nan():
+    h, load, _ = _synthetic(n=30, seed=15)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = zvyagin_fit(h, load)
+    assert np.isfinite([res.A0, res.b0, res.alpha, res.beta, res.p_s_MPa, res.d_min]).all()
+    assert np.isfinite(res.error_pct).all()
