@@ -59,12 +59,12 @@ def test_row_with_wrong_number_of_values(iscan_csv, tmp_path, row, n):
         read_tekscan(path)
 
 
-@pytest.mark.parametrize("token", ["x", "", "nan", "1.2.3", "Foo", '"7"'])
+@pytest.mark.parametrize("token", ["x", "", "nan", "1.2.3", "Foo", '"7"', "inf", "-Inf"])
 def test_non_numeric_value(iscan_csv, tmp_path, token):
     row = "B,B,0,0," + token + ",0,0,0,0,0,0,0,0,B,B,0,0,0,0,0,0,0,0,0,0,0,B,B"
     path = _edit(tmp_path, iscan_csv, 33, row)
     with pytest.raises(ValueError, match=rf"line 33 of .*broken.csv, value 5: "
-                                         rf"{re.escape(repr(token))} is not a number; "
+                                         rf"{re.escape(repr(token))} is not a finite number; "
                                          r"expected a number or 'B' \(no sensel\)"):
         read_tekscan(path)
 
@@ -164,5 +164,5 @@ def test_long_row_balanced_by_a_short_row(iscan_csv, tmp_path, long_line):
 def test_space_before_b_in_a_comma_only_file(tmp_path):
     path = _save(tmp_path, ["ROWS 2", "COLS 2", "ASCII_DATA @@", "Frame 1", "1,2", "3, B", "@@"])
     with pytest.raises(ValueError, match=r"line 6 of .*broken.csv, value 2: ' B' is not a "
-                                         r"number; expected a number or 'B'"):
+                                         r"finite number; expected a number or 'B'"):
         read_tekscan(path)

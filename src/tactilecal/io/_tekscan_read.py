@@ -166,11 +166,11 @@ def _read_body(body, first_line, rows, cols, header, name):
     except ValueError as exc:
         failure = exc
     else:
-        found_nan = np.count_nonzero(np.isnan(values))
+        found_nan = values.size - np.count_nonzero(np.isfinite(values))
         if found_nan == expected_nan:
             return frames, values
-        failure = ValueError(f"{name}: {found_nan} values read as NaN; expected "
-                             f"{expected_nan}, one per 'B'")
+        failure = ValueError(f"{name}: {found_nan} values read as NaN or infinite; "
+                             f"expected {expected_nan} NaN, one per 'B'")
     _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows, cols, name)
     _check_stray_comment(body[:end], starts, ends, data_idx, first_line, name)
     _raise_bad_value(body, starts, ends, data_idx, first_line, name, spaced)
@@ -296,10 +296,10 @@ def _raise_bad_value(body, starts, ends, data_idx, first_line, name, spaced):
                 value = float(token)
             except ValueError:
                 value = None
-            if value is None or np.isnan(value):
+            if value is None or not np.isfinite(value):
                 raise ValueError(
                     f"line {first_line + i} of {name}, value {col + 1}: "
-                    f"{token.decode('utf-8', errors='replace')!r} is not a number; "
+                    f"{token.decode('utf-8', errors='replace')!r} is not a finite number; "
                     "expected a number or 'B' (no sensel)")
 
 
