@@ -74,3 +74,21 @@ def test_bad_file_exits_1_with_the_reason(capsys, tmp_path):
         from tactilecal.cli._cmd_info import run
 
         run(type("Args", (), {"file": str(path), "json": False})())
+
+
+def test_calibrated_power_law_file(capsys, tmp_path):
+    scale, exponent = 0.9, 1.164  # pressure_kPa = scale x raw^exponent
+    raw = np.random.default_rng(4).integers(0, 200, size=(6, 4, 4)).astype(float)
+    raw[2, 1, 1] = 255.0  # frame 3 saturates
+    data = xr.DataArray(scale * raw**exponent, dims=("frame", "row", "col"),
+                        coords={"frame": np.arange(1, 7), "time": ("frame", np.arange(6) * 0.1)},
+                        attrs={"units": "kPa", "scale_factor": scale, "exponent": exponent,
+                               "saturation_pressure": scale * 255**exponent,
+                               "saturation_pressure_unit": "kPa"})
+    path = tmp_path / "cal.csv"
+    write_tekscan(data, path)
+    out = _info_json(capsys, path)
+    assert out["max_raw"] == pytest.approx(255.0, rel=1e-9)
+    assert out["max_raw_source"] == "inverted SCALE_FACTOR x raw^EXPONENT"
+    assert out["saturated_frame_numbers"] == [3]
+    assert out["calibration"]["exponent"] == exponent
