@@ -48,6 +48,18 @@ def test_histogram_ignores_nan_and_counts_levels():
     assert hist[0, [0, 3, 7, 255]].tolist() == [1, 2, 1, 1]
 
 
+def test_histogram_matches_per_frame_bincount():
+    rng = np.random.default_rng(0)
+    raw = rng.integers(0, 256, size=(150, 7, 9)).astype(float)  # 150: several chunks
+    raw[:, 0, :3] = np.nan
+    expected = np.stack([np.bincount(f[np.isfinite(f)].astype(int), minlength=256)
+                         for f in raw])
+    np.testing.assert_array_equal(frame_histograms(raw), expected)
+    np.testing.assert_array_equal(frame_histograms(raw[:, 1:].astype(np.uint8)),
+                                  np.stack([np.bincount(f.ravel().astype(int), minlength=256)
+                                            for f in raw[:, 1:]]))
+
+
 def test_histogram_rejects_out_of_range():
     with pytest.raises(ValueError, match="value 300; expected raw readings 0..255"):
         frame_histograms(np.full((1, 2, 2), 300.0))

@@ -7,10 +7,11 @@ import pandas as pd
 
 from tactilecal.calibration._methods import FITTERS
 from tactilecal.calibration._models import force_table
-from tactilecal.calibration._points import points_to_arrays
+from tactilecal.calibration._points import points_to_arrays, take_rows
 from tactilecal.calibration._result import CalibrationResult
 
-__all__ = ["METHODS", "calibrate", "make_result", "validate", "select_points"]
+__all__ = ["METHODS", "META_COLUMNS", "calibrate", "calibrate_arrays", "make_result",
+           "point_meta", "result_from_arrays", "select_points", "validate"]
 
 METHODS = (*FITTERS, "zvyagin")
 SCALABLE = ("linear", "power-2pt")  # I-Scan-style methods offering the working/all scaling
@@ -25,18 +26,35 @@ def select_points(points, *, keep_saturated=False):
     reasons : list of str
         ``""`` for a used point, else why it was left out.
     """
-    reasons = []
-    for p in points:
-        if not np.isfinite(p.load_N) or p.load_N <= 0:
-            reasons.append(f"load_N = {p.load_N} is not a positive load")
-        elif p.loaded_cells == 0:
-            reasons.append("no loaded sensels (raw > 0)")
-        elif p.saturated_cells and not keep_saturated:
-            reasons.append(f"saturated: {p.saturated_cells} sensels at 255 "
-                           "(keep_saturated=True keeps it)")
-        else:
-            reasons.append("")
-    return np.array([r == "" for r in reasons]), reasons
+    meta = point_meta(points)
+    used, reasons = _select(np.array([p.load_N for p in points], dtype=float), meta,
+                            keep_saturated)
+    return used, list(reasons)
+
+
+def _select(load, meta, keep_saturated):
+    """Vectorised point selection: (used, reasons as an object array)."""
+    reasons = np.full(len(load), "", dtype=object)
+    sat = meta["saturated_cells"]
+    if not keep_saturated:
+        bad = sat > 0
+        reasons[bad] = [f"saturated: {k} sensels at 255 (keep_saturated=True keeps it)"
+                        for k in sat[bad]]
+    empty = meta["loaded_cells"] == 0
+    reasons[empty] = "no loaded sensels (raw > 0)"
+    bad_load = ~(np.isfinite(load) & (load > 0))
+    reasons[bad_load] = [f"load_N = {v} is not a positive load" for v in load[bad_load]]
+    return reasons == "", reasons
+
+
+META_COLUMNS = ("file", "frame", "raw_sum", "loaded_cells", "saturated_cells", "label", "note",
+                "sensel_area_mm2", "working_cells", "total_cells")
+
+
+def point_meta(points):
+    """Per-point columns of a list of points as arrays (see :data:`META_COLUMNS`)."""
+    attrs = {"file": "source"}
+    return {c: np.array([getattr(p, attrs.get(c, c)) for p in points]) for c in META_COLUMNS}
 
 
 def calibrate(points, method="power", **options):
@@ -83,6 +101,19 @@ def calibrate(points, method="power", **options):
         return import_module("tactilecal.zvyagin").calibrate_zvyagin(points, **options)
     if method not in FITTERS:
         raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
+    hist, load = points_to_arrays(points)
+    return calibrate_arrays(hist, load, point_meta(points), method=method, **options)
+
+
+def calibrate_arrays(hist, load, meta, *, method="power", **options):
+    """Fit a calibration to points given as arrays (the core of :func:`calibrate`).
+
+    ``hist`` (n, 256), ``load`` (n,) and ``meta`` (dict of per-point arrays, keys
+    :data:`META_COLUMNS`): what movie calibration uses for tens of thousands of frames
+    without making a Python object per frame.
+    """
+    if method not in FITTERS:
+        raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
     keep_saturated = bool(options.pop("keep_saturated", False))
     scale_by_working = bool(options.pop("scale_by_working", False))
     area = options.pop("sensel_area_mm2", None)
@@ -91,29 +122,30 @@ def calibrate(points, method="power", **options):
     _check_options(method, options)
     if scale_by_working and method not in SCALABLE:
         raise ValueError(f"scale_by_working is offered for {SCALABLE}; method={method!r}")
-    used, reasons = select_points(points, keep_saturated=keep_saturated)
+    used, reasons = _select(load, meta, keep_saturated)
     if not used.any():
-        raise ValueError(f"no usable calibration points among {len(points)}: "
+        raise ValueError(f"no usable calibration points among {len(load)}: "
                          f"{sorted(set(reasons))}")
-    hist, load = points_to_arrays(points)
-    fit_load = load * _working_fraction(points) if scale_by_working else load
-    fit = FITTERS[method](hist[used], fit_load[used], **options)
+    fraction = _working_fraction(meta)
+    fit_load = load * fraction if scale_by_working else load
+    fit = FITTERS[method](take_rows(hist, used), fit_load[used], **options)
     if n_bootstrap:
         fit.params_stderr = _bootstrap(method, hist[used], fit_load[used], options,
                                        n_bootstrap, seed)
         fit.details["stderr_method"] = f"bootstrap over points ({n_bootstrap} resamples)"
     if method == "power-2pt":
-        pair = set(np.flatnonzero(used)[fit.details["pair"]])
-        for k in np.flatnonzero(used):
-            if k not in pair:
-                used[k], reasons[k] = False, "not one of the two I-Scan 2-point points"
+        pair = np.flatnonzero(used)[fit.details["pair"]]
+        others = used.copy()
+        others[pair] = False
+        used[others], reasons[others] = False, "not one of the two I-Scan 2-point points"
     if scale_by_working:
-        fit.details["working_fraction"] = _working_fraction(points)[used].tolist()
+        fit.details["working_fraction"] = fraction[used].tolist()
     all_options = {**options, "keep_saturated": keep_saturated,
                    "scale_by_working": scale_by_working, "n_bootstrap": n_bootstrap}
-    return make_result(points, method=method, model=fit.model, params=fit.params,
-                       params_stderr=fit.params_stderr, used=used, reasons=reasons,
-                       details=fit.details, options=all_options, sensel_area_mm2=area)
+    return result_from_arrays(hist, load, meta, method=method, model=fit.model,
+                              params=fit.params, params_stderr=fit.params_stderr, used=used,
+                              reasons=reasons, details=fit.details, options=all_options,
+                              sensel_area_mm2=area)
 
 
 def _check_options(method, options):
@@ -127,10 +159,10 @@ def _check_options(method, options):
                          f"{accepted + ['keep_saturated', 'sensel_area_mm2', 'n_bootstrap']}")
 
 
-def _working_fraction(points):
+def _working_fraction(meta):
     """Working / all sensels per point (1 where the total is unknown)."""
-    frac = [p.working_cells / p.total_cells if p.total_cells else 1.0 for p in points]
-    return np.asarray(frac, dtype=float)
+    total = meta["total_cells"].astype(float)
+    return np.where(total > 0, meta["working_cells"] / np.where(total > 0, total, 1.0), 1.0)
 
 
 def _bootstrap(method, hist, load, options, n_bootstrap, seed):
@@ -158,36 +190,44 @@ def make_result(points, *, method, model, params, params_stderr, used, reasons, 
     result has the same table, metrics and saturation pressure.
     """
     hist, load = points_to_arrays(points)
+    return result_from_arrays(hist, load, point_meta(points), method=method, model=model,
+                              params=params, params_stderr=params_stderr, used=used,
+                              reasons=reasons, details=details, options=options,
+                              sensel_area_mm2=sensel_area_mm2)
+
+
+def result_from_arrays(hist, load, meta, *, method, model, params, params_stderr, used,
+                       reasons, details=None, options=None, sensel_area_mm2=None):
+    """Assemble a :class:`CalibrationResult` from arrays (see :func:`calibrate_arrays`)."""
     table_N = force_table(model, params)
     predicted = hist @ table_N
-    area = _sensel_area(points, sensel_area_mm2)
+    area = _sensel_area(meta["sensel_area_mm2"], sensel_area_mm2)
     saturation = table_N[255] / area * 1000.0 if np.isfinite(area) else float("nan")
     used = np.asarray(used, dtype=bool)
     with np.errstate(divide="ignore", invalid="ignore"):
         error_pct = 100.0 * (predicted - load) / load
     table = pd.DataFrame({
-        "file": [p.source for p in points], "frame": [p.frame for p in points],
-        "load_N": load, "raw_sum": [p.raw_sum for p in points],
-        "loaded_cells": [p.loaded_cells for p in points],
-        "saturated_cells": [p.saturated_cells for p in points], "used": used,
-        "reason": list(reasons), "predicted_N": predicted, "error_pct": error_pct,
-        "label": [p.label for p in points], "note": [p.note for p in points],
+        "file": meta["file"], "frame": meta["frame"], "load_N": load,
+        "raw_sum": meta["raw_sum"], "loaded_cells": meta["loaded_cells"],
+        "saturated_cells": meta["saturated_cells"], "used": used,
+        "reason": np.asarray(reasons, dtype=object), "predicted_N": predicted,
+        "error_pct": error_pct, "label": meta["label"], "note": meta["note"],
     })
     return CalibrationResult(
         method=method, model=model, params=params, params_stderr=params_stderr,
         sensel_area_mm2=area, saturation_pressure_kPa=float(saturation), points=table,
-        metrics=_metrics(load[used], predicted[used], len(points)), details=details or {},
+        metrics=_metrics(load[used], predicted[used], len(load)), details=details or {},
         options=options or {},
     )
 
 
-def _sensel_area(points, area):
+def _sensel_area(areas, area):
     if area is not None:
         return float(area)
-    areas = np.array([p.sensel_area_mm2 for p in points], dtype=float)
-    areas = areas[np.isfinite(areas)]
-    if len(areas) and not np.allclose(areas, areas[0], rtol=1e-6):
-        raise ValueError(f"points have different sensel areas {sorted(set(areas))} mm2; "
+    areas = np.asarray(areas, dtype=float)
+    areas = np.unique(areas[np.isfinite(areas)])
+    if len(areas) > 1 and not np.allclose(areas, areas[0], rtol=1e-6):
+        raise ValueError(f"points have different sensel areas {areas.tolist()} mm2; "
                          "expected one sensor model per calibration")
     return float(areas[0]) if len(areas) else float("nan")
 

@@ -14,8 +14,14 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from tactilecal.calibration._calibrate import calibrate
-from tactilecal.calibration._points import _points_from_histograms, frame_histograms
+from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
+from tactilecal.calibration._methods import FITTERS
+from tactilecal.calibration._models import force_table
+from tactilecal.calibration._points import (
+    _points_from_histograms,
+    frame_histograms,
+    take_rows,
+)
 from tactilecal.calibration._sensels import find_dead_sensels
 
 __all__ = ["read_movie_loads", "movie_points", "calibrate_movie"]
@@ -69,19 +75,25 @@ def read_movie_loads(path, *, time_col=None, load_col=None):
 
 
 def _histograms(values, mask, equilibration, quiet):
-    """Chunked histograms of all frames (gains and mask applied per chunk)."""
+    """Float64 histograms of all frames (gains and mask applied chunk by chunk).
+
+    Float64 because every later use is a matrix product; counts are exact in float64.
+    """
     from tactilecal.cli._common import progress
 
-    hist = np.zeros((len(values), 256), dtype=np.int64)
-    starts = range(0, len(values), _CHUNK)
-    for s in progress(starts, total=len(starts), desc="histograms",
-                      quiet=quiet or len(values) < 20 * _CHUNK):
-        block = values[s:s + _CHUNK]
+    def prepare(block):
         if equilibration is not None:
             block = equilibration.apply(block)
         if mask is not None:
             block = np.where(mask[None], np.nan, block)
-        hist[s:s + _CHUNK] = frame_histograms(block)
+        return block
+
+    hist = np.empty((len(values), 256))
+    transform = None if mask is None and equilibration is None else prepare
+    starts = range(0, len(values), _CHUNK)
+    for s in progress(starts, total=len(starts), desc="histograms",
+                      quiet=quiet or len(values) < 20 * _CHUNK):
+        frame_histograms(values[s:s + _CHUNK], out=hist[s:s + _CHUNK], prepare=transform)
     return hist
 
 
@@ -157,38 +169,89 @@ def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
                               min_load_fraction=min_load_fraction)
 
 
-def _points_from_movie(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction,
-                       signal_N=None):
-    """Align the loads on ``hist @ signal_N`` (default: the raw sum) and make the points."""
+def _movie_loads(recording, hist, loads, *, lag_s, max_lag_s, signal_N=None):
+    """Return each frame's load (NaN outside the record), aligned on ``hist @ signal_N``."""
     name = str(recording.attrs.get("source", "recording"))
     n = len(hist)
     signal = hist @ (np.arange(256.0) if signal_N is None else signal_N)
     load, report = _align_loads(loads, signal, _frame_times(recording, n), n, name, lag_s,
                                 max_lag_s)
     report["aligned_on"] = "raw sum" if signal_N is None else "calibrated force"
+    return load, report
+
+
+def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction,
+                  signal_N=None):
+    """Align the loads on ``hist @ signal_N`` (default: the raw sum) and keep the frames.
+
+    Returns ``(hist, load, meta, report)`` of the frames kept as points.
+    """
+    name = str(recording.attrs.get("source", "recording"))
+    n = len(hist)
+    load, report = _movie_loads(recording, hist, loads, lag_s=lag_s, max_lag_s=max_lag_s,
+                                signal_N=signal_N)
     outside = ~np.isfinite(load)
     low = ~outside & (load < min_load_fraction * np.nanmax(load))
     keep = ~outside & ~low
     frames = (recording["frame"].values if "frame" in recording.coords
               else np.arange(1, n + 1))
-    area = float(recording.attrs.get("sensel_area_mm2", np.nan))
-    points = _points_from_histograms(
-        hist[keep], load[keep], source=Path(name).name, labels=[""] * int(keep.sum()),
-        frames=frames[keep], sensel_area_mm2=area,
-        total_cells=int(np.isfinite(np.asarray(recording.values[0], dtype=float)).sum()))
+    kept = take_rows(hist, keep)
+    m = len(kept)
+    meta = {"file": np.full(m, Path(name).name, dtype=object), "frame": frames[keep],
+            "raw_sum": kept @ np.arange(256.0),
+            "loaded_cells": kept[:, 1:].sum(axis=1).astype(np.int64),
+            "saturated_cells": kept[:, 255].astype(np.int64),
+            "label": np.full(m, "", dtype=object),
+            "note": np.full(m, "", dtype=object),
+            "sensel_area_mm2": np.full(m, float(recording.attrs.get("sensel_area_mm2",
+                                                                     np.nan))),
+            "working_cells": kept.sum(axis=1).astype(np.int64),
+            "total_cells": np.full(m, int(np.isfinite(np.asarray(recording.values[0],
+                                                                 dtype=float)).sum()))}
     report.update({
-        "n_frames": n, "n_points": int(keep.sum()), "n_outside_load_record": int(outside.sum()),
+        "n_frames": n, "n_points": m, "n_outside_load_record": int(outside.sum()),
         "n_below_load_floor": int(low.sum()), "min_load_fraction": min_load_fraction,
-        "n_saturated_frames": int((hist[keep, 255] > 0).sum()),
+        "n_saturated_frames": int((kept[:, 255] > 0).sum()),
     })
     lag_txt = "none" if report["lag_s"] is None else f"{report['lag_s']:.6g} s"
     report["report"] = (
         f"movie {name}: {n} frames, lag {lag_txt} ({report['aligned']}, on the "
         f"{report['aligned_on']}); {report['n_outside_load_record']} frames outside the load "
         f"record and {report['n_below_load_floor']} below {min_load_fraction:.0%} of the "
-        f"largest load left out; {report['n_points']} points, of which "
+        f"largest load left out; {m} points, of which "
         f"{report['n_saturated_frames']} have saturated sensels")
+    return kept, load[keep], meta, report  # kept: a view of hist when contiguous
+
+
+def _points_from_movie(recording, hist, loads, **kwargs):
+    """Like :func:`_movie_arrays` but returning CalibrationPoint objects."""
+    kept, load, meta, report = _movie_arrays(recording, hist, loads, **kwargs)
+    some = len(load) > 0
+    points = _points_from_histograms(
+        kept.astype(np.int64), load, source=meta["file"][0] if some else "",
+        labels=meta["label"], frames=meta["frame"],
+        sensel_area_mm2=meta["sensel_area_mm2"][0] if some else np.nan,
+        total_cells=meta["total_cells"][0] if some else 0)
     return points, report
+
+
+def _first_pass_table(hist, load, method, options, min_load_fraction, max_points=5000):
+    """Fit on arrays to get a force table for the second alignment.
+
+    It only has to make the alignment signal proportional to the load, so it uses at most
+    ``max_points`` frames evenly spread over the movie.
+    """
+    step = max(1, len(load) // max_points)
+    hist, load = hist[::step], load[::step]
+    keep = np.isfinite(load)
+    keep[keep] = load[keep] >= min_load_fraction * load[keep].max()
+    keep &= hist[:, 1:].any(axis=1)
+    if not options.get("keep_saturated", False):
+        keep &= hist[:, 255] == 0
+    generic = {"keep_saturated", "scale_by_working", "n_bootstrap", "seed", "sensel_area_mm2"}
+    fit = FITTERS[method](hist[keep], load[keep],
+                          **{k: v for k, v in options.items() if k not in generic})
+    return force_table(fit.model, fit.params), fit
 
 
 def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col=None,
@@ -231,17 +294,26 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     dead = find_dead_sensels(recording.values) if mask_dead else None
     hist = _histograms(recording.values, None if dead is None else dead.mask, equilibration,
                        quiet)
-    kwargs = {"max_lag_s": max_lag_s, "min_load_fraction": min_load_fraction}
-    points, report = _points_from_movie(recording, hist, loads, lag_s=lag_s, **kwargs)
-    result = calibrate(points, method=method, **options)
-    if lag_s is None and isinstance(loads, xr.DataArray):
-        # The raw sum is not proportional to the load (b != 1): align again on the force
-        # the first calibration gives, then refit (Gillis 2013 aligns force on force).
-        first_lag = report["lag_s"]
-        points, report = _points_from_movie(recording, hist, loads, lag_s=None,
-                                            signal_N=result.force_table(), **kwargs)
-        report["lag_s_raw_sum"] = first_lag
+    signal_N, first = None, None
+    if lag_s is None and isinstance(loads, xr.DataArray) and method in FITTERS:
+        # The raw sum is not proportional to the load (b != 1): align on it, fit, then
+        # align again on the force that fit gives (Gillis 2013 aligns force on force).
+        load, first_report = _movie_loads(recording, hist, loads, lag_s=None,
+                                          max_lag_s=max_lag_s)
+        signal_N, first = _first_pass_table(hist, load, method, options, min_load_fraction)
+    kwargs = {"lag_s": lag_s, "max_lag_s": max_lag_s, "min_load_fraction": min_load_fraction,
+              "signal_N": signal_N}
+    if method in FITTERS:
+        kept, load, meta, report = _movie_arrays(recording, hist, loads, **kwargs)
+        result = calibrate_arrays(kept, load, meta, method=method, **options)
+    else:  # e.g. zvyagin, which takes point objects
+        points, report = _points_from_movie(recording, hist, loads, **kwargs)
         result = calibrate(points, method=method, **options)
+    if first is not None:
+        report["lag_s_raw_sum"] = first_report["lag_s"]
+        report["first_pass_params"] = first.params
+        if "n_evaluations" in result.details:
+            result.details["n_evaluations"] += first.details.get("n_evaluations", 0)
     result.details["movie"] = report
     if dead is not None:
         result.details["non_working_sensels"] = dead.to_dict()

@@ -15,6 +15,7 @@ __all__ = [
     "frame_histograms",
     "points_from_frames",
     "points_to_arrays",
+    "take_rows",
 ]
 
 N_LEVELS = 256
@@ -72,7 +73,7 @@ class CalibrationPoint:
         return self.raw_sum / self.loaded_cells if self.loaded_cells else float("nan")
 
 
-def frame_histograms(raw, *, chunk_frames=2048):
+def frame_histograms(raw, *, chunk_frames=64, out=None, prepare=None):
     """Count raw values 0..255 per frame, ignoring NaN sensels.
 
     Parameters
@@ -80,12 +81,17 @@ def frame_histograms(raw, *, chunk_frames=2048):
     raw : array_like, shape (n_frames, rows, cols)
         Raw readings (floats are rounded to the nearest integer; NaN are skipped).
     chunk_frames : int
-        Frames processed at once (bounds the memory of the index array).
+        Frames counted per ``bincount`` call; small chunks keep the work buffers in cache.
+    out : numpy.ndarray, optional
+        (n_frames, 256) array to fill (e.g. float64 for fitting); default a new int64 array.
+    prepare : callable, optional
+        Applied to each chunk of frames (m, rows, cols) before counting (equilibration
+        gains, non-working-sensel mask), so a long movie is never copied whole.
 
     Returns
     -------
     numpy.ndarray
-        int64 array (n_frames, 256).
+        ``out``, by default int64 (n_frames, 256).
 
     Raises
     ------
@@ -104,29 +110,39 @@ def frame_histograms(raw, *, chunk_frames=2048):
         raise ValueError(f"raw frames have {raw.ndim} dimensions; expected 3 (frame, row, col)")
     n = raw.shape[0]
     flat = raw.reshape(n, -1)
-    out = np.zeros((n, N_LEVELS), dtype=np.int64)
+    out = np.empty((n, N_LEVELS), dtype=np.int64) if out is None else out
+    # bin 256 of each frame collects the NaN sensels and is dropped
+    offsets = (np.arange(chunk_frames, dtype=np.intp) * (N_LEVELS + 1))[:, None]
+    work = np.empty((chunk_frames, flat.shape[1]))
+    index = np.empty((chunk_frames, flat.shape[1]), dtype=np.intp)
     for start in range(0, n, chunk_frames):
         block = flat[start:start + chunk_frames]
-        out[start:start + len(block)] = _histogram_block(block)
+        m = len(block)
+        if prepare is not None:
+            block = np.asarray(prepare(block.reshape(m, *raw.shape[1:])),
+                               dtype=float).reshape(m, -1)
+        values = _rounded(block, work[:m])
+        np.add(values, offsets[:m], out=index[:m], casting="unsafe")
+        counts = np.bincount(index[:m].ravel(), minlength=m * (N_LEVELS + 1))
+        out[start:start + m] = counts.reshape(m, N_LEVELS + 1)[:, :N_LEVELS]
     return out
 
 
-def _histogram_block(block):
-    """Histogram each row of a 2-D block of raw values with one ``bincount``."""
-    n = block.shape[0]
-    if block.dtype.kind == "f":
-        valid = np.isfinite(block)
-        values = np.rint(np.where(valid, block, 0)).astype(np.int64)
+def _rounded(block, work):
+    """Round a block into ``work`` with NaN -> 256, after checking the range 0..255."""
+    if block.dtype.kind in "ui":
+        values, lo, hi = block, block.min(), block.max()
     else:
-        valid = None
-        values = block.astype(np.int64)
-    if values.size and (values.min() < 0 or values.max() > SATURATION_RAW):
-        bad = values[(values < 0) | (values > SATURATION_RAW)][0]
-        raise ValueError(f"raw frames contain the value {bad}; expected raw readings 0..255")
-    index = values + (np.arange(n, dtype=np.int64) * N_LEVELS)[:, None]
-    if valid is not None:
-        index = index[valid]
-    return np.bincount(index.ravel(), minlength=n * N_LEVELS).reshape(n, N_LEVELS)
+        values = np.rint(block, out=work)
+        lo, hi = np.fmin.reduce(values, axis=None), np.fmax.reduce(values, axis=None)
+    if lo < 0 or hi > SATURATION_RAW:
+        bad = values[(values < 0) | (values > SATURATION_RAW)].flat[0]
+        raise ValueError(f"raw frames contain the value {bad:g}; expected raw readings 0..255")
+    if values is work:
+        nan = np.isnan(work)
+        if nan.any():
+            work[nan] = N_LEVELS
+    return values
 
 
 def points_from_frames(raw, load_N, *, source="", labels=None, frames=None, mask=None,
@@ -219,6 +235,24 @@ def _points_from_histograms(hist, load_N, *, source, labels, frames, sensel_area
                          total_cells=int(total_cells), note=notes[i])
         for i in range(len(hist))
     ]
+
+
+def take_rows(array, mask):
+    """Return ``array[mask]``, as a view (no copy) when the selected rows are contiguous.
+
+    Movie calibration selects most of 100,000 histogram rows; copying them costs more than
+    the fit.
+
+    Examples
+    --------
+    >>> a = np.arange(10).reshape(5, 2)
+    >>> np.shares_memory(take_rows(a, np.array([0, 1, 1, 1, 0], bool)), a)
+    True
+    """
+    idx = np.flatnonzero(mask)
+    if len(idx) and idx[-1] - idx[0] + 1 == len(idx):
+        return array[idx[0]:idx[-1] + 1]
+    return array[mask]
 
 
 def points_to_arrays(points):
