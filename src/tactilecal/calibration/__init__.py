@@ -14,6 +14,7 @@ from tactilecal.calibration._calibrate import (
     select_points,
     validate,
 )
+from tactilecal.calibration._header import header_calibration
 from tactilecal.calibration._manifest import find_plateau, load_frames, load_points
 from tactilecal.calibration._methods import OBJECTIVES
 from tactilecal.calibration._models import MODELS, force_table, sensel_force
@@ -40,7 +41,8 @@ from tactilecal.calibration._sensels import (
 
 __all__ = [
     "Equilibration", "NonWorkingSensels", "equilibrate", "find_dead_sensels", "load_frames",
-    "load_equilibration", "calibrate_movie", "movie_points", "read_movie_loads",
+    "load_equilibration", "header_calibration", "calibrate_movie", "movie_points",
+    "read_movie_loads",
     "METHODS", "MODELS", "OBJECTIVES", "CalibrationPoint", "CalibrationResult", "calibrate",
     "find_plateau", "force_table", "frame_histograms", "load_calibration", "load_points",
     "make_result",

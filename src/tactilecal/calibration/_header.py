@@ -1,0 +1,82 @@
+"""The calibration a Tekscan export carries in its header, as a CalibrationResult."""
+
+import numpy as np
+
+from tactilecal.calibration._calibrate import result_from_arrays
+
+__all__ = ["header_calibration"]
+
+
+def header_calibration(recording):
+    """Rebuild the calibration stored in a Tekscan file's header.
+
+    ``SCALE_FACTOR`` and ``EXPONENT`` (I-Scan 2-point power law, pressure = scale x
+    raw**exponent) give a power model directly; otherwise ``CALIBRATION_POINT_1`` (load,
+    raw sum, loaded cells) gives I-Scan's 1-point linear calibration through zero,
+    pressure = load / (raw sum x sensel area) per count (Gillis 2013, sec. 3.5).
+
+    Parameters
+    ----------
+    recording : xarray.DataArray or dict
+        A recording from :func:`tactilecal.io.read_tekscan`, or its ``attrs``.
+
+    Returns
+    -------
+    CalibrationResult
+        Method ``"header-power-2pt"`` or ``"header-linear"``, model ``"power"``; one point
+        (the header's calibration point) when there is one.
+
+    Raises
+    ------
+    ValueError
+        If the header has neither, or no sensel area.
+
+    Examples
+    --------
+    >>> attrs = {"sensel_area_mm2": 25.8064, "calibration_point_1_load_N": 735.4997,
+    ...          "calibration_point_1_raw_sum": 4798.0, "calibration_point_1_loaded_cells": 240}
+    >>> cal = header_calibration(attrs)
+    >>> round(cal.params["A"] / cal.sensel_area_mm2 * 1000, 2)  # kPa per count
+    5.94
+    """
+    attrs = dict(getattr(recording, "attrs", recording))
+    name = attrs.get("source", "recording")
+    area = attrs.get("sensel_area_mm2")
+    if area is None:
+        raise ValueError(f"{name}: no sensel_area_mm2 in the header; expected SENSEL_AREA")
+    area = float(area)
+    if "scale_factor" in attrs and "exponent" in attrs:
+        unit = attrs.get("units", "kPa")
+        from tactilecal.io import pressure_to_kPa
+
+        scale_kPa = float(pressure_to_kPa(float(attrs["scale_factor"]), unit))
+        params = {"A": scale_kPa * area / 1000.0, "b": float(attrs["exponent"])}
+        return _result(params, "header-power-2pt", area, np.zeros((0, 256)), np.zeros(0), [])
+    if "calibration_point_1_load_N" not in attrs:
+        raise ValueError(f"{name}: the header has no CALIBRATION_POINT_1 and no SCALE_FACTOR/"
+                         "EXPONENT; expected a Tekscan calibration in the header")
+    load = float(attrs["calibration_point_1_load_N"])
+    raw_sum = float(attrs["calibration_point_1_raw_sum"])
+    cells = int(attrs.get("calibration_point_1_loaded_cells", 0))
+    hist = np.zeros((1, 256))
+    if cells:  # the header keeps only sums: spread the raw sum evenly over the cells
+        lo = int(raw_sum // cells)
+        hist[0, lo], hist[0, lo + 1] = cells - (raw_sum - lo * cells), raw_sum - lo * cells
+    return _result({"A": load / raw_sum, "b": 1.0}, "header-linear", area, hist,
+                   np.array([load]), [raw_sum, cells])
+
+
+def _result(params, method, area, hist, load, point):
+    meta = {"file": np.array(["header"] * len(load), dtype=object),
+            "frame": np.zeros(len(load), int), "raw_sum": np.array(point[:1] * len(load)),
+            "loaded_cells": np.array(point[1:] * len(load), dtype=int),
+            "saturated_cells": np.zeros(len(load), int),
+            "label": np.array(["CALIBRATION_POINT_1"] * len(load), dtype=object),
+            "note": np.array([""] * len(load), dtype=object),
+            "sensel_area_mm2": np.full(len(load), area),
+            "working_cells": np.zeros(len(load), int), "total_cells": np.zeros(len(load), int)}
+    return result_from_arrays(hist, load, meta, method=method, model="power", params=params,
+                              params_stderr={"A": None, "b": None},
+                              used=np.ones(len(load), bool), reasons=[""] * len(load),
+                              details={"source": "Tekscan file header"},
+                              sensel_area_mm2=area)
