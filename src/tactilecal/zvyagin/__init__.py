@@ -22,6 +22,7 @@ from tactilecal.zvyagin._approx import (
     separation_domain,
 )
 from tactilecal.zvyagin._calibrate import MODES, SENSEL_AREA_5051_MM2, load_groups, zvyagin_fit
+from tactilecal.zvyagin._compare import compare_table, format_compare_table, plot_compare
 from tactilecal.zvyagin._fit import (
     energy,
     fit_power_law,
@@ -30,10 +31,31 @@ from tactilecal.zvyagin._fit import (
     saturation_pressure_MPa,
 )
 from tactilecal.zvyagin._pairs import polynomial_roots, quartic_coefficients, solve_pairs
+from tactilecal.zvyagin._plots import (
+    as_zvyagin_result,
+    plot_ab_scatter,
+    plot_calibration_curves,
+    plot_d_map,
+    plot_energy,
+    plot_error_histogram,
+    plot_pair_chart,
+    save_figures,
+)
 from tactilecal.zvyagin._points_api import OPTIONS, calibrate_zvyagin
 from tactilecal.zvyagin._result import PAIR_CATEGORIES, ZvyaginResult
 
 __all__ = [
+    "plot_compare",
+    "format_compare_table",
+    "compare_table",
+    "save_figures",
+    "plot_pair_chart",
+    "plot_error_histogram",
+    "plot_energy",
+    "plot_d_map",
+    "plot_calibration_curves",
+    "plot_ab_scatter",
+    "as_zvyagin_result",
     "CLASS_VALUES",
     "MODES",
     "OPTIONS",

@@ -126,8 +126,12 @@ class ZvyaginResult:
         return np.nonzero(np.isin(self.pairs["category"], keep))[0]
 
     def terminal_points(self):
-        """Return the (A, b) pairs with the smallest and largest b (T1 and T2 of Figure 9)."""
-        idx = self.valid_pairs()
+        """Return the (A, b) pairs with the smallest and largest b (T1 and T2 of Figure 9).
+
+        Taken among the pairs the power law was fitted to (in robust mode the trimmed
+        pairs, category "O", are left out: their b can reach 10 with A near 1e-23).
+        """
+        idx = self.valid_pairs(inliers_only=True)
         b = self.pairs["b"][idx]
         lo, hi = idx[np.argmin(b)], idx[np.argmax(b)]
         return {name: {"b": float(self.pairs["b"][k]), "A": float(self.pairs["A"][k]),

@@ -1,0 +1,49 @@
+"""``tactilecal compare CAL.json...``: a Zvyagin-Table-2-like table and curves on one plot."""
+
+from pathlib import Path
+
+from tactilecal.cli._common import info, print_json
+
+
+def register(subparsers):
+    """Add the ``compare`` command."""
+    p = subparsers.add_parser(
+        "compare", help="compare calibrations: Table-2-like table and curves on one plot",
+        description="One row per CAL.json: points used, I* and d(I*) (Zvyagin calibrations), "
+                    "A0, b0 (power model) and the saturation pressure p_s, like Zvyagin "
+                    "(2022) Table 2, to see a sensor's drift across sessions or a used "
+                    "sensor against a new one. --out DIR also draws every curve on one plot.")
+    p.add_argument("calibrations", metavar="CAL.json", nargs="+")
+    p.add_argument("--json", action="store_true", help="print the table as JSON")
+    p.add_argument("--out", metavar="DIR", help="write compare_curves.png into DIR")
+    p.set_defaults(func=run)
+
+
+def run(args):
+    """Run ``tactilecal compare``."""
+    from tactilecal._atomic import atomic_path
+    from tactilecal.calibration import load_calibration
+    from tactilecal.zvyagin._compare import (
+        compare_table,
+        default_names,
+        format_compare_table,
+        plot_compare,
+    )
+
+    cals = [load_calibration(p) for p in args.calibrations]
+    names = default_names(args.calibrations)
+    rows = compare_table(cals, names)
+    figure = None
+    if args.out:
+        outdir = Path(args.out)
+        outdir.mkdir(parents=True, exist_ok=True)
+        figure = outdir / "compare_curves.png"
+        ax = plot_compare(cals, names)
+        with atomic_path(figure) as tmp:
+            ax.figure.savefig(tmp, dpi=120)
+        info(args, f"curves written to {figure}")
+    if args.json:
+        print_json({"rows": rows, "figure": None if figure is None else str(figure)})
+    else:
+        print(format_compare_table(rows))
+    return 0

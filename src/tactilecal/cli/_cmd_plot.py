@@ -1,0 +1,73 @@
+"""``tactilecal plot CAL.json --out DIR``: the figures of a calibration as PNG files."""
+
+from pathlib import Path
+
+from tactilecal.cli._common import info, print_json
+
+GENERIC = ("calibration_curve", "calibration_points", "calibration_errors")
+
+
+def register(subparsers):
+    """Add the ``plot`` command."""
+    p = subparsers.add_parser(
+        "plot", help="draw the figures of a calibration JSON as PNG files",
+        description="Write the figures of CAL.json into DIR. A Zvyagin calibration gives "
+                    "Zvyagin (2022) Figures 7-11 (d map at I1*, pair chart, (A, b) scatter "
+                    "with the power law and T1/T2, calibration and terminal curves, error "
+                    "histogram) and E(b0); any other method the calibration curve, predicted "
+                    "vs applied loads and the error histogram.")
+    p.add_argument("calibration", metavar="CAL.json")
+    p.add_argument("--out", metavar="DIR", required=True, help="folder for the PNG files "
+                   "(created if missing)")
+    p.add_argument("--dpi", type=int, default=120, help="resolution (default 120)")
+    p.add_argument("--json", action="store_true", help="print the written paths as JSON")
+    p.set_defaults(func=run)
+
+
+def _generic_figures(result, outdir, dpi):
+    from matplotlib.figure import Figure
+
+    from tactilecal._atomic import atomic_path
+    from tactilecal.calibration import (
+        plot_calibration_curve,
+        plot_error_histogram,
+        plot_points,
+    )
+
+    paths = []
+    for name, func in zip(GENERIC, (plot_calibration_curve, plot_points, plot_error_histogram),
+                          strict=True):
+        fig = Figure(figsize=(5.5, 4.2), layout="constrained")
+        func(result, ax=fig.add_subplot())
+        path = outdir / f"{name}.png"
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=dpi)
+        paths.append(path)
+    return paths
+
+
+def run(args):
+    """Run ``tactilecal plot``."""
+    from tactilecal.calibration import load_calibration
+
+    if args.dpi <= 0:
+        raise ValueError(f"--dpi {args.dpi}; expected a positive resolution")
+    result = load_calibration(args.calibration)
+    outdir = Path(args.out)
+    if outdir.exists() and not outdir.is_dir():
+        raise ValueError(f"--out {outdir} is a file; expected a folder")
+    outdir.mkdir(parents=True, exist_ok=True)
+    if result.method == "zvyagin":
+        from tactilecal.zvyagin import save_figures
+
+        paths = save_figures(result, outdir, dpi=args.dpi)
+    else:
+        paths = _generic_figures(result, outdir, args.dpi)
+    if args.json:
+        print_json({"calibration": str(args.calibration), "method": result.method,
+                    "figures": [str(p) for p in paths]})
+    else:
+        for p in paths:
+            print(p)
+    info(args, f"{len(paths)} figures of {result.method!r} written to {outdir}")
+    return 0

@@ -1,0 +1,101 @@
+"""Compare calibrations like Zvyagin (2022) Table 2 and Figure 10."""
+
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["compare_table", "format_compare_table", "plot_compare"]
+
+COLUMNS = ("name", "method", "points", "I1", "I2", "I3", "I4", "d", "A0", "b0", "p_s_MPa")
+
+
+def _row(name, cal):
+    used = int(np.sum(cal.points["used"])) if len(cal.points) else 0
+    row = dict.fromkeys(COLUMNS)
+    row.update(name=name, method=cal.method, points=used)
+    if cal.model == "power":
+        row.update(A0=float(cal.params["A"]), b0=float(cal.params["b"]))
+    sat = cal.saturation_pressure_kPa
+    row["p_s_MPa"] = float(sat) / 1000.0 if np.isfinite(sat) else None
+    if cal.method == "zvyagin":
+        sep = cal.details["separation"]
+        row.update(I1=sep[0], I2=sep[1], I3=sep[2], I4=sep[3], d=cal.details["d_min"])
+    return row
+
+
+def compare_table(calibrations, names=None):
+    """One Table-2-like row per calibration: points, I*, d(I*), A0, b0, p_s.
+
+    Parameters
+    ----------
+    calibrations : sequence of CalibrationResult
+        Any methods; I* and d only exist for Zvyagin calibrations, A0 and b0 for the power
+        model (None elsewhere).
+    names : sequence of str, optional
+        Row names (default ``"cal <k>"``).
+
+    Returns
+    -------
+    list of dict
+        Keys :data:`COLUMNS`.
+    """
+    calibrations = list(calibrations)
+    if not calibrations:
+        raise ValueError("no calibration to compare; expected at least one CAL.json")
+    names = [f"cal {k}" for k in range(len(calibrations))] if names is None else list(names)
+    if len(names) != len(calibrations):
+        raise ValueError(f"{len(names)} names for {len(calibrations)} calibrations; expected "
+                         "one name each")
+    return [_row(n, c) for n, c in zip(names, calibrations, strict=True)]
+
+
+def _fmt(value, spec):
+    width = int("".join(ch for ch in spec.split(".")[0] if ch.isdigit()))
+    return "-".rjust(width) if value is None else format(value, spec)
+
+
+def format_compare_table(rows):
+    """Format :func:`compare_table` rows as a fixed-width text table."""
+    width = max(12, *(len(r["name"]) for r in rows))
+    head = (f"{'calibration':<{width}} {'method':<10} {'|T|':>4} {'I1':>3} {'I2':>3} "
+            f"{'I3':>3} {'I4':>4} {'d':>6} {'A0':>9} {'b0':>7} {'p_s MPa':>8}")
+    lines = [head]
+    for r in rows:
+        lines.append(f"{r['name']:<{width}} {r['method']:<10} {r['points']:>4} "
+                     f"{_fmt(r['I1'], '>3')} {_fmt(r['I2'], '>3')} {_fmt(r['I3'], '>3')} "
+                     f"{_fmt(r['I4'], '>4')} {_fmt(r['d'], '>6.2f')} {_fmt(r['A0'], '>9.5f')} "
+                     f"{_fmt(r['b0'], '>7.4f')} {_fmt(r['p_s_MPa'], '>8.3f')}")
+    return "\n".join(lines)
+
+
+def plot_compare(calibrations, names, ax=None):
+    """Figure 10 across calibrations: every calibration's curve on one plot.
+
+    Pressure in kPa when every calibration knows its sensel area, else force per sensel.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    if ax is None:
+        from matplotlib.figure import Figure
+
+        ax = Figure(figsize=(6, 4.5), layout="constrained").add_subplot()
+    areas = np.array([c.sensel_area_mm2 for c in calibrations], dtype=float)
+    pressure = bool(np.all(np.isfinite(areas) & (areas > 0)))
+    raw = np.arange(256)
+    for cal, name, area in zip(calibrations, names, areas, strict=True):
+        y = cal.force_table() * (1000.0 / area if pressure else 1.0)
+        ax.plot(raw, y, label=f"{name} ({cal.method})")
+    ax.set_xlim(0, 255)
+    ax.set_xlabel("raw reading")
+    ax.set_ylabel("pressure (kPa)" if pressure else "force per sensel (N)")
+    ax.legend(fontsize=8)
+    return ax
+
+
+def default_names(paths):
+    """Row names from file names, made unique with their folder when stems repeat."""
+    paths = [Path(p) for p in paths]
+    stems = [p.stem for p in paths]
+    return [f"{p.parent.name}/{p.stem}" if stems.count(p.stem) > 1 else p.stem for p in paths]
