@@ -93,7 +93,7 @@ def read_tekscan(path):
     cols = integer(header, "COLS", name, minimum=1)
     attrs = header_attrs(header, name)
     first_line = raw.count(b"\n", 0, marker.end()) + 1
-    frames, values = _read_body(raw[marker.end():], first_line, rows, cols, header, name)
+    frames, values = _read_body(raw, marker.end(), first_line, rows, cols, header, name)
     numbers, times, raw_sums, lines = frames
     data = values.reshape(len(numbers), rows, cols)
     if attrs.get("units") == "raw":
@@ -128,7 +128,9 @@ def _line_table(body):
     return buf, starts, ends
 
 
-def _read_body(body, first_line, rows, cols, header, name):
+def _read_body(raw, offset, first_line, rows, cols, header, name):
+    """Frames and values from the bytes after ``ASCII_DATA @@`` (line ``first_line``)."""
+    body = memoryview(raw)[offset:]  # no copy of the (possibly large) data block
     buf, starts, ends = _line_table(body)
     empty = ends == starts
     first = np.where(empty, 0, buf[np.minimum(starts, max(buf.size - 1, 0))] if buf.size else 0)
@@ -137,7 +139,7 @@ def _read_body(body, first_line, rows, cols, header, name):
         raise ValueError(f"{name} ends at line {first_line + len(starts) - 1} without the "
                          "'@@' terminator; expected '@@' after the last frame (truncated file?)")
     stop = terminators[0]
-    if body[starts[stop]:ends[stop]].strip() != b"@@":
+    if bytes(body[starts[stop]:ends[stop]]).strip() != b"@@":
         raise ValueError(f"line {first_line + stop} of {name}: "
                          f"{_text(body, starts, ends, stop)!r}; expected '@@' (end of data)")
     _check_after_terminator(body, starts, ends, stop, first_line, name)
@@ -158,11 +160,11 @@ def _read_body(body, first_line, rows, cols, header, name):
     # row, a non-numeric value or an empty value make pandas raise. Only then do the exact
     # per-line checks run, to say which line is wrong.
     # ", "-separated rows (not Tekscan's own layout) cost the C parser 40 %: only when seen
-    spaced = bool(data_idx.size) and b", " in body[starts[data_idx[0]]:ends[data_idx[0]]]
+    spaced = bool(data_idx.size) and b", " in bytes(body[starts[data_idx[0]]:ends[data_idx[0]]])
     expected_nan = (np.count_nonzero(buf[:end] == ord("B"))
-                    - sum(body[starts[i]:ends[i]].count(b"B") for i in frame_idx))
+                    - sum(bytes(body[starts[i]:ends[i]]).count(b"B") for i in frame_idx))
     try:
-        values = _parse_values(body, data_idx.size, cols, spaced)
+        values = _parse_values(raw, first_line, data_idx.size, cols, spaced)
     except ValueError as exc:
         failure = exc
     else:
@@ -172,19 +174,19 @@ def _read_body(body, first_line, rows, cols, header, name):
         failure = ValueError(f"{name}: {found_nan} values read as NaN or infinite; "
                              f"expected {expected_nan} NaN, one per 'B'")
     _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows, cols, name)
-    _check_stray_comment(body[:end], starts, ends, data_idx, first_line, name)
+    _check_stray_comment(body, buf[:end], starts, ends, data_idx, first_line, name)
     _raise_bad_value(body, starts, ends, data_idx, first_line, name, spaced)
     raise failure
 
 
 def _text(body, starts, ends, i):
-    return body[starts[i]:ends[i]].decode("utf-8", errors="replace")[:60]
+    return bytes(body[starts[i]:ends[i]]).decode("utf-8", errors="replace")[:60]
 
 
 def _check_after_terminator(body, starts, ends, stop, first_line, name):
     rest = np.flatnonzero(ends[stop + 1:] > starts[stop + 1:])
     for i in rest + stop + 1:
-        if body[starts[i]:ends[i]].strip():
+        if bytes(body[starts[i]:ends[i]]).strip():
             raise ValueError(f"line {first_line + i} of {name}: "
                              f"{_text(body, starts, ends, i)!r} after the '@@' terminator on "
                              f"line {first_line + stop}; expected the end of the file "
@@ -207,7 +209,7 @@ def _frame_lines(body, starts, ends, frame_idx, data_idx, stop, first_line, rows
     counts = np.diff(bounds)
     numbers, times, sums = [], np.full(frame_idx.size, np.nan), np.full(frame_idx.size, np.nan)
     for k, i in enumerate(frame_idx):
-        text = body[starts[i]:ends[i]].decode("utf-8", errors="replace")
+        text = bytes(body[starts[i]:ends[i]]).decode("utf-8", errors="replace")
         match = _FRAME.match(text)
         if match is None:
             raise ValueError(f"line {first_line + i} of {name}: {text[:60]!r}; expected "
@@ -255,27 +257,29 @@ def _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows,
         raise ValueError(f"{where} has {n_values[k]} values; expected {cols} (COLS)")
 
 
-def _check_stray_comment(block, starts, ends, data_idx, first_line, name):
+def _check_stray_comment(body, block, starts, ends, data_idx, first_line, name):
     """Frame lines are skipped as comments ("F"): an "F" inside a data row must not be."""
-    positions = np.flatnonzero(np.frombuffer(block, np.uint8) == ord("F"))
+    positions = np.flatnonzero(block == ord("F"))
     line_of_f = np.searchsorted(starts, positions, side="right") - 1
     stray = line_of_f[np.isin(line_of_f, data_idx)]
-    _raise_bad_value(block, starts, ends, stray[:1], first_line, name, False)
+    _raise_bad_value(body, starts, ends, stray[:1], first_line, name, False)
 
 
-def _parse_values(body, n_rows, cols, spaced):
-    """Parse the first ``n_rows`` data rows into a float64 ``(n_rows, cols)`` array (C parser).
+def _parse_values(raw, skip_lines, n_rows, cols, spaced):
+    """Parse the ``n_rows`` data rows after the first ``skip_lines`` lines (C parser).
 
-    Frame lines start with "F", which no number or "B" contains, so they are read as
-    comment lines; the "@@" terminator comes after ``n_rows`` rows and is not read. A first
-    row longer than ``cols`` makes pandas warn and drop values: that warning is an error.
+    Returns a float64 ``(n_rows, cols)`` array. Frame lines start with "F", which no number
+    or "B" contains, so they are read as comment lines; the "@@" terminator comes after
+    ``n_rows`` rows and is not read. A first row longer than ``cols`` makes pandas warn and
+    drop values: that warning is an error.
     """
     if n_rows == 0:
         return np.empty((0, cols))
     with warnings.catch_warnings():
         warnings.simplefilter("error", pd.errors.ParserWarning)
         table = pd.read_csv(
-            io.BytesIO(body), header=None, names=range(cols), comment="F", nrows=n_rows,
+            io.BytesIO(raw), skiprows=skip_lines, header=None, names=range(cols),
+            comment="F", nrows=n_rows,
             na_values=["B"], keep_default_na=False, dtype=np.float64, engine="c",
             quoting=csv.QUOTE_NONE, skip_blank_lines=True, index_col=False,
             skipinitialspace=spaced)
@@ -288,7 +292,7 @@ def _parse_values(body, n_rows, cols, spaced):
 def _raise_bad_value(body, starts, ends, data_idx, first_line, name, spaced):
     """Find the first non-numeric value (slow path, only on error) and raise."""
     for i in data_idx:
-        for col, token in enumerate(body[starts[i]:ends[i]].split(b",")):
+        for col, token in enumerate(bytes(body[starts[i]:ends[i]]).split(b",")):
             token = token.lstrip() if spaced else token
             if token == b"B":
                 continue
