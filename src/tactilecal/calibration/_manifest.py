@@ -137,12 +137,16 @@ def _pick_frame(rec, text, where, name):
     return i, note
 
 
-def _manifest_frames(manifest_path, equilibration):
+def _manifest_frames(manifest_path, equilibration, quiet=True):
     """Yield (row, frame (1, rows, cols), frame number, note, area, load_N) per manifest row."""
+    from tactilecal.cli._common import progress
+
     path = Path(manifest_path)
     table = _manifest_table(path)
     cache = {}
-    for k, row in enumerate(table.to_dict(orient="records")):
+    rows = table.to_dict(orient="records")
+    for k, row in enumerate(progress(rows, total=len(rows), desc=f"reading {path.name}",
+                                     quiet=quiet or len(rows) < 50)):
         where = f"{path.name} line {k + 2}"
         load = _row_load_N(row, where)
         rec = _read_recording(path.parent / row["file"], where, cache)
@@ -154,7 +158,7 @@ def _manifest_frames(manifest_path, equilibration):
         yield row, frame, int(rec["frame"].values[i]), note, area, load
 
 
-def load_frames(manifest_path, *, equilibration=None):
+def load_frames(manifest_path, *, equilibration=None, quiet=True):
     """Return the manifest's chosen frames stacked (n, rows, cols), e.g. to find dead sensels.
 
     Raises
@@ -162,7 +166,7 @@ def load_frames(manifest_path, *, equilibration=None):
     ValueError
         As :func:`load_points`, and if the files' frame shapes differ.
     """
-    frames = [f[1][0] for f in _manifest_frames(manifest_path, equilibration)]
+    frames = [f[1][0] for f in _manifest_frames(manifest_path, equilibration, quiet)]
     shapes = sorted({f.shape for f in frames})
     if len(shapes) > 1:
         raise ValueError(f"{manifest_path}: files have frame shapes {shapes}; expected one "
@@ -170,7 +174,7 @@ def load_frames(manifest_path, *, equilibration=None):
     return np.stack(frames)
 
 
-def load_points(manifest_path, *, mask=None, equilibration=None):
+def load_points(manifest_path, *, mask=None, equilibration=None, quiet=True):
     """Read a calibration manifest and return its calibration points.
 
     The manifest is a CSV with one row per point: ``file`` (path relative to the manifest),
@@ -186,6 +190,8 @@ def load_points(manifest_path, *, mask=None, equilibration=None):
         Non-working sensels to leave out (see :func:`find_dead_sensels`).
     equilibration : Equilibration, optional
         Per-sensel gains applied to every frame first (see :func:`equilibrate`).
+    quiet : bool
+        No progress bar (shown on standard error for manifests of 50 rows or more).
 
     Returns
     -------
@@ -198,7 +204,8 @@ def load_points(manifest_path, *, mask=None, equilibration=None):
         file, a file that is not raw; messages name the manifest line.
     """
     points = []
-    for row, frame, number, note, area, load in _manifest_frames(manifest_path, equilibration):
+    for row, frame, number, note, area, load in _manifest_frames(manifest_path, equilibration,
+                                                                  quiet):
         total = int(np.isfinite(frame).sum())
         if mask is not None:
             frame = np.where(np.asarray(mask, bool)[None], np.nan, frame)

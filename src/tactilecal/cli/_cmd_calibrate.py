@@ -63,10 +63,11 @@ def _options(args):
 def _manifest_points(args, equilibration):
     from tactilecal.calibration import find_dead_sensels, load_frames, load_points
 
+    kw = {"equilibration": equilibration, "quiet": args.quiet}
     if not args.mask_dead:
-        return load_points(args.manifest, equilibration=equilibration), None
-    dead = find_dead_sensels(load_frames(args.manifest, equilibration=equilibration))
-    return load_points(args.manifest, mask=dead.mask, equilibration=equilibration), dead
+        return load_points(args.manifest, **kw), None
+    dead = find_dead_sensels(load_frames(args.manifest, **kw))
+    return load_points(args.manifest, mask=dead.mask, **kw), dead
 
 
 def run(args):

@@ -46,7 +46,7 @@ def run(args):
     # Non-working sensels read 0 and f(0) = 0, so their mask does not change a prediction;
     # equilibration gains do, so the calibration's gains are applied to the frames.
     eq = result.details.get("equilibration")
-    points = load_points(args.manifest,
+    points = load_points(args.manifest, quiet=args.quiet,
                          equilibration=Equilibration.from_dict(eq) if eq else None)
     out = validate(result, points, include_saturated=args.include_saturated)
     if args.json:
