@@ -307,3 +307,28 @@ def test_plots_return_axes():
         ax = fn(res)
         assert ax.has_data()
         plt.close(ax.figure)
+
+
+def test_flexible_laws_recover_their_truth():
+    raw = _patches(50, seed=5)
+    truth = 0.0035 * np.arange(256.0) ** 1.16
+    pts = points_from_frames(raw, _power_loads(raw))
+    piece = calibrate(pts, method="piecewise").force_table()
+    np.testing.assert_allclose(piece[1:], truth[1:], rtol=1e-8)  # a power law is a special case
+    lut = calibrate(pts, method="lut").force_table()
+    np.testing.assert_allclose(lut[10:201], truth[10:201], rtol=0.02)  # linear between knots
+
+
+def test_piecewise_beats_power_on_a_kinked_law():
+    """Truth: exponent 1.05 below raw 64 and 1.35 above (continuous), as Stith describes."""
+    raw = _patches(60, seed=13)
+    levels = np.arange(256.0)
+    law = np.where(levels < 64, 0.004 * levels ** 1.05,
+                   0.004 * 64 ** 1.05 * (levels / 64) ** 1.35)
+    load = np.array([law[f[f > 0].astype(int)].sum() for f in raw])
+    pts = points_from_frames(raw, load)
+    piece = calibrate(pts, method="piecewise", knots=(1, 64, 255))
+    power = calibrate(pts, method="power")
+    np.testing.assert_allclose(piece.force_table()[3:], law[3:], rtol=1e-6)
+    np.testing.assert_allclose(piece.details["segments_b"], [1.05, 1.35], atol=1e-6)
+    assert power.metrics["max_abs_error_pct"] > 1.0 > 1e3 * piece.metrics["max_abs_error_pct"]
