@@ -188,8 +188,11 @@ class CalibrationResult:
             lines.append(f"  {name} = {val_txt}{err_txt}")
         used = self.points["used"].to_numpy(bool)
         lines.append(f"  points used: {used.sum()} of {len(used)}")
-        for reason, count in self.points.loc[~used, "reason"].value_counts().items():
-            lines.append(f"    not used ({count}): {reason}")
+        reasons = self.points.loc[~used, "reason"].astype(str)
+        kinds = reasons.str.split(":").str[0]  # "saturated: 3 sensels ..." -> "saturated"
+        for kind, group in reasons.groupby(kinds, sort=False):
+            example = group.iloc[0] if group.nunique() == 1 else f"{kind} (e.g. {group.iloc[0]})"
+            lines.append(f"    not used ({len(group)}): {example}")
         lines.append(f"  sensel area: {self.sensel_area_mm2:.4g} mm2, saturation pressure: "
                      f"{self.saturation_pressure_kPa:.5g} kPa")
         lines.extend(f"  {k}: {v:.4g}" if isinstance(v, float) else f"  {k}: {v}"
