@@ -111,6 +111,6 @@ def test_header_with_blank_lines_and_comment_like_lines(tmp_path):
     text = ("FILENAME F:\\data\\x.fsx\n\nROWS 2\nCOLS 2\n"
             "COMMENTS:\nFrame 9 was bad\n\"quoted, text\n\nUNITS raw\nASCII_DATA @@\n\n"
             "Frame 1\n1,2\nB,4\n@@\n")
-    data = read_tekscan(_write(tmp_path, text))  # the C parser skips by lines, not rows
+    data = read_tekscan(_write(tmp_path, text))
     np.testing.assert_array_equal(data.values, [[[1, 2], [np.nan, 4]]])
     assert data.attrs["tekscan_COMMENTS"] == 'Frame 9 was bad\n"quoted, text'
