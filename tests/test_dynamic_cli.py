@@ -82,7 +82,7 @@ def test_apply_netcdf_every_sensel(files, filter_json):
     from tactilecal.dynamic import apply_filter, load_filter
 
     expected = apply_filter(rec, load_filter(filter_json))
-    np.testing.assert_allclose(back.values, expected.values, atol=1e-9)
+    np.testing.assert_allclose(back.values, expected.values, atol=1e-6 * float(np.ptp(rec.values)))  # float32 FFTs
     assert "dynamic_filter" in back.attrs
 
 

@@ -112,10 +112,13 @@ def test_apply_chunked_equals_dask_and_direct_convolution():
     x[:, 1, 2] = np.nan  # a sensel outside the sensor's shape
     rec = xr.DataArray(x, dims=("frame", "row", "col"),
                        coords={"time": ("frame", np.arange(1500) / 500.0)})
-    out = apply_filter(rec, filt)
-    lazy = apply_filter(rec.chunk({"frame": 400}), filt)
+    out = apply_filter(rec, filt, precision="double")
+    lazy = apply_filter(rec.chunk({"frame": 400}), filt, precision="double")
     assert lazy.chunks is not None
     np.testing.assert_allclose(lazy.values, out.values, atol=1e-9)
+    single = apply_filter(rec, filt)  # default: single-precision FFTs
+    span = np.nanmax(x) - np.nanmin(x)
+    np.testing.assert_allclose(single.values, out.values, atol=1e-6 * span)
     assert np.isnan(out.values[:, 1, 2]).all()
     padded = np.pad(x[:, 0, 0], 50, mode="reflect", reflect_type="odd")
     np.testing.assert_allclose(out.values[:, 0, 0], np.convolve(padded, filt.taps, "valid"),
@@ -143,6 +146,8 @@ def test_bad_inputs(sweep, filt):
     rec[100, 1] = np.nan
     with pytest.raises(ValueError, match="rec.nc: sensel 1 .* NaN from frame index 100"):
         apply_filter(rec, filt)
+    with pytest.raises(ValueError, match="precision='half'; expected 'single' or 'double'"):
+        apply_filter(sweep.sensor, filt, precision="half")
     with pytest.raises(ValueError, match="model='cubic'"):
         fit_filter(sweep.sensor, sweep.reference, model="cubic")
     with pytest.raises(ValueError, match="outside='clip'"):
