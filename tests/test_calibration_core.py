@@ -208,6 +208,18 @@ def test_calibrate_errors():
         calibrate(pts, method="power", scale_by_working=True)
 
 
+def test_linear_one_point_of_several():
+    raw = _patches(10, seed=2)
+    load = _power_loads(raw)
+    pts = points_from_frames(raw, load)
+    res = calibrate(pts, method="linear", point=3)
+    assert res.params["A"] == pytest.approx(load[3] / raw[3].sum())
+    assert res.points["used"].tolist() == [k == 3 for k in range(10)]
+    assert res.points["reason"][0] == "not the I-Scan 1-point calibration point"
+    with pytest.raises(ValueError, match="point=10 is invalid; expected an index into the 10"):
+        calibrate(pts, method="linear", point=10)
+
+
 def test_scale_by_working_multiplies_loads():
     raw = np.full((1, 4, 4), 10.0)
     mask = np.zeros((4, 4), bool)

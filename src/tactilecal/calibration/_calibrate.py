@@ -133,6 +133,10 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
         fit.params_stderr = _bootstrap(method, hist[used], fit_load[used], options,
                                        n_bootstrap, seed)
         fit.details["stderr_method"] = f"bootstrap over points ({n_bootstrap} resamples)"
+    if method == "linear" and "point" in fit.details:
+        others = used.copy()
+        others[np.flatnonzero(used)[fit.details["point"]]] = False
+        used[others], reasons[others] = False, "not the I-Scan 1-point calibration point"
     if method == "power-2pt":
         pair = np.flatnonzero(used)[fit.details["pair"]]
         others = used.copy()

@@ -142,18 +142,27 @@ def _ols_stderr(jac, resid, n_params):
 
 
 # ---------------------------------------------------------------------- methods
-def fit_linear(hist, load_N, **_):
+def fit_linear(hist, load_N, *, point=None, **_):
     """I-Scan linear calibration through zero, f = A * raw (thesis sec. 3.5).
 
-    With one point this is I-Scan's 1-point calibration ``A = F / R`` (raw sum ``R``);
-    with several, the least-squares line through zero ``A = sum(F R) / sum(R**2)``.
+    I-Scan's 1-point calibration is ``A = F / R`` (raw sum ``R``) of one point: give
+    ``point`` (index into the usable points), or pass a single point. Without ``point``
+    and with several points, the least-squares line through zero
+    ``A = sum(F R) / sum(R**2)``.
     """
+    details = {}
+    if point is not None:
+        if not 0 <= int(point) < len(load_N):
+            raise ValueError(f"point={point!r} is invalid; expected an index into the "
+                             f"{len(load_N)} usable points")
+        hist, load_N = hist[[int(point)]], load_N[[int(point)]]
+        details["point"] = int(point)
     raw_sum = hist @ LEVELS
     A = float(raw_sum @ load_N / (raw_sum @ raw_sum))
     err = _ols_stderr(raw_sum[:, None], A * raw_sum - load_N, 1)
+    details["stderr_method"] = "jacobian" if err else "none (one point)"
     return Fit("power", {"A": A, "b": 1.0},
-               {"A": None if err is None else float(err[0][0]), "b": 0.0},
-               {"stderr_method": "jacobian" if err else "none (one point)"})
+               {"A": None if err is None else float(err[0][0]), "b": 0.0}, details)
 
 
 def fit_power_2pt(hist, load_N, *, pair=None, **_):
