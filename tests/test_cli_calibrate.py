@@ -57,6 +57,16 @@ def test_calibrate_validate_apply(sessions, capsys):
     assert np.nanmax(data.values) < stored["saturation_pressure_kPa"] / 6.894757
 
 
+def test_calibrate_point_and_pair(sessions, capsys):
+    assert main(["-q", "calibrate", str(sessions["cal"]), "--method", "linear", "--point", "2",
+                 "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert sum(p["used"] for p in res["points"]) == 1 and res["details"]["point"] == 2
+    assert main(["-q", "calibrate", str(sessions["cal"]), "--method", "power-2pt", "--pair",
+                 "0,3", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["details"]["pair"] == [0, 3]
+
+
 def test_calibrate_every_method_and_zvyagin_path(sessions, capsys):
     for method in ["linear", "power-2pt", "linear-offset", "piecewise", "lut", "polynomial",
                    "zvyagin"]:
@@ -74,6 +84,8 @@ def test_calibrate_errors(sessions, capsys):
     assert "--movie needs --loads" in capsys.readouterr().err
     assert main(["calibrate", str(sessions["cal"]), "--knots", "1,a"]) == 1
     assert "--knots '1,a': expected comma-separated numbers" in capsys.readouterr().err
+    assert main(["calibrate", str(sessions["cal"]), "--method", "power-2pt", "--pair", "x"]) == 1
+    assert "--pair 'x': expected two integers 'I,J'" in capsys.readouterr().err
 
 
 def test_equilibrate_then_calibrate(sessions, capsys, tmp_path):

@@ -19,6 +19,10 @@ def register(subparsers):
     p.add_argument("--objective", help="power: l2, l1 or relative; others: l2 or relative")
     p.add_argument("--degree", type=int, help="polynomial degree (default 3)")
     p.add_argument("--knots", help="piecewise/lut knots, comma-separated raw values")
+    p.add_argument("--point", type=int,
+                   help="linear: index of the one usable point (I-Scan 1-point calibration)")
+    p.add_argument("--pair", help="power-2pt: two usable-point indices 'I,J' (default: the "
+                                  "points nearest 20 %% and 80 %% of the largest load)")
     p.add_argument("--keep-saturated", action="store_true",
                    help="keep points with saturated (255) sensels in the fit")
     p.add_argument("--scale-by-working", action="store_true",
@@ -53,6 +57,13 @@ def _options(args):
         except ValueError:
             raise ValueError(f"--knots {args.knots!r}: expected comma-separated numbers") \
                 from None
+    if args.point is not None:
+        opts["point"] = args.point
+    if args.pair:
+        try:
+            opts["pair"] = tuple(int(k) for k in args.pair.split(","))
+        except ValueError:
+            raise ValueError(f"--pair {args.pair!r}: expected two integers 'I,J'") from None
     if args.scale_by_working:
         opts["scale_by_working"] = True
     if args.n_bootstrap:
