@@ -24,6 +24,7 @@ from tactilecal.simulate import deadweight_session, make_sensor, ramp_hold
 METHODS = [
     ("linear", {}), ("power-2pt", {}), ("power", {"objective": "l2"}),
     ("power", {"objective": "l1"}), ("power", {"objective": "relative"}),
+    ("power", {"objective": "relative", "keep_saturated": True}),
     ("linear-offset", {}), ("piecewise", {}), ("lut", {}), ("polynomial", {}), ("zvyagin", {}),
 ]
 
@@ -48,13 +49,14 @@ def accuracy_table(n_patches=150):
     cal, val = _sessions(0, n_patches)
     print(f"\nAccuracy: calibrate on {len(cal)} patches (seed 1), validate on {len(val)} "
           "(seed 2), unsaturated held-out patches only")
-    print(f"{'method':<24}{'n':>4}{'<=3%':>8}{'<=5%':>8}{'<=10%':>8}{'median%':>9}"
+    print(f"{'method':<30}{'n':>4}{'<=3%':>8}{'<=5%':>8}{'<=10%':>8}{'median%':>9}"
           f"{'max%':>8}{'fit s':>8}  params")
     for method, options in METHODS:
         res, s, fit_s = _row(method, options, cal, val)
-        name = method + (f" {options['objective']}" if options else "")
+        name = " ".join([method, *(str(v) if k == "objective" else k
+                                   for k, v in options.items())])
         params = {k: round(v, 5) for k, v in res.params.items() if np.ndim(v) == 0}
-        print(f"{name:<24}{s['n']:>4}{s['within_3pct']:>8.3f}{s['within_5pct']:>8.3f}"
+        print(f"{name:<30}{s['n']:>4}{s['within_3pct']:>8.3f}{s['within_5pct']:>8.3f}"
               f"{s['within_10pct']:>8.3f}{s['median_abs_error_pct']:>9.2f}"
               f"{s['max_abs_error_pct']:>8.2f}{fit_s:>8.3f}  {params}")
 

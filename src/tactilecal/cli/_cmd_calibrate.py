@@ -40,6 +40,8 @@ def register(subparsers):
     p.add_argument("--time-col", help="--loads time column (name or 0-based index)")
     p.add_argument("--load-col", help="--loads load column (name or 0-based index)")
     p.add_argument("--lag", type=float, help="--movie: known lag in s (skip cross-correlation)")
+    p.add_argument("--max-lag", type=float,
+                   help="--movie: search lags up to this many seconds (periodic loadings)")
     p.add_argument("--out", metavar="CAL.json", help="write the calibration JSON here")
     p.add_argument("--json", action="store_true", help="print the calibration JSON")
     p.set_defaults(func=run)
@@ -94,7 +96,8 @@ def run(args):
 
         result = calibrate_movie(args.movie, args.loads, method=args.method,
                                  time_col=args.time_col, load_col=args.load_col,
-                                 lag_s=args.lag, mask_dead=args.mask_dead,
+                                 lag_s=args.lag, max_lag_s=args.max_lag,
+                                 mask_dead=args.mask_dead,
                                  equilibration=equilibration, quiet=args.quiet,
                                  **_options(args))
         info(args, result.details["movie"]["report"])
