@@ -54,3 +54,11 @@ def test_movie_saturated_frames_trimmed(session):
     assert sat.sum() == 10 and not table.loc[sat, "used"].any()
     assert table.loc[sat, "reason"].str.startswith("saturated").all()
     assert res.details["movie"]["lag_s"] == session.loadcell_start_offset_s
+
+
+def test_movie_dask_recording_gives_same_fit(session):
+    lazy = session.raw.chunk({"frame": 500})
+    a = calibrate_movie(session.raw, session.loadcell, lag_s=0.37)
+    b = calibrate_movie(lazy, session.loadcell, lag_s=0.37)
+    assert type(lazy.data).__name__ == "Array"
+    assert a.params == b.params

@@ -78,6 +78,8 @@ def _histograms(values, mask, equilibration, quiet):
     """Float64 histograms of all frames (gains and mask applied chunk by chunk).
 
     Float64 because every later use is a matrix product; counts are exact in float64.
+    ``values`` may be a dask array (a recording larger than memory): only one chunk of
+    frames is computed at a time.
     """
     from tactilecal.cli._common import progress
 
@@ -93,7 +95,8 @@ def _histograms(values, mask, equilibration, quiet):
     starts = range(0, len(values), _CHUNK)
     for s in progress(starts, total=len(starts), desc="histograms",
                       quiet=quiet or len(values) < 20 * _CHUNK):
-        frame_histograms(values[s:s + _CHUNK], out=hist[s:s + _CHUNK], prepare=transform)
+        frame_histograms(np.asarray(values[s:s + _CHUNK]), out=hist[s:s + _CHUNK],
+                         prepare=transform)
     return hist
 
 
@@ -163,7 +166,7 @@ def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
     ValueError
         A count mismatch without a time column, records that do not overlap in time.
     """
-    hist = _histograms(recording.values, None if mask is None else np.asarray(mask, bool),
+    hist = _histograms(recording.data, None if mask is None else np.asarray(mask, bool),
                        equilibration, quiet)
     return _points_from_movie(recording, hist, loads, lag_s=lag_s, max_lag_s=max_lag_s,
                               min_load_fraction=min_load_fraction)
@@ -206,7 +209,7 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
             "sensel_area_mm2": np.full(m, float(recording.attrs.get("sensel_area_mm2",
                                                                      np.nan))),
             "working_cells": kept.sum(axis=1).astype(np.int64),
-            "total_cells": np.full(m, int(np.isfinite(np.asarray(recording.values[0],
+            "total_cells": np.full(m, int(np.isfinite(np.asarray(recording.data[0],
                                                                  dtype=float)).sum()))}
     report.update({
         "n_frames": n, "n_points": m, "n_outside_load_record": int(outside.sum()),
@@ -292,7 +295,7 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     if isinstance(loads, str | Path):
         loads = read_movie_loads(loads, time_col=time_col, load_col=load_col)
     dead = find_dead_sensels(recording.values) if mask_dead else None
-    hist = _histograms(recording.values, None if dead is None else dead.mask, equilibration,
+    hist = _histograms(recording.data, None if dead is None else dead.mask, equilibration,
                        quiet)
     signal_N, first = None, None
     if lag_s is None and isinstance(loads, xr.DataArray) and method in FITTERS:
