@@ -260,6 +260,10 @@ def test_json_round_trip_and_apply(tmp_path):
     np.testing.assert_allclose(kpa.values, expected, rtol=1e-6, atol=1e-12)
     psi = back.apply(rec, units="psi")
     np.testing.assert_allclose(psi.values * 6.894757293168361, kpa.values, rtol=1e-12)
+    lazy = back.apply(rec.chunk({"frame": 1}), units="kPa")
+    assert type(lazy.data).__name__ == "Array"  # dask: still lazy
+    np.testing.assert_allclose(lazy.values, kpa.values)
+    assert list(kpa.coords) == list(rec.coords) and kpa.dims == rec.dims
     newton = back.apply(rec, units="N")
     assert float(newton[0].sum()) == pytest.approx(_power_loads(raw[:1])[0], rel=1e-6)
     assert "summary" not in data and "points used: 20 of 20" in res.summary()

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import xarray as xr
 
 from tactilecal._atomic import write_text_atomic
 from tactilecal._jsonutil import dumps, to_jsonable
@@ -153,13 +154,13 @@ class CalibrationResult:
         if rec_units != "raw":
             raise ValueError(f"recording {recording.attrs.get('source', '')!r} has units "
                              f"{rec_units!r}; expected raw readings (units 'raw')")
-        force = self.predict_sensel_force(recording.values)
-        if units == "N":
-            values = force
-        else:
-            area = self._area_for(recording)
-            values = force / area * 1000.0 / PRESSURE_UNITS[units]
-        out = recording.copy(data=values)
+        scale = 1.0 if units == "N" else 1000.0 / self._area_for(recording) \
+            / PRESSURE_UNITS[units]
+        # apply_ufunc keeps a dask-backed recording lazy (chunk by chunk along frames)
+        out = xr.apply_ufunc(lambda raw: self.predict_sensel_force(raw) * scale, recording,
+                             input_core_dims=[["row", "col"]],
+                             output_core_dims=[["row", "col"]], dask="parallelized",
+                             output_dtypes=[float]).transpose(*recording.dims)
         out.attrs = {**recording.attrs, "units": units, "calibration_method": self.method,
                      "calibration_json": self.to_json_text()}
         return out
