@@ -124,8 +124,9 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
         raise ValueError(f"scale_by_working is offered for {SCALABLE}; method={method!r}")
     used, reasons = _select(load, meta, keep_saturated)
     if not used.any():
-        raise ValueError(f"no usable calibration points among {len(load)}: "
-                         f"{sorted(set(reasons))}")
+        kinds = sorted({str(r).split(":")[0] for r in reasons})
+        raise ValueError(f"no usable calibration points among {len(load)} ({', '.join(kinds)}); "
+                         "expected at least one unsaturated point with a positive load")
     fraction = _working_fraction(meta)
     fit_load = load * fraction if scale_by_working else load
     fit = FITTERS[method](take_rows(hist, used), fit_load[used], **options)
