@@ -22,7 +22,9 @@ def plot_calibration_curve(result, ax=None):
     Pressure in kPa when the sensel area is known, else force per sensel in N. Each point
     is drawn at its mean raw reading of loaded sensels (raw_sum / loaded_cells) against its
     load per loaded cell (what I-Scan's mean-raw calibrations assume); used points filled,
-    unused ones hollow.
+    unused ones hollow. On uneven patches the points sit above a convex (b > 1) curve,
+    since the mean of raw**b exceeds the b-th power of the mean raw: the bias of the
+    mean-raw methods (``power-2pt``) made visible.
 
     Returns
     -------
