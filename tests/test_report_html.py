@@ -134,3 +134,16 @@ def test_report_renders_its_figures_in_chromium(report, tmp_path):
     widths = [int(w) for w in re.findall(r'data-natural-width="(\d+)"', run.stdout)]
     assert len(widths) == n_images == 8
     assert all(w > 100 for w in widths)  # every embedded PNG decoded to a real image
+
+
+def test_zvyagin_calibration_shows_its_figures(session):
+    zvyagin_plots = pytest.importorskip("tactilecal.zvyagin._plots",
+                                        reason="Zvyagin figures not in this version")
+    result = calibrate(points_from_frames(session.raw, session.load_N), method="zvyagin")
+    text = build_report([result])
+    captions = [alt for alt, _ in images(text)]
+    names = [n for n in zvyagin_plots.__all__ if n.startswith("plot_")]
+    zvyagin = [c for c in captions if "Zvyagin (2022): " in c]
+    assert len(zvyagin) == len(names) >= 5, re.findall(r'class="note">([^<]*)', text)
+    assert any("Figure 9" in c for c in zvyagin)
+    assert "not drawn" not in text

@@ -77,9 +77,14 @@ def _module_plots(module_name, obj, what):
         return [note_html(f"{what} figures: {module_name} is not part of this tactilecal "
                           "version, so they are not shown")]
     names = [n for n in getattr(module, "__all__", dir(module)) if n.startswith("plot_")]
-    plots = [(name, getattr(module, name)) for name in names]
-    return [_try_figure(f"{what}: {name[5:].replace('_', ' ')}", lambda fn=fn: fn(obj))
-            for name, fn in plots]
+    plots = [getattr(module, name) for name in names]
+    return [_try_figure(f"{what}: {_first_line(fn)}", lambda fn=fn: fn(obj)) for fn in plots]
+
+
+def _first_line(fn):
+    """Return the first line of a function's docstring (its name if it has none)."""
+    doc = (fn.__doc__ or fn.__name__).strip()
+    return doc.splitlines()[0].rstrip(".")
 
 
 def calibration_blocks(result, label):
@@ -109,7 +114,8 @@ def calibration_blocks(result, label):
     ]
     if result.method == "zvyagin" or result.details:
         if result.method == "zvyagin":
-            blocks += _module_plots("tactilecal.zvyagin._plots", result, "Zvyagin (2022)")
+            blocks += _module_plots("tactilecal.zvyagin._plots", result,
+                                    f"{label}: Zvyagin (2022)")
         else:
             blocks.append(f"<p>Method {_esc(repr(result.method))} keeps intermediate results "
                           f"under 'details': {_esc(', '.join(sorted(result.details)))}.</p>")
