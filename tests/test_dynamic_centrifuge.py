@@ -13,7 +13,7 @@ from tactilecal.dynamic import (
     water_head_factor,
     water_head_pressure_kPa,
 )
-from tactilecal.simulate._dynamic import sine_sweep
+from tactilecal.simulate import sine_sweep
 
 
 def _rec():

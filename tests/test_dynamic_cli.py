@@ -8,7 +8,7 @@ import pytest
 
 from tactilecal.cli import main
 from tactilecal.io import read_netcdf, write_netcdf
-from tactilecal.simulate._dynamic import random_sine_sets, sensel_matrix, sine_sweep
+from tactilecal.simulate import random_sine_sets, sensel_matrix, sine_sweep
 
 FAST = {"fs_sensor_hz": 1000.0, "fs_reference_hz": 1250.0, "sensor_noise_N": 0.2,
         "reference_noise_N": 0.05}
@@ -82,7 +82,8 @@ def test_apply_netcdf_every_sensel(files, filter_json):
     from tactilecal.dynamic import apply_filter, load_filter
 
     expected = apply_filter(rec, load_filter(filter_json))
-    np.testing.assert_allclose(back.values, expected.values, atol=1e-6 * float(np.ptp(rec.values)))  # float32 FFTs
+    span = float(np.ptp(rec.values))
+    np.testing.assert_allclose(back.values, expected.values, atol=1e-6 * span)  # float32 FFTs
     assert "dynamic_filter" in back.attrs
 
 
@@ -93,6 +94,20 @@ def test_fit_sums_a_recording(files, tmp_path):
     out = tmp_path / "F.json"
     assert main(["-q", "dynamic", "fit", str(src), files["cell"], "--out", str(out)]) == 0
     assert json.loads(out.read_text())["A"] == pytest.approx(0.11 / np.log(10), rel=0.05)
+
+
+def test_fit_sums_a_tekscan_export(files, tmp_path):
+    from tactilecal.io import write_tekscan
+
+    rec = sensel_matrix(files["sweep"], shape=(2, 2), noise_N=0.0)
+    src = tmp_path / "sweep_export.csv"  # Tekscan exports are often .csv
+    write_tekscan(rec, src)
+    out = tmp_path / "F.json"
+    assert main(["-q", "dynamic", "fit", str(src), files["cell"], "--out", str(out),
+                 "--model", "log10"]) == 0
+    d = json.loads(out.read_text())
+    assert d["A"] == pytest.approx(0.11, rel=0.05)
+    assert d["lag_s"] == pytest.approx(files["sweep"].lag_s, abs=1e-3)
 
 
 def test_evaluate_blind_test(files, filter_json, capsys):

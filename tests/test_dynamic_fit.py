@@ -17,7 +17,7 @@ from tactilecal.dynamic import (
     load_filter,
     transfer_function,
 )
-from tactilecal.simulate._dynamic import random_sine_sets, sine_sweep
+from tactilecal.simulate import random_sine_sets, sine_sweep
 
 FAST = {"step_hz": 2, "cycles_high": 10, "fs_sensor_hz": 1000.0, "fs_reference_hz": 1250.0,
         "sensor_noise_N": 0.2, "reference_noise_N": 0.05}

@@ -59,7 +59,7 @@ def register(subparsers):
 
 def _bar(args, desc):
     quiet = getattr(args, "quiet", False)
-    return lambda blocks: progress(blocks, desc=desc, quiet=quiet)
+    return lambda blocks, total=None: progress(blocks, total=total, desc=desc, quiet=quiet)
 
 
 def run_fit(args):
