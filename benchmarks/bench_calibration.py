@@ -18,7 +18,13 @@ import time
 
 import numpy as np
 
-from tactilecal.calibration import calibrate, calibrate_movie, points_from_frames, validate
+from tactilecal.calibration import (
+    calibrate,
+    calibrate_movie,
+    find_dead_sensels,
+    points_from_frames,
+    validate,
+)
 from tactilecal.simulate import deadweight_session, make_sensor, ramp_hold
 
 METHODS = [
@@ -78,6 +84,27 @@ def objective_choice(n_pairs=6, n_patches=150):
               f"  median |err| {a[:, 1].mean():.3f} %  max |err| {a[:, 2].mean():.2f} %")
 
 
+def dead_sensel_detection(n_sensors=8, n_patches=150):
+    """True and false detections of non-working sensels for several neighbour rules."""
+    print(f"\nNon-working sensels: {n_sensors} sensors with 6 dead sensels, {n_patches} "
+          "dead-weight patches each")
+    totals = {}
+    for k in range(n_sensors):
+        sensor = make_sensor("5051", seed=100 + k, n_dead=6)
+        raw = deadweight_session(sensor, n_patches=n_patches, saturated_share=0.05,
+                                 seed=2 * k + 1).raw.values
+        for share in (0.75, 1.0):
+            for min_frames in (1, 2):
+                found = find_dead_sensels(raw, neighbour_share=share, min_frames=min_frames)
+                t = totals.setdefault((share, min_frames), [0, 0, 0])
+                t[0] += int((found.mask & sensor.dead).sum())
+                t[1] += int((found.mask & ~sensor.dead).sum())
+                t[2] += int(sensor.dead.sum())
+    for (share, min_frames), (tp, fp, n) in totals.items():
+        print(f"  neighbour_share {share:<5} min_frames {min_frames}: found {tp} of {n} dead, "
+              f"{fp} working sensels wrongly reported")
+
+
 def _baseline_sum_pow(raw, b):
     """Straightforward per-frame sum(raw ** b): the cost of one objective evaluation."""
     return np.array([np.nansum(frame ** b) for frame in raw])
@@ -126,6 +153,7 @@ def main():
     if not args.skip_accuracy:
         accuracy_table()
         objective_choice(n_pairs=2 if args.quick else 6)
+        dead_sensel_detection(n_sensors=2 if args.quick else 8)
     if not args.skip_movie:
         movie_speed(10_000 if args.quick else 100_000)
 

@@ -23,7 +23,7 @@ def test_dead_sensels_found_under_dead_weights():
     # responding neighbours cannot be told from unloaded ones and are not reported
     assert not (found.mask & ~truth).any()
     covered = ((session.raw.values > 0).sum(axis=0) > 0)
-    assert found.mask.sum() >= 3  # 4 of the 6 with these seeds
+    assert found.mask.sum() >= 2  # 2 of the 6 with these seeds (default: all neighbours)
     assert "non-working sensels:" in found.report() and found.to_dict()["n_frames"] == 60
     assert not covered[found.mask].any()
 
