@@ -34,14 +34,15 @@ RATE_TOLERANCE = 0.005
 PRECISIONS = {"single": (np.float32, np.complex64), "double": (np.float64, np.complex128)}
 
 
-def _filter_block(block, filt, workers=1, precision="single", out=None):
-    """Circular convolution of ``block`` (time first) with the centred FIR (exact inside).
+def _filter_lines(block, filt, workers=1, precision="single"):
+    """Filter ``block`` (time first) circularly; return the result with time LAST.
 
     The block is cast and transposed in one pass (time last: contiguous FFTs). Each
     sensel's first sample is subtracted before the FFT and added back after it (the
     filter's DC gain is exactly 1, so this changes nothing but the rounding): in single
     precision the FFT then rounds relative to the dynamic part, not to a large static
-    offset. With ``out`` (time first, ``block``'s length), the result is written there.
+    offset. The circular convolution equals the linear one ``n_taps // 2`` samples away from
+    both ends of the block (overlap-save).
     """
     real, _ = PRECISIONS[precision]
     n = block.shape[0]
@@ -53,10 +54,13 @@ def _filter_block(block, filt, workers=1, precision="single", out=None):
     spectrum *= filt.spectrum(n_fft).astype(real)
     filtered = fft.irfft(spectrum, n=n_fft, axis=-1, workers=workers)[..., :n]
     filtered += start
-    if out is None:
-        return np.moveaxis(filtered, -1, 0).astype(block.dtype)
-    out[...] = np.moveaxis(filtered, -1, 0)
-    return out
+    return filtered
+
+
+def _filter_block(block, filt, workers=1, precision="single"):
+    """:func:`_filter_lines` with time first again, in ``block``'s dtype (dask blocks)."""
+    return np.moveaxis(_filter_lines(block, filt, workers, precision), -1, 0).astype(
+        block.dtype)
 
 
 def _extended_rows(x, start, stop, half):
@@ -90,8 +94,8 @@ def _apply_numpy(x2d, filt, workers, progress, precision):
         t0, s0 = block
         t1, s1 = min(t0 + step, n), min(s0 + BLOCK_SENSELS, m)
         ext = _extended_rows(x2d[:, s0:s1], t0, t1, half)
-        part = _filter_block(ext, filt, 1, precision)
-        out[t0:t1, s0:s1] = part[half:half + t1 - t0]
+        lines = _filter_lines(ext, filt, 1, precision)
+        out[t0:t1, s0:s1] = lines[:, half:half + t1 - t0].T  # one strided pass, to float64
 
     threads = (os.cpu_count() or 1) if workers == -1 else max(int(workers), 1)
     with ThreadPoolExecutor(max_workers=threads) as pool:
@@ -118,15 +122,17 @@ def _apply_dask(arr, filt, precision):
 
 
 def _check_nan_gaps(x2d, where):
-    nan = np.isnan(x2d)
-    partial = nan.any(axis=0) & ~nan.all(axis=0)
-    if partial.any():
-        j = int(np.flatnonzero(partial)[0])
-        i = int(np.flatnonzero(nan[:, j])[0])
-        raise ValueError(f"{where}: sensel {j} (flattened) has NaN from frame index {i} "
-                         f"while other frames are finite ({int(partial.sum())} sensels with "
-                         "gaps); expected complete sensels (all-NaN sensels outside the "
-                         "sensor shape are fine)")
+    suspects = np.flatnonzero(np.isnan(x2d.sum(axis=0)))  # one pass; NaN propagates
+    if suspects.size == 0:
+        return
+    nan = np.isnan(x2d[:, suspects])
+    partial = np.flatnonzero(nan.any(axis=0) & ~nan.all(axis=0))
+    if partial.size:
+        k = int(partial[0])
+        raise ValueError(f"{where}: sensel {int(suspects[k])} (flattened) has NaN from frame "
+                         f"index {int(np.flatnonzero(nan[:, k])[0])} while other frames are "
+                         f"finite ({partial.size} sensels with gaps); expected complete "
+                         "sensels (all-NaN sensels outside the sensor shape are fine)")
 
 
 def apply_filter(data, filt, *, precision="single", workers=-1, progress=None):
