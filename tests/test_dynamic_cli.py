@@ -83,7 +83,7 @@ def test_apply_netcdf_every_sensel(files, filter_json):
 
     expected = apply_filter(rec, load_filter(filter_json))
     span = float(np.ptp(rec.values))
-    np.testing.assert_allclose(back.values, expected.values, atol=1e-6 * span)  # float32 FFTs
+    np.testing.assert_allclose(back.values, expected.values, atol=5e-6 * span)  # float32 FFTs
     assert "dynamic_filter" in back.attrs
 
 
