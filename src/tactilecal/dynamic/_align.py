@@ -97,11 +97,7 @@ def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where):
         raise ValueError(f"max_lag_s={max_lag_s}: no lag that small is possible between "
                          "these records; expected a larger bound")
     _check_similar(x_sens, x_ref, int(lags[i]), where)
-    near = lags[max(i - 1, 0):i + 2]
-    # per-lag overlap length: the raw correlation sums over fewer samples as the overlap
-    # shrinks, which tilts the peak; dividing the three points by it removes that bias
-    overlap = np.minimum(x_sens.size, x_ref.size + near) - np.maximum(0, near)
-    window = corr[max(i - 1, 0):i + 2] / np.maximum(overlap, 1)
+    window = corr[max(i - 1, 0):i + 2]
     offset = _parabolic_offset(window, 1) if window.size == 3 and np.all(
         np.isfinite(window)) else 0.0
     return float(lag_s[i] + offset / fs_sens)
