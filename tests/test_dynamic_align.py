@@ -19,7 +19,7 @@ def _chirp_load(t_s):
 
 
 @pytest.mark.parametrize("true_lag_s", [0.7371, -0.2133])
-def test_xcorr_lag_within_half_a_sample(true_lag_s):
+def test_xcorr_lag_within_a_tenth_of_a_sample(true_lag_s):
     rng = np.random.default_rng(5)
     fs_s, fs_r = 4000.0, 5000.0
     t_s = np.arange(0.0, 4.0, 1 / fs_s)
@@ -27,7 +27,7 @@ def test_xcorr_lag_within_half_a_sample(true_lag_s):
     t_r = np.arange(0.0, 3.0, 1 / fs_r)  # its own clock: event at t_r happens at t_r + lag
     reference = _record(t_r, _chirp_load(t_r + true_lag_s) + rng.normal(0, 1.0, t_r.size))
     lag = estimate_lag(sensor, reference)
-    assert abs(lag - true_lag_s) < 0.5 / fs_s  # measured 0.10 and 0.28 sample
+    assert abs(lag - true_lag_s) < 0.1 / fs_s  # measured 0.009 and 0.017 sample
 
 
 def test_movie_calibration_case_ramp_and_hold_500_vs_100_hz():
@@ -83,7 +83,7 @@ def test_align_returns_equal_stamps():
     s2, r2, lag = align(s, r)
     assert abs(lag - 0.3) < 1e-3
     np.testing.assert_allclose(s2.time.values, r2.time.values)
-    np.testing.assert_allclose(s2.values, r2.values, atol=2.0)  # 80 N chirp, lag 0.1 sample off
+    np.testing.assert_allclose(s2.values, r2.values, atol=0.5)
 
 
 def test_no_overlap_error_names_file():
@@ -132,3 +132,32 @@ def test_other_bad_inputs():
         estimate_lag(good, good, max_lag_s=-1)
     with pytest.raises(ValueError, match="3 samples; expected at least 4"):
         estimate_lag(good, _record(t[:3], t[:3]))
+
+
+def test_jittered_iscan_frame_times_are_accepted_for_alignment():
+    """Real I-Scan movies step 0.10 s and sometimes 0.11 s; alignment must cope."""
+    steps = np.where(np.arange(299) % 10 == 4, 0.11, 0.10)
+    t_s = np.r_[0.0, np.cumsum(steps)]
+
+    def load_N(t):
+        return np.interp(t, [0, 5, 8, 14, 17, 24, 27, 40], [0, 0, 300, 300, 800, 800, 0, 0])
+
+    sensor = _record(t_s, 2.0 * load_N(t_s) ** 0.9, "iscan.csv", dim="frame")
+    t_r = np.arange(0, 28, 0.002)
+    cell = _record(t_r, load_N(t_r + 2.37), "cell.csv")
+    lag = estimate_lag(sensor, cell)
+    assert abs(lag - 2.37) < 0.02  # a fifth of a frame
+    on_frames = resample_to(cell, sensor, lag_s=lag)
+    np.testing.assert_allclose(on_frames.values, load_N(on_frames.time.values), atol=10.0)
+    assert on_frames.dims == ("frame",)
+
+
+def test_real_iscan_movie_against_a_shifted_copy(iscan_csv):
+    from tactilecal.io import read_tekscan
+
+    movie = read_tekscan(iscan_csv)
+    total = movie.sum(("row", "col"))
+    total.attrs["source"] = str(iscan_csv)
+    t_r = np.arange(0.0, float(total.time[-1]) - 1.0, 0.002)  # 500 Hz "load cell"
+    cell = _record(t_r, np.interp(t_r + 0.73, total.time.values, total.values), "cell.csv")
+    assert abs(estimate_lag(total, cell) - 0.73) < 0.05  # half a frame

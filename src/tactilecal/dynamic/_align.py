@@ -12,7 +12,13 @@ import numpy as np
 import xarray as xr
 from scipy import interpolate, signal
 
-from tactilecal.dynamic._records import label, sampling_rate_hz, time_and_values
+from tactilecal.dynamic._records import (
+    MAX_ALIGN_JITTER,
+    label,
+    on_uniform_grid,
+    sampling_rate_hz,
+    time_and_values,
+)
 
 __all__ = ["estimate_lag", "resample_to", "align"]
 
@@ -26,6 +32,8 @@ TAPS_PER_PHASE = 40
 #: Smallest correlation coefficient of the overlapping records at the lag found by
 #: ``"xcorr"``; below it the records are taken not to show the same loading.
 MIN_CORRELATION = 0.5
+#: Smallest overlap (fraction of the shorter record) of a lag ``"xcorr"`` considers.
+MIN_OVERLAP = 0.5
 
 
 def _polyphase(values, fs_in_hz, fs_out_hz):
@@ -71,32 +79,50 @@ def _parabolic_offset(y, i):
     return 0.0 if curvature == 0 else float(0.5 * (left - right) / curvature)
 
 
-def _check_similar(x_sens, x_ref, lag, where):
-    """Raise unless the records correlate at the best integer lag (same loading seen)."""
-    start_s, start_r = max(lag, 0), max(-lag, 0)
-    n = min(x_sens.size - start_s, x_ref.size - start_r)
-    r = np.corrcoef(x_sens[start_s:start_s + n], x_ref[start_r:start_r + n])[0, 1] if (
-        n > 2) else np.nan
-    if not r >= MIN_CORRELATION:
-        raise ValueError(f"{where}: records do not overlap in time (at the best alignment "
-                         f"they share {max(n, 0)} samples with correlation {r:.3g}); expected "
-                         f"records of the same loading (correlation >= {MIN_CORRELATION})")
+def _normalised_xcorr(x_sens, x_ref, min_overlap):
+    """Pearson correlation of the overlapping parts of two records at every lag.
+
+    All sums over the overlap come from FFT correlations (:func:`scipy.signal.correlate`)
+    with windows of ones, so a lag that overlaps only part of the records is judged on
+    that part alone: the plain correlation of de-meaned finite records is tilted toward
+    the lags that overlap their flat (offset) stretches longest, which moved a
+    ramp-and-hold alignment by several frames.
+    """
+    s = x_sens - x_sens.mean()
+    r = x_ref - x_ref.mean()
+
+    def corr(a, b):
+        return signal.correlate(a, b, mode="full", method="fft")
+
+    ones_s, ones_r = np.ones(s.size), np.ones(r.size)
+    n = np.rint(corr(ones_s, ones_r))
+    sum_s, sum_r = corr(s, ones_r), corr(ones_s, r)
+    var_s = corr(s * s, ones_r) - sum_s**2 / np.maximum(n, 1)
+    var_r = corr(ones_s, r * r) - sum_r**2 / np.maximum(n, 1)
+    cov = corr(s, r) - sum_s * sum_r / np.maximum(n, 1)
+    tiny = 1e-12 * max(float(s @ s), float(r @ r), 1e-300)
+    ok = (n >= min_overlap * min(s.size, r.size)) & (var_s > tiny) & (var_r > tiny)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(ok, cov / np.sqrt(var_s * var_r), -np.inf)
 
 
 def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where):
-    """Lag from the peak of the cross-correlation of the de-meaned records."""
+    """Lag from the peak of the normalised cross-correlation of the de-meaned records."""
     x_ref, _ = _polyphase(x_ref, fs_ref, fs_sens)
-    corr = signal.correlate(x_sens - x_sens.mean(), x_ref - x_ref.mean(), mode="full",
-                            method="fft")
+    corr = _normalised_xcorr(x_sens, x_ref, MIN_OVERLAP)
     lags = signal.correlation_lags(x_sens.size, x_ref.size, mode="full")
     lag_s = lags / fs_sens + (t_sens[0] - t_ref[0])
     if max_lag_s is not None:
         corr = np.where(np.abs(lag_s) <= max_lag_s, corr, -np.inf)
     i = int(np.argmax(corr))
     if not np.isfinite(corr[i]):
-        raise ValueError(f"max_lag_s={max_lag_s}: no lag that small is possible between "
-                         "these records; expected a larger bound")
-    _check_similar(x_sens, x_ref, int(lags[i]), where)
+        raise ValueError(f"{where}: no lag with an overlap of at least {MIN_OVERLAP} of the "
+                         f"shorter record (max_lag_s={max_lag_s}); expected records of the "
+                         "same loading that overlap")
+    if not corr[i] >= MIN_CORRELATION:
+        raise ValueError(f"{where}: records do not overlap in time (best correlation "
+                         f"{corr[i]:.3g} at lag {lag_s[i]:.6g} s); expected records of the "
+                         f"same loading (correlation >= {MIN_CORRELATION})")
     window = corr[max(i - 1, 0):i + 2]
     offset = _parabolic_offset(window, 1) if window.size == 3 and np.all(
         np.isfinite(window)) else 0.0
@@ -126,12 +152,15 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
     sensor, reference : xarray.DataArray
         1-D records with a ``time`` coordinate in s (any units, any sampling rates, e.g.
         a 4000 Hz sensor force and a 5000 Hz load cell, or a 100 Hz summed raw signal and
-        a 500 Hz load cell).
+        a 500 Hz load cell). Time stamps jittering up to 50 % of the step (real I-Scan
+        movies: 0.10 and 0.11 s) are linearly interpolated onto a uniform grid first.
     method : {"xcorr", "first-peak"}
         ``"xcorr"`` (default): the reference is brought to the sensor's rate
-        (polyphase), both records are de-meaned and cross-correlated
-        (:func:`scipy.signal.correlate`); the lag is the correlation peak refined to a
-        fraction of a sample by a parabola through the three highest points.
+        (polyphase), and the lag maximises the Pearson correlation of the overlapping
+        parts (normalised cross-correlation from FFT correlations,
+        :func:`scipy.signal.correlate`; lags overlapping less than ``MIN_OVERLAP`` = half
+        the shorter record are not considered), refined to a fraction of a sample by a
+        parabola through the three highest points.
         ``"first-peak"``: the thesis' method; the first peak of each record whose
         prominence (:func:`scipy.signal.find_peaks`) is at least ``prominence`` times the
         record's range is set to equal times (parabolic sub-sample refinement). It is
@@ -153,7 +182,7 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
     ValueError
         Unknown method, bad records (see ``time_and_values``), irregular time stamps, no
         prominent peak, or (``"xcorr"``) records that do not overlap: their correlation
-        at the best lag is below ``MIN_CORRELATION`` (0.5).
+        at the best lag is below ``MIN_CORRELATION`` (0.5), or no lag overlaps enough.
 
     Notes
     -----
@@ -170,10 +199,10 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
     >>> round(estimate_lag(s, r), 4)
     0.5
     """
-    t_sens, x_sens = time_and_values(sensor, "sensor")
-    t_ref, x_ref = time_and_values(reference, "reference")
-    fs_sens = sampling_rate_hz(t_sens, label(sensor, "sensor"))
-    fs_ref = sampling_rate_hz(t_ref, label(reference, "reference"))
+    t_sens, x_sens, fs_sens = on_uniform_grid(*time_and_values(sensor, "sensor"),
+                                              label(sensor, "sensor"))
+    t_ref, x_ref, fs_ref = on_uniform_grid(*time_and_values(reference, "reference"),
+                                           label(reference, "reference"))
     if method == "xcorr":
         where = f"{label(sensor, 'sensor')} and {label(reference, 'reference')}"
         return _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where)
@@ -199,9 +228,11 @@ def resample_to(reference, time_s, *, lag_s=0.0):
     Parameters
     ----------
     reference : xarray.DataArray
-        1-D record with a ``time`` coordinate in s, regularly sampled.
+        1-D record with a ``time`` coordinate in s, regularly sampled (a jitter up to 50 %
+        of the step is first interpolated onto a uniform grid).
     time_s : array_like or xarray.DataArray
-        Target time stamps in s on the sensor's clock, regularly spaced; or a record whose
+        Target time stamps in s on the sensor's clock, increasing, about regularly spaced
+        (steps within 50 % of the median: real I-Scan frame times jitter); or a record whose
         ``time`` coordinate is used (its dimension, e.g. ``frame``, is kept).
     lag_s : float
         Added to the reference's time stamps first (see :func:`estimate_lag`).
@@ -240,12 +271,14 @@ def resample_to(reference, time_s, *, lag_s=0.0):
     >>> bool(np.allclose(out, 120 + 20 * np.sin(2 * np.pi * 10 * (out.time - 0.5)), atol=1e-3))
     True
     """
-    t_ref, x_ref = time_and_values(reference, "reference")
     where = label(reference, "reference")
+    t_ref, x_ref, fs_in = on_uniform_grid(*time_and_values(reference, "reference"), where)
     t_ref = t_ref + float(lag_s)
     target, like = _target_times(time_s)
-    fs_out = sampling_rate_hz(target, label(like, "time_s"))
-    fs_in = sampling_rate_hz(t_ref, where)
+    if target.size < 2 or not np.all(np.diff(target) > 0):
+        raise ValueError(f"{label(like, 'time_s')}: {target.size} target time stamps; "
+                         "expected at least 2, strictly increasing")
+    fs_out = sampling_rate_hz(target, label(like, "time_s"), max_jitter=MAX_ALIGN_JITTER)
     y, fs_y = _polyphase(x_ref, fs_in, fs_out)
     t_y = t_ref[0] + np.arange(y.size) / fs_y
     tol_s = 1e-6 / fs_out  # float round-off of the stamps

@@ -7,9 +7,12 @@ summed/averaged sensor recording (dim ``frame`` with a ``time`` coordinate).
 
 import numpy as np
 
-#: Largest allowed deviation of one time step from the median step, as a fraction of it.
-#: Tekscan exports print time stamps with a few digits, so a small jitter is tolerated.
+#: Largest deviation of one time step from the median step, as a fraction of it, for the
+#: FFT-based steps (transfer function, filtering), which treat samples as equally spaced.
 MAX_STEP_JITTER = 0.05
+#: The same for alignment and resampling, which first place a jittered record on a uniform
+#: grid: real I-Scan movies carry frame times with 0.10 s and 0.11 s steps.
+MAX_ALIGN_JITTER = 0.5
 
 
 def label(record, name):
@@ -61,7 +64,7 @@ def time_and_values(record, name):
     return time_s, values
 
 
-def sampling_rate_hz(time_s, where):
+def sampling_rate_hz(time_s, where, *, max_jitter=MAX_STEP_JITTER):
     """Infer the sampling rate of regularly spaced time stamps.
 
     Parameters
@@ -70,6 +73,8 @@ def sampling_rate_hz(time_s, where):
         Increasing time stamps in s.
     where : str
         File or parameter named in the error message.
+    max_jitter : float
+        Largest allowed ``|step - median step| / median step``.
 
     Returns
     -------
@@ -79,7 +84,7 @@ def sampling_rate_hz(time_s, where):
     Raises
     ------
     ValueError
-        When a step differs from the median step by more than ``MAX_STEP_JITTER``.
+        When a step differs from the median step by more than ``max_jitter`` of it.
 
     Examples
     --------
@@ -91,9 +96,30 @@ def sampling_rate_hz(time_s, where):
         raise ValueError(f"{where}: {time_s.size} time stamps; cannot infer a sampling rate")
     steps = np.diff(time_s)
     median = np.median(steps)
-    if median <= 0 or np.max(np.abs(steps - median)) > MAX_STEP_JITTER * median:
+    if median <= 0 or np.max(np.abs(steps - median)) > max_jitter * median:
         raise ValueError(
             f"{where}: irregular time column, steps range from {steps.min():.6g} to "
             f"{steps.max():.6g} s (median {median:.6g} s); cannot infer a sampling rate, "
             "expected a constant sampling interval")
     return float((time_s.size - 1) / (time_s[-1] - time_s[0]))
+
+
+def on_uniform_grid(time_s, values, where):
+    """Return ``(time_s, values, fs_hz)`` on equally spaced stamps.
+
+    Records whose steps stay within ``MAX_STEP_JITTER`` are returned as they are; records
+    with a jitter up to ``MAX_ALIGN_JITTER`` (e.g. I-Scan frame times 0.10/0.11 s) are
+    linearly interpolated onto ``t0 + k / fs`` at their mean rate.
+
+    Examples
+    --------
+    >>> t, v, fs = on_uniform_grid(np.array([0, 0.1, 0.21, 0.3]), np.arange(4.0), "x")
+    >>> fs, t.tolist()
+    (10.0, [0.0, 0.1, 0.2, 0.3])
+    """
+    fs_hz = sampling_rate_hz(time_s, where, max_jitter=MAX_ALIGN_JITTER)
+    steps = np.diff(time_s)
+    if np.max(np.abs(steps - np.median(steps))) <= MAX_STEP_JITTER * np.median(steps):
+        return time_s, values, fs_hz
+    grid = time_s[0] + np.arange(time_s.size) / fs_hz
+    return grid, np.interp(grid, time_s, values), fs_hz
