@@ -100,8 +100,8 @@ def plot_spectra(ev, *, f_max_hz=None, figsize=(8.0, 4.0)):
                                   dict(color="C0", lw=0.6))):
         amp = 2.0 * np.abs(fft.rfft(values - values.mean())) / n
         ax.plot(f[keep], amp[keep], label=label, **style)
-    ax.set(xlabel="frequency (Hz)", ylabel="Fourier amplitude (N)",
-           title="Fourier amplitude spectra")
+    ax.set(xlabel="frequency (Hz)", ylabel="Fourier amplitude (N)", yscale="log",
+           title="Fourier amplitude spectra (log scale: loading ramps dominate below 1 Hz)")
     ax.legend(fontsize="small")
     return fig
 
