@@ -176,3 +176,30 @@ def test_bad_filter_files(tmp_path):
     bad.write_text("[1, 2]")
     with pytest.raises(ValueError, match="bad.json: JSON list; expected an object"):
         load_filter(bad)
+
+
+def test_more_error_messages(sweep):
+    from tactilecal.dynamic import resample_to, static_factor
+    from tactilecal.dynamic._transfer import TransferFunction
+
+    f = np.arange(5.0)
+    tf = TransferFunction(f, np.ones(5), np.zeros(5), np.zeros(5, bool), "h2", 100.0, 100, 0.9)
+    with pytest.raises(ValueError, match="only 0 frequency bins have coherence >= 0.9"):
+        fit_transfer(tf)
+    with pytest.raises(ValueError, match="reaches beyond the Nyquist frequency 50 Hz"):
+        CorrectionFilter.from_model(("log", {"A": 0.1}), fs_hz=100, band_hz=(1, 60))
+    with pytest.raises(ValueError, match="taper_hz=-1; expected > 0"):
+        CorrectionFilter.from_model(("log", {"A": 0.1}), fs_hz=100, band_hz=(1, 10),
+                                    taper_hz=-1)
+    with pytest.raises(ValueError, match="model='cubic'; expected one of"):
+        CorrectionFilter.from_model(("cubic", {"A": 0.1}), fs_hz=100, band_hz=(1, 10))
+    rec = xr.DataArray(np.ones((3000, 2)), dims=("col", "frame"),
+                       coords={"time": ("frame", np.arange(2) / 1000)}, attrs={"source": "t.nc"})
+    with pytest.raises(ValueError, match="t.nc: expected a 'time' coordinate .* along the first"):
+        apply_filter(rec, CorrectionFilter.from_model(("log", {"A": 0.1}), fs_hz=1000,
+                                                      band_hz=(1, 10)))
+    with pytest.raises(ValueError, match="time_s: 1 target time stamps; expected at least 2"):
+        resample_to(sweep.reference, [0.5])
+    zero = sweep.sensor * 0
+    with pytest.raises(ValueError, match="mean reading is 0"):
+        static_factor(zero, sweep.sensor)
