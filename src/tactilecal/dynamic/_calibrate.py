@@ -91,7 +91,7 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
                 label(sensor, "sensor"))
     sens, ref, lag_s = align(sensor, reference, method=lag_method)
     factor = static_factor(sens, ref)
-    sens = sens * factor
+    sens = sens.copy(data=sens.values * factor)  # keeps attrs (the file named in errors)
     tf = transfer_function(sens, ref, method=method, nperseg=nperseg,
                            min_coherence=min_coherence, band_hz=band_hz)
     fit = fit_transfer(tf, model=model)
