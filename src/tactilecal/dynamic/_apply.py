@@ -35,25 +35,23 @@ PRECISIONS = {"single": (np.float32, np.complex64), "double": (np.float64, np.co
 
 
 def _filter_lines(block, filt, workers=1, precision="single"):
-    """Filter ``block`` (time first) circularly; return ``(filtered - start, start)``, time LAST.
+    """Filter ``block`` (time first) circularly; return ``(filtered - start, start)``.
 
-    The block is cast and transposed in one pass (time last: contiguous FFTs). Each
-    sensel's first sample is subtracted before the FFT and added back after it (the
-    filter's DC gain is exactly 1, so this changes nothing but the rounding): in single
-    precision the FFT then rounds relative to the dynamic part, not to a large static
-    offset. The circular convolution equals the linear one ``n_taps // 2`` samples away from
-    both ends of the block (overlap-save).
+    Each sensel's first sample is subtracted (in float64) while casting to the FFT's type
+    and must be added back by the caller (the filter's DC gain is exactly 1, so this
+    changes nothing but the rounding): in single precision the FFT then rounds relative to
+    the dynamic part, not to a large static offset. The circular convolution equals the
+    linear one ``n_taps // 2`` samples away from both ends of the block (overlap-save).
     """
     real, _ = PRECISIONS[precision]
     n = block.shape[0]
     n_fft = fft.next_fast_len(n, real=True)
-    by_time = np.moveaxis(block, 0, -1)
-    start = np.array(by_time[..., :1], dtype=float)
-    lines = np.empty(by_time.shape, dtype=real)
-    np.subtract(by_time, start, out=lines, casting="same_kind")  # in float64, one pass
-    spectrum = fft.rfft(lines, n=n_fft, axis=-1, workers=workers)
-    spectrum *= filt.spectrum(n_fft).astype(real)
-    return fft.irfft(spectrum, n=n_fft, axis=-1, workers=workers)[..., :n], start
+    start = np.array(block[:1], dtype=float)
+    lines = np.empty(block.shape, dtype=real)
+    np.subtract(block, start, out=lines, casting="same_kind")
+    spectrum = fft.rfft(lines, n=n_fft, axis=0, workers=workers)
+    spectrum *= filt.spectrum(n_fft).astype(real).reshape((-1,) + (1,) * (block.ndim - 1))
+    return fft.irfft(spectrum, n=n_fft, axis=0, workers=workers)[:n], start
 
 
 def _chunk(block, filt, precision):
@@ -98,8 +96,7 @@ def _apply_numpy(x2d, filt, workers, progress, precision):
         t1, s1 = min(t0 + step, n), min(s0 + BLOCK_SENSELS, m)
         ext = _extended_rows(x2d[:, s0:s1], t0, t1, half)
         lines, start = _filter_lines(ext, filt, 1, precision)
-        # one strided pass, the offset added back in float64
-        np.add(lines[:, half:half + t1 - t0].T, start.T, out=out[t0:t1, s0:s1])
+        np.add(lines[half:half + t1 - t0], start, out=out[t0:t1, s0:s1])  # offset in float64
 
     threads = (os.cpu_count() or 1) if workers == -1 else max(int(workers), 1)
     if threads == 1:
