@@ -55,13 +55,13 @@ def _filter_lines(block, filt, workers=1, precision="single"):
 
 
 def _chunk(block, filt, precision):
-    """Filter one dask chunk (with its overlap) in cache-sized blocks, on one thread.
+    """Filter one dask chunk (with its overlap) in cache-sized blocks on the thread pool.
 
     Rows within ``n_taps // 2`` of the chunk's ends see the reflection of the chunk, not
     the record; ``map_overlap`` trims exactly those rows.
     """
     x2d = np.asarray(block, dtype=float).reshape(block.shape[0], -1)
-    return _apply_numpy(x2d, filt, 1, None, precision).reshape(block.shape)
+    return _apply_numpy(x2d, filt, -1, None, precision).reshape(block.shape)
 
 
 def _extended_rows(x, start, stop, half):
