@@ -207,3 +207,25 @@ def test_no_silent_nan():
         res = zvyagin_fit(h, load)
     assert np.isfinite([res.A0, res.b0, res.alpha, res.beta, res.p_s_MPa, res.d_min]).all()
     assert np.isfinite(res.error_pct).all()
+
+
+def test_grey_patch_pairs_with_nothing():
+    h, load, _ = _synthetic(n=30, seed=16)
+    load = load.copy()
+    # a heavy load on a few low readings: every coefficient of eq. (12) is negative with
+    # any partner, so no root Y > 3 (Descartes' rule of signs)
+    h[7] = 0
+    h[7, 4] = 20
+    load[7] = 98.1
+    res = zvyagin_fit(h, load)
+    assert res.grey.tolist() == [7]
+    assert res.partner_share[7] == 0.0
+    assert set(np.delete(res.pair_matrix[7], 7)) == {"N"}
+
+
+def test_mislabelled_heavy_load_drives_faithful_E_to_the_range_end():
+    h, load, _ = _synthetic(n=30, seed=16)
+    load = load.copy()
+    load[7] *= 50.0
+    with pytest.warns(UserWarning, match=r"E\(b0\) is smallest at the end of the b range"):
+        zvyagin_fit(h, load)
