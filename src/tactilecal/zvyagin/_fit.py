@@ -107,12 +107,12 @@ def energy(b0, histograms, load_N, alpha, beta):
     return np.sum((np.asarray(load_N)[:, None] - predicted) ** 2, axis=0)
 
 
-def minimise_energy(histograms, load_N, alpha, beta, b_range, *, n_grid=201):
+def minimise_energy(histograms, load_N, alpha, beta, b_range, *, n_grid=201, max_step=0.005):
     """Find b0 minimising E on the power-law curve within ``b_range`` (eq. 15).
 
-    A grid of ``n_grid`` exponents locates the global minimum over the range (E may have
-    several local minima), then :func:`scipy.optimize.minimize_scalar` (bounded) refines it
-    between the grid neighbours.
+    A grid of at least ``n_grid`` exponents, at most ``max_step`` apart, locates the global
+    minimum over the range (E may have several local minima and a narrow valley), then
+    :func:`scipy.optimize.minimize_scalar` (bounded) refines it between the grid neighbours.
 
     Returns
     -------
@@ -121,6 +121,7 @@ def minimise_energy(histograms, load_N, alpha, beta, b_range, *, n_grid=201):
         minimum sits on an end of the range: E keeps falling beyond it), ``b_grid``, ``E_grid``.
     """
     lo, hi = float(b_range[0]), float(b_range[1])
+    n_grid = max(n_grid, int(np.ceil((hi - lo) / max_step)) + 1)
     grid = np.linspace(lo, hi, n_grid) if hi > lo else np.array([lo])
     e_grid = energy(grid, histograms, load_N, alpha, beta)
     k = int(np.argmin(e_grid))
