@@ -6,7 +6,7 @@ simulated loading-machine recording, fits and tests a dynamic filter, and writes
 report. :func:`make_bundle` regenerates the bundled sessions from their seeds.
 """
 
-from tactilecal.demo._bundle import BUNDLE, bundle_path, make_bundle, demo_sensor
+from tactilecal.demo._bundle import BUNDLE, bundle_path, demo_sensor, make_bundle
 from tactilecal.demo._run import run_demo
 
 __all__ = ["BUNDLE", "bundle_path", "demo_sensor", "make_bundle", "run_demo"]

@@ -11,8 +11,8 @@ frame per patch, a ``manifest.csv`` naming each frame's weight and pad, and ``tr
 from importlib import resources
 from pathlib import Path
 
-from tactilecal._jsonutil import write_json
 from tactilecal._atomic import write_text_atomic
+from tactilecal._jsonutil import write_json
 
 #: Seeds and sizes of the bundled sessions; the sensor is the same physical sensor in both.
 BUNDLE = {
