@@ -17,6 +17,9 @@ def register(subparsers):
                    help="linear, power-2pt, power (default), linear-offset, piecewise, lut, "
                         "polynomial, zvyagin")
     p.add_argument("--objective", help="power: l2, l1 or relative; others: l2 or relative")
+    p.add_argument("--mode", choices=("faithful", "robust"),
+                   help="zvyagin: follow the paper as written or the robust variant "
+                        "(docs/zvyagin.md; default faithful)")
     p.add_argument("--degree", type=int, help="polynomial degree (default 3)")
     p.add_argument("--knots", help="piecewise/lut knots, comma-separated raw values")
     p.add_argument("--point", type=int,
@@ -51,6 +54,11 @@ def _options(args):
     opts = {"keep_saturated": args.keep_saturated}
     if args.objective:
         opts["objective"] = args.objective
+    if args.mode:
+        if args.method != "zvyagin":
+            raise ValueError(f"--mode {args.mode} applies to --method zvyagin only, "
+                             f"not {args.method!r}")
+        opts["mode"] = args.mode
     if args.degree is not None:
         opts["degree"] = args.degree
     if args.knots:
