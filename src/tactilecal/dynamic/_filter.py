@@ -24,7 +24,7 @@ from scipy import fft, signal
 from tactilecal._jsonutil import write_json
 from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
 
-__all__ = ["CorrectionFilter", "load_filter", "FORMAT"]
+__all__ = ["CorrectionFilter", "load_filter", "FORMAT", "zero_phase_fir", "centred_spectrum"]
 
 #: Identifies FILTER.json files.
 FORMAT = "tactilecal-dynamic-filter/1"
@@ -34,6 +34,33 @@ _OUTSIDE = ("taper", "hold")
 def _odd(n):
     n = int(np.ceil(n))
     return n + 1 if n % 2 == 0 else n
+
+
+def zero_phase_fir(n_taps, grid_hz, gain, fs_hz):
+    """Design a symmetric FIR of ``n_taps`` (odd) with ``gain`` on ``grid_hz``, DC ``gain[0]``.
+
+    Frequency sampling (:func:`scipy.signal.firwin2`, Hamming window). A gain law with a
+    kink at 0 Hz (the log's slope) is smoothed by the window into a DC gain above
+    ``gain[0]`` (about 2 % for A = 0.11, log10, 1 Hz resolution); the excess is removed
+    with a Hamming-shaped bump, which acts within 2 fs/n_taps of 0 Hz only (side lobes
+    below -43 dB), so a static calibration is kept exactly.
+    """
+    taps = signal.firwin2(n_taps, grid_hz, gain, fs=fs_hz, window="hamming")
+    bump = signal.get_window("hamming", n_taps, fftbins=False)
+    return taps - (taps.sum() - gain[0]) * bump / bump.sum()
+
+
+def centred_spectrum(taps, n_fft):
+    """Return the real half-spectrum of the symmetric FIR ``taps`` centred on an ``n_fft`` circle.
+
+    Multiplying a block's ``rfft`` by it convolves the block circularly with the centred
+    FIR (no delay); the overlap-save blocks of :mod:`tactilecal.dynamic._apply` use it.
+    """
+    half = taps.size // 2
+    circ = np.zeros(n_fft)
+    circ[:half + 1] = taps[half:]
+    circ[n_fft - half:] = taps[:half]
+    return fft.rfft(circ).real
 
 
 @dataclass
@@ -200,14 +227,7 @@ class CorrectionFilter:
         """The symmetric FIR (length ``n_taps``) realising :meth:`gain` with zero phase."""
         if self._taps is None:
             grid = np.linspace(0.0, self.fs_hz / 2, 8 * self.n_taps + 1)
-            taps = signal.firwin2(self.n_taps, grid, self.gain(grid), fs=self.fs_hz,
-                                  window="hamming")
-            # G(|f|) has a kink at 0 Hz (the log's slope), which the window smooths into a
-            # DC gain above 1 (about 2 % for A = 0.11, log10, 1 Hz resolution). Remove the
-            # excess with a Hamming-shaped bump: it acts within 2 fs/n_taps of 0 Hz only
-            # (side lobes below -43 dB), so the static calibration is kept exactly.
-            bump = signal.get_window("hamming", self.n_taps, fftbins=False)
-            self._taps = taps - (taps.sum() - 1.0) * bump / bump.sum()
+            self._taps = zero_phase_fir(self.n_taps, grid, self.gain(grid), self.fs_hz)
         return self._taps
 
     def realised_gain(self, f_hz):
@@ -223,11 +243,7 @@ class CorrectionFilter:
     def spectrum(self, n_fft):
         """Real half-spectrum of the centred FIR on an ``n_fft``-point grid (overlap-save)."""
         if n_fft not in self._spectra:
-            half = self.n_taps // 2
-            circ = np.zeros(n_fft)
-            circ[:half + 1] = self.taps[half:]
-            circ[n_fft - half:] = self.taps[:half]
-            self._spectra[n_fft] = fft.rfft(circ).real
+            self._spectra[n_fft] = centred_spectrum(self.taps, n_fft)
         return self._spectra[n_fft]
 
     # -- JSON ---------------------------------------------------------------------------

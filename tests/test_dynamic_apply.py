@@ -1,0 +1,89 @@
+"""apply_filter's multirate method against the direct FIR and against the gain law."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tactilecal.dynamic import CorrectionFilter, apply_filter
+from tactilecal.dynamic._multirate import plan_multirate
+
+FS_HZ = 4000.0
+
+
+@pytest.fixture(scope="module")
+def thesis_filter():
+    """Gillis (2013) law 1 + 0.11 log10(f + 1), band 1..140 Hz, sampled at 4000 Hz."""
+    return CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=FS_HZ, band_hz=(1, 140))
+
+
+def _record(values):
+    n = values.shape[0]
+    return xr.DataArray(values, dims=("frame", "sensel")[:values.ndim],
+                        coords={"time": ("frame", np.arange(n) / FS_HZ)},
+                        attrs={"source": "rec.nc"})
+
+
+@pytest.fixture(scope="module")
+def walk():
+    """Random walk plus white noise on a large offset, 6 sensels, one outside the sensor."""
+    rng = np.random.default_rng(11)
+    x = 100 + 0.1 * rng.standard_normal((12_000, 6)).cumsum(axis=0)
+    x += rng.standard_normal(x.shape)
+    x[:, 4] = np.nan
+    return _record(x)
+
+
+def test_plan_decimates_only_a_band_limited_correction(thesis_filter):
+    plan = plan_multirate(thesis_filter)
+    assert plan.factor == 5  # floor(4000 / (4 * (140 + 35)))
+    assert plan.correction.size == 801  # 4001 / 5: the same 1 Hz resolution
+    assert np.sum(plan.lowpass) == pytest.approx(1.0, abs=1e-12)
+    assert abs(np.sum(plan.correction)) < 1e-12  # no change to a static load
+    hold = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=FS_HZ, band_hz=(1, 140),
+                                       outside="hold")
+    assert plan_multirate(hold) is None  # gain held to Nyquist: nothing to decimate
+    wide = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=1000, band_hz=(1, 140))
+    assert plan_multirate(wide) is None  # P = floor(1000 / 700) = 1
+
+
+def test_multirate_equals_direct_fir(walk, thesis_filter):
+    direct = apply_filter(walk, thesis_filter, method="direct", precision="double").values
+    auto = apply_filter(walk, thesis_filter, precision="double").values
+    single = apply_filter(walk, thesis_filter).values
+    span = np.nanmax(walk.values) - np.nanmin(walk.values)
+    np.testing.assert_allclose(auto, direct, atol=2e-5 * span)  # measured 3e-6
+    np.testing.assert_allclose(single, auto, atol=1e-6 * span)  # measured 2e-8
+    assert np.isnan(auto[:, 4]).all() and np.isfinite(np.delete(auto, 4, axis=1)).all()
+
+
+@pytest.mark.parametrize("chunk", [700, 3001])
+def test_multirate_dask_chunks_equal_memory(walk, thesis_filter, chunk):
+    memory = apply_filter(walk, thesis_filter, precision="double")
+    lazy = apply_filter(walk.chunk({"frame": chunk}), thesis_filter, precision="double")
+    assert lazy.chunks is not None
+    np.testing.assert_allclose(lazy.values, memory.values, atol=1e-9)
+
+
+def test_multirate_restores_the_gain_law_and_leaves_high_frequencies(thesis_filter):
+    t = np.arange(16_000) / FS_HZ
+    f_hz = np.array([5.0, 99.0, 140.0, 700.0, 1500.0])  # in band, at its top, far above
+    x = 50 + np.sin(2 * np.pi * f_hz[:, None] * t).T  # one sine per sensel
+    out = apply_filter(_record(x), thesis_filter).values[4000:-4000] - 50
+    amplitude = np.abs(np.fft.rfft(out, axis=0)).max(axis=0) * 2 / out.shape[0]
+    np.testing.assert_allclose(amplitude, thesis_filter.gain(f_hz), rtol=2e-3)
+    assert thesis_filter.gain(99.0) == pytest.approx(1 + 0.11 * np.log10(100))
+
+
+def test_multirate_edges_follow_the_odd_reflection(thesis_filter):
+    x = np.linspace(0.0, 10.0, 9000)[:, None] + 1000.0  # a ramp on a large offset
+    out = apply_filter(_record(x), thesis_filter).values
+    np.testing.assert_allclose(out, x, atol=1e-6 * 10)  # G(0) = 1: a ramp passes unchanged
+
+
+def test_multirate_nan_gap_and_method_errors(walk, thesis_filter):
+    gap = walk.copy()
+    gap[2500, 1] = np.nan
+    with pytest.raises(ValueError, match="rec.nc: sensel 1 .* NaN from frame index 2500"):
+        apply_filter(gap, thesis_filter)
+    with pytest.raises(ValueError, match="method='fast'; expected 'auto' or 'direct'"):
+        apply_filter(walk, thesis_filter, method="fast")
