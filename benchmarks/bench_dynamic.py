@@ -10,11 +10,12 @@ sine sets 10..200 Hz), each a separate simulated session with its own seed and l
 of the dynamic part before / after.
 
 Throughput: every sensel of a 1936-sensel (44 x 44) recording at 4000 Hz corrected with
-``apply_filter`` against ``scipy.signal.filtfilt`` per channel in the same run. filtfilt is
-timed on a subset of channels and scaled to all of them (said in the output). Two
-baselines: filtfilt with an FIR of the same length designed for sqrt(G) (filtfilt applies it
-twice, so the same gain: the like-for-like per-channel approach) and filtfilt with a 4th-order
-IIR (a cheap per-channel filter of another, lower quality: a floor for per-channel work).
+``apply_filter`` (multirate, direct, and dask-backed) against ``scipy.signal.filtfilt`` per
+channel in the same run. filtfilt is timed on a subset of channels and scaled to all of them
+(said in the output). Two baselines: filtfilt with an FIR of the same length designed for
+sqrt(G) (filtfilt applies it twice, so the same gain: the like-for-like per-channel approach)
+and filtfilt with a 4th-order IIR (a cheap per-channel filter of another, lower quality: a
+floor for per-channel work). Times are best and median of ``--repeat`` runs.
 """
 
 import argparse
@@ -26,15 +27,6 @@ from scipy import signal
 
 from tactilecal.dynamic import CorrectionFilter, apply_filter, evaluate, fit_filter
 from tactilecal.simulate import random_sine_sets, sine_sweep
-
-
-def _best_time(fn, repeat):
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 def accuracy(seeds):
@@ -73,6 +65,15 @@ def accuracy(seeds):
           f"{a[:, 2].min():.2f}x (goal 3x)")
 
 
+def _times(fn, repeat):
+    out = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        out.append(time.perf_counter() - t0)
+    return np.array(out)
+
+
 def throughput(seconds, subset, repeat):
     fs_hz, shape = 4000.0, (44, 44)
     n = int(seconds * fs_hz)
@@ -83,53 +84,43 @@ def throughput(seconds, subset, repeat):
     filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=fs_hz, band_hz=(1, 140))
     samples = data.size
     print(f"== throughput: {shape[0] * shape[1]} sensels x {n} frames ({seconds:g} s at "
-          f"{fs_hz:g} Hz) = {samples / 1e6:.1f} M samples, FIR {filt.n_taps} taps ==")
-    t_ours = _best_time(lambda: apply_filter(rec, filt), repeat)
+          f"{fs_hz:g} Hz) = {samples / 1e6:.1f} M float64 samples, FIR {filt.n_taps} taps, "
+          f"{repeat} runs each (best / median) ==")
+    apply_filter(rec.isel(frame=slice(0, 3 * filt.n_taps)), filt)  # numba compiles (cached)
     chunked = rec.chunk({"frame": 65536})
-    t_dask = _best_time(lambda: apply_filter(chunked, filt).compute(), repeat)
-    from scipy import fft
-
-    from tactilecal.dynamic import _apply
-
-    n_fft = fft.next_fast_len(max(_apply.BLOCK_FRAMES, 4 * filt.n_taps), real=True)
-    lines = np.random.default_rng(1).standard_normal((_apply.BLOCK_SENSELS, n_fft)).astype(
-        np.float32)
-    n_blocks = samples / (_apply.BLOCK_SENSELS * (n_fft - filt.n_taps + 1))
-
-    def bare_fft():
-        for _ in range(int(np.ceil(n_blocks))):
-            fft.irfft(fft.rfft(lines, axis=-1, workers=-1), n=n_fft, axis=-1, workers=-1)
-
-    t_fft = _best_time(bare_fft, repeat)
+    runs = {
+        "apply_filter, method='auto' (multirate)": lambda: apply_filter(rec, filt),
+        "apply_filter, method='direct'": lambda: apply_filter(rec, filt, method="direct"),
+        "apply_filter on dask (65536-frame chunks)":
+            lambda: apply_filter(chunked, filt).compute(),
+    }
+    times = {name: _times(fn, repeat) for name, fn in runs.items()}
 
     def fresh_copy():  # what any float64 -> new float64 output costs (page faults + copy)
         out = np.empty_like(data)
         out[...] = data
 
-    t_copy = _best_time(fresh_copy, repeat)
+    t_copy = _times(fresh_copy, repeat).min()
     x = data.reshape(n, -1)[:, :subset].T.copy()
     sqrt_fir = signal.firwin2(filt.n_taps, np.linspace(0, fs_hz / 2, 4097),
                               np.sqrt(filt.gain(np.linspace(0, fs_hz / 2, 4097))), fs=fs_hz)
-    t_fir = _best_time(lambda: [signal.filtfilt(sqrt_fir, [1.0], row) for row in x], 1)
+    t_fir = _times(lambda: [signal.filtfilt(sqrt_fir, [1.0], row) for row in x], 1).min()
     b, a = signal.butter(4, 140.0, fs=fs_hz)
-    t_iir = _best_time(lambda: [signal.filtfilt(b, a, row) for row in x], repeat)
+    t_iir = _times(lambda: [signal.filtfilt(b, a, row) for row in x], repeat).min()
     scale = samples / x.size
-    print(f"apply_filter (NumPy, blocks): {t_ours:.3f} s = {samples / t_ours / 1e6:.0f} M "
-          "samples/s")
-    print(f"apply_filter (dask, 65536-frame chunks): {t_dask:.3f} s = "
-          f"{samples / t_dask / 1e6:.0f} M samples/s")
-    print(f"bare float32 rfft+irfft of the same blocks ({int(np.ceil(n_blocks))} x "
-          f"{_apply.BLOCK_SENSELS} x {n_fft}, no copies): {t_fft:.3f} s = "
-          f"{samples / t_fft / 1e6:.0f} M samples/s -> apply_filter reaches "
-          f"{t_fft / t_ours:.2f} of this FFT bound")
-    print(f"fresh float64 output + copy of the input (memory floor): {t_copy:.3f} s = "
-          f"{samples / t_copy / 1e6:.0f} M samples/s -> apply_filter takes "
-          f"{t_ours / t_copy:.1f}x a bare copy")
-    print(f"filtfilt per channel, timed on {subset} channels and scaled x{scale:.0f}:")
-    print(f"  same-length FIR (sqrt gain): {t_fir * scale:.1f} s -> apply_filter is "
-          f"{t_fir * scale / t_ours:.1f}x faster")
-    print(f"  4th-order IIR: {t_iir * scale:.2f} s -> apply_filter is "
-          f"{t_iir * scale / t_ours:.2f}x faster")
+    t_fir, t_iir = t_fir * scale, t_iir * scale
+    print(f"filtfilt per channel, timed on {subset} channels and scaled x{scale:.0f}: "
+          f"same-length FIR (sqrt gain) {t_fir:.1f} s, 4th-order IIR {t_iir:.2f} s; "
+          f"fresh float64 output + copy (memory floor) {t_copy:.3f} s")
+    for name, t in times.items():
+        best, median = t.min(), np.median(t)
+        print(f"{name}: {best:.3f} / {median:.3f} s = {samples / best / 1e6:.0f} / "
+              f"{samples / median / 1e6:.0f} M samples/s; vs filtfilt FIR "
+              f"{t_fir / best:.0f}x, vs filtfilt IIR {t_iir / best:.2f}x, "
+              f"{best / t_copy:.1f}x the copy")
+    ratio = times["apply_filter, method='direct'"] / times[
+        "apply_filter, method='auto' (multirate)"]
+    print(f"multirate speed-up over direct, run by run: {np.round(ratio, 2).tolist()}")
 
 
 def main():
@@ -137,7 +128,7 @@ def main():
     parser.add_argument("--seconds", type=float, default=8.0)
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     parser.add_argument("--subset", type=int, default=16)
-    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--skip-accuracy", action="store_true")
     parser.add_argument("--skip-throughput", action="store_true")
     args = parser.parse_args()
