@@ -121,6 +121,8 @@ def throughput(seconds, subset, repeat):
     ratio = times["apply_filter, method='direct'"] / times[
         "apply_filter, method='auto' (multirate)"]
     print(f"multirate speed-up over direct, run by run: {np.round(ratio, 2).tolist()}")
+    rates = samples / times["apply_filter, method='auto' (multirate)"] / 1e6
+    print(f"multirate M samples/s, run by run: {np.round(rates).astype(int).tolist()}")
 
 
 def main():

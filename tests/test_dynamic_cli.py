@@ -139,3 +139,20 @@ def test_cli_errors(files, filter_json, tmp_path, capsys):
     assert main(["dynamic", "apply", str(late), files["sensor"], "--out",
                  str(tmp_path / "y.csv")]) == 1
     assert "late.csv: not valid JSON" in capsys.readouterr().err
+
+
+def test_apply_method_direct_matches_auto(files):
+    from tactilecal.dynamic import CorrectionFilter
+    from tactilecal.dynamic._multirate import plan_multirate
+
+    filt = CorrectionFilter.from_model(("log", {"A": 0.05}), fs_hz=1000.0, band_hz=(1, 40))
+    assert plan_multirate(filt).factor == 5  # 1000 / (4 (40 + 10)): auto is multirate
+    filter_json = files["d"] / "narrow.json"
+    filt.save(filter_json)
+    auto, direct = files["d"] / "auto.csv", files["d"] / "direct.csv"
+    for method, out in (("auto", auto), ("direct", direct)):
+        assert main(["-q", "dynamic", "apply", str(filter_json), files["blind_sensor"],
+                     "--out", str(out), "--method", method]) == 0
+    a, d = pd.read_csv(auto)["Force (N)"], pd.read_csv(direct)["Force (N)"]
+    assert np.abs(a - d).max() < 1e-4 * np.ptp(d)  # two realisations of one filter
+    assert np.abs(a - d).max() > 0  # and really two methods

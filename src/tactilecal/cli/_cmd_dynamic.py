@@ -43,6 +43,9 @@ def register(subparsers):
     a.add_argument("--out", required=True, metavar="OUTPUT")
     a.add_argument("--chunk-frames", type=int, default=65536,
                    help="frames per chunk when streaming NetCDF (default 65536)")
+    a.add_argument("--method", default="auto", choices=["auto", "direct"],
+                   help="auto (default): multirate when the correction is band-limited "
+                        "well below Nyquist, else direct; direct: the FIR at the full rate")
     a.set_defaults(func=run_apply)
 
     e = sub.add_parser("evaluate", help="error before/after correction, figures",
@@ -100,7 +103,7 @@ def _apply_csv(filt, args):
     data = xr.DataArray(table[value_cols].to_numpy(float), dims=("time", "column"),
                         coords={"time": series["time"].values},
                         attrs={"source": args.input})
-    out = apply_filter(data, filt, progress=_bar(args, "filtering"))
+    out = apply_filter(data, filt, progress=_bar(args, "filtering"), method=args.method)
     table[value_cols] = np.asarray(out.values)
     with atomic_path(args.out) as tmp:
         table.to_csv(tmp, index=False, float_format="%.10g")
@@ -116,7 +119,7 @@ def _apply_recording(filt, args):
     data = read_recording(args.input, chunks={"frame": args.chunk_frames} if lazy else None)
     if lazy and data.dims and data.dims[0] in data.chunksizes:
         data = data.chunk({data.dims[0]: args.chunk_frames})
-    out = apply_filter(data, filt, progress=_bar(args, "filtering"))
+    out = apply_filter(data, filt, progress=_bar(args, "filtering"), method=args.method)
     if out.chunks is not None and not args.quiet:
         import sys
 
