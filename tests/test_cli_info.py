@@ -92,3 +92,17 @@ def test_calibrated_power_law_file(capsys, tmp_path):
     assert out["max_raw_source"] == "inverted SCALE_FACTOR x raw^EXPONENT"
     assert out["saturated_frame_numbers"] == [3]
     assert out["calibration"]["exponent"] == exponent
+
+
+def test_closed_pipe_is_not_a_traceback(iscan_csv):
+    """``tactilecal info F --json | head -0``: the reader has gone before anything is written."""
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen([sys.executable, "-m", "tactilecal", "info", str(iscan_csv),
+                             "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()  # the child's first write meets a closed pipe (EPIPE)
+    with proc.stderr:
+        stderr = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 1
+    assert "Traceback" not in stderr and "BrokenPipeError" not in stderr, stderr

@@ -48,7 +48,21 @@ def main(argv=None):
         msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         print(f"tactilecal {args.command}: error: {msg}", file=sys.stderr)
         return 1
+    except BrokenPipeError:  # the reader went away (`tactilecal info F | head`): stop quietly
+        _silence_stdout()
+        return 1
     return 0 if code is None else int(code)
+
+
+def _silence_stdout():
+    """Point stdout at /dev/null so the interpreter's last flush does not fail again.
+
+    The recipe of the Python documentation (signal module, "Note on SIGPIPE").
+    """
+    import os
+
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
 
 
 if __name__ == "__main__":  # pragma: no cover
