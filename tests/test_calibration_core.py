@@ -266,6 +266,11 @@ def test_json_round_trip_and_apply(tmp_path):
     assert list(kpa.coords) == list(rec.coords) and kpa.dims == rec.dims
     newton = back.apply(rec, units="N")
     assert float(newton[0].sum()) == pytest.approx(_power_loads(raw[:1])[0], rel=1e-6)
+    bar = back.apply(rec.assign_attrs(units="Raw"), units="BAR")  # spellings of the files
+    assert bar.attrs["units"] == "bar"
+    np.testing.assert_allclose(bar.values * 100.0, kpa.values, rtol=1e-12)  # 1 bar = 100 kPa
+    lbf = back.apply(rec, units="lbf")
+    np.testing.assert_allclose(lbf.values * 4.4482216152605, newton.values, rtol=1e-12)
     assert "summary" not in data and "points used: 20 of 20" in res.summary()
 
 
@@ -273,8 +278,10 @@ def test_apply_and_load_errors(tmp_path):
     raw = _patches(10)
     res = calibrate(points_from_frames(raw, _power_loads(raw)), method="power")
     rec = xr.DataArray(raw, dims=("frame", "row", "col"), attrs={"units": "raw"})
-    with pytest.raises(ValueError, match="units='bar' is not supported"):
-        res.apply(rec, units="bar")
+    with pytest.raises(ValueError, match="unknown unit 'furlong' in units="):
+        res.apply(rec, units="furlong")
+    with pytest.raises(ValueError, match="units='mm' is a length unit; expected a pressure"):
+        res.apply(rec, units="mm")
     with pytest.raises(ValueError, match="sensel area unknown"):
         res.apply(rec, units="kPa")
     with pytest.raises(ValueError, match="has units 'kPa'; expected raw"):

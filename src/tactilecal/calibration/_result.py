@@ -14,10 +14,9 @@ from tactilecal._jsonutil import dumps, to_jsonable
 from tactilecal._version import __version__
 from tactilecal.calibration._models import force_table, sensel_force
 
-__all__ = ["CalibrationResult", "load_calibration", "PRESSURE_UNITS"]
+__all__ = ["CalibrationResult", "load_calibration"]
 
 # kPa per unit; ``N`` (force per sensel) is handled apart.
-PRESSURE_UNITS = {"kPa": 1.0, "MPa": 1000.0, "psi": 6.894757293168361}
 POINT_COLUMNS = ["file", "frame", "load_N", "raw_sum", "loaded_cells", "saturated_cells",
                  "used", "reason", "predicted_N", "error_pct"]
 REQUIRED_KEYS = ["method", "model", "params", "sensel_area_mm2", "saturation_pressure_kPa",
@@ -132,8 +131,10 @@ class CalibrationResult:
         ----------
         recording : xarray.DataArray
             Raw recording in the data model (``units`` attribute ``raw``).
-        units : {"kPa", "MPa", "psi", "N"}
-            Output unit; ``"N"`` gives the force on each sensel.
+        units : str
+            Output unit: any pressure unit of :func:`tactilecal.io.normalise_unit` (kPa,
+            MPa, Pa, psi, bar, mmHg...) or a force unit (N, kN, kgf, lbf: the force on
+            each sensel).
 
         Returns
         -------
@@ -147,15 +148,22 @@ class CalibrationResult:
             For an unknown unit, a recording that is not raw, or a missing/inconsistent
             sensel area.
         """
-        valid = [*PRESSURE_UNITS, "N"]
-        if units not in valid:
-            raise ValueError(f"units={units!r} is not supported; expected one of {valid}")
-        rec_units = recording.attrs.get("units", "raw")
+        from tactilecal.io import force_to_N, normalise_unit, pressure_to_kPa, unit_kind
+
+        source = recording.attrs.get("source", "")
+        units = normalise_unit(units, where="units=")
+        if unit_kind(units) not in ("pressure", "force"):
+            raise ValueError(f"units={units!r} is a {unit_kind(units)} unit; expected a "
+                             "pressure (kPa, MPa, psi, bar...) or force (N, kN, lbf...) unit")
+        rec_units = normalise_unit(recording.attrs.get("units", "raw"),
+                                   where=f"the units attribute of recording {source!r}")
         if rec_units != "raw":
-            raise ValueError(f"recording {recording.attrs.get('source', '')!r} has units "
-                             f"{rec_units!r}; expected raw readings (units 'raw')")
-        scale = 1.0 if units == "N" else 1000.0 / self._area_for(recording) \
-            / PRESSURE_UNITS[units]
+            raise ValueError(f"recording {source!r} has units {rec_units!r}; expected raw "
+                             "readings (units 'raw')")
+        if unit_kind(units) == "force":
+            scale = 1.0 / force_to_N(1.0, units)
+        else:
+            scale = 1000.0 / self._area_for(recording) / pressure_to_kPa(1.0, units)
         # apply_ufunc keeps a dask-backed recording lazy (chunk by chunk along frames)
         out = xr.apply_ufunc(lambda raw: self.predict_sensel_force(raw) * scale, recording,
                              input_core_dims=[["row", "col"]],

@@ -13,8 +13,9 @@ def register(subparsers):
     p.add_argument("calibration", metavar="CAL.json")
     p.add_argument("recording", metavar="RECORDING")
     p.add_argument("--out", required=True, metavar="OUT.nc")
-    p.add_argument("--units", default="kPa", choices=["kPa", "MPa", "psi", "N"],
-                   help="output unit (N: force per sensel); default kPa")
+    p.add_argument("--units", default="kPa",
+                   help="output unit: a pressure (kPa, MPa, Pa, psi, bar, mmHg...) or a "
+                        "force per sensel (N, kN, kgf, lbf); default kPa")
     p.set_defaults(func=run)
 
 
