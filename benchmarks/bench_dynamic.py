@@ -1,6 +1,7 @@
 """Benchmark of the dynamic calibration (issue 5): accuracy on simulated truth, throughput.
 
-Run: ``python benchmarks/bench_dynamic.py [--seconds 8] [--seeds 0 1 2] [--skip-accuracy]``
+Run: ``python benchmarks/bench_dynamic.py [--seconds 8] [--seeds 0 1 2] [--skip-accuracy]
+[--skip-throughput] [--stages]``
 
 Accuracy (Gillis 2013 Table 4.2 sessions from ``tactilecal.simulate``): the full sine sweep
 1..140 Hz (sensor 4000 Hz, load cell 5000 Hz starting ``lag_s`` later, white noise) with a
@@ -127,6 +128,33 @@ def throughput(seconds, subset, repeat):
     print(f"multirate M samples/s, run by run: {np.round(rates).astype(int).tolist()}")
 
 
+def _page_faults():
+    try:
+        with open("/proc/vmstat") as f:
+            return dict(line.split() for line in f).get("pgfault")
+    except OSError:  # not Linux
+        return None
+
+
+def stages(seconds, repeat):
+    """Seconds of each multirate stage and page faults, run by run (same record as above)."""
+    from tactilecal.dynamic._multirate import apply_multirate, plan_multirate
+
+    fs_hz, n = 4000.0, int(seconds * 4000.0)
+    x2d = 100.0 + np.random.default_rng(0).standard_normal((n, 44 * 44))
+    filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=fs_hz, band_hz=(1, 140))
+    plan = plan_multirate(filt)
+    apply_multirate(x2d[:3 * filt.n_taps], plan, 2, None, "single")  # numba compiles (cached)
+    print(f"== multirate stages, 1936 sensels x {n} frames, P = {plan.factor} ==")
+    for run in range(repeat):
+        timings, before = {}, _page_faults()
+        apply_multirate(x2d, plan, 2, None, "single", timings=timings)
+        after = _page_faults()
+        faults = "" if before is None else f", {int(after) - int(before)} page faults"
+        print(f"run {run + 1}: " + ", ".join(f"{k} {v:.3f} s" for k, v in timings.items())
+              + faults)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=8.0)
@@ -135,11 +163,15 @@ def main():
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--skip-accuracy", action="store_true")
     parser.add_argument("--skip-throughput", action="store_true")
+    parser.add_argument("--stages", action="store_true",
+                        help="also time each multirate stage, run by run")
     args = parser.parse_args()
     if not args.skip_accuracy:
         accuracy(args.seeds)
     if not args.skip_throughput:
         throughput(args.seconds, args.subset, args.repeat)
+    if args.stages:
+        stages(args.seconds, args.repeat)
 
 
 if __name__ == "__main__":

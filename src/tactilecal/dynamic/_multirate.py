@@ -192,15 +192,25 @@ def _convolve_lines(lines, gain, half, a, b):
         lines[a:b, t0:t0 + width] = y[:, half:half + width]  # rows past t0 + width unread
 
 
-def apply_multirate(x2d, plan, workers, progress, precision, check=None):
+def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings=None):
     """Return ``x + c`` for ``x2d`` (time, sensels) float64; see the module notes.
 
     ``precision`` ("single" or "double") is the type of the decimated record and its FFTs.
     ``progress`` wraps the tasks of stage 3 (the last and longest). ``check(lines)``, if
     given, sees the decimated record (sensels x decimated frames) before stage 2: a NaN
     anywhere in a sensel's record reaches its decimated line (every frame is under the
-    low-pass), so NaN gaps are found in 1/P of the data.
+    low-pass), so NaN gaps are found in 1/P of the data. ``timings``, if a dict, receives
+    the seconds of each stage (``benchmarks/bench_dynamic.py --stages``).
     """
+    import time
+
+    clock = [time.perf_counter()]
+
+    def lap(stage):
+        if timings is not None:
+            clock.append(time.perf_counter())
+            timings[stage] = clock[-1] - clock[-2]
+
     x2d = np.ascontiguousarray(x2d)  # the kernels stream whole rows
     n, m = x2d.shape
     factor, lowpass, taps = plan.factor, plan.lowpass, plan.correction
@@ -210,6 +220,7 @@ def apply_multirate(x2d, plan, workers, progress, precision, check=None):
     lines = np.empty((m, n_low), dtype=np.float32 if precision == "single" else float)
     _run([lambda a=a, b=b: _decimate_to_lines(x2d, lowpass, factor, first, a, b, lines)
           for a, b in _ranges(n_low, ROWS_PER_TASK)], workers)
+    lap("decimate")
     if check is not None:
         check(lines)
     n_fft = fft.next_fast_len(max(min(BLOCK_FFT, n_low), 4 * taps.size), real=True)
@@ -217,8 +228,10 @@ def apply_multirate(x2d, plan, workers, progress, precision, check=None):
     gain = centred_spectrum(taps, n_fft).astype(lines.dtype)
     _run([lambda a=a, b=b: _convolve_lines(lines, gain, half, a, b)
           for a, b in _ranges(m, LINES_PER_TASK)], workers)
+    lap("correct")
     out = np.empty_like(x2d)
     _run([lambda a=a, b=b: _interpolate_add(x2d, lines, first + half, lowpass, factor, a, b,
                                             out)
           for a, b in _ranges(n, ROWS_PER_TASK)], workers, progress)
+    lap("interpolate into the new output")
     return out
