@@ -161,3 +161,12 @@ def test_netcdf3_limit_is_explained(tmp_path, monkeypatch):
                                          r"installed.*install h5py or convert to float64"):
         write_netcdf(big, out)
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_read_netcdf_errors_name_the_file(tmp_path):
+    with pytest.raises(FileNotFoundError, match=r"missing.nc: no such file"):
+        read_netcdf(tmp_path / "missing.nc")
+    text = tmp_path / "text.nc"
+    text.write_text("time,value\n0,1\n")
+    with pytest.raises(ValueError, match=r"text.nc: not a NetCDF file with one data variable"):
+        read_netcdf(text)

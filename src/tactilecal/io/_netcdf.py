@@ -80,8 +80,24 @@ def read_netcdf(path):
     Returns
     -------
     xarray.DataArray
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file.
+    ValueError
+        Not a NetCDF file holding one data variable.
     """
-    data = xr.load_dataarray(path, decode_times=False, decode_timedelta=False)
+    from pathlib import Path
+
+    if not Path(path).is_file():
+        raise FileNotFoundError(f"{path}: no such file; expected a NetCDF file (.nc)")
+    try:
+        data = xr.load_dataarray(path, decode_times=False, decode_timedelta=False)
+    except (ValueError, OSError) as exc:
+        raise ValueError(f"{path}: not a NetCDF file with one data variable "
+                         f"({str(exc).splitlines()[0][:200]}); expected a file written by "
+                         "write_netcdf or DataArray.to_netcdf") from None
     for name in _INT_COORDS:
         if name in data.coords and np.issubdtype(data[name].dtype, np.integer):
             data = data.assign_coords({name: data[name].astype(np.int64)})
