@@ -110,8 +110,8 @@ def _extended_rows(x, start, stop, half):
     return ext
 
 
-def _apply_numpy(x2d, filt, workers, progress, precision):
-    """Overlap-save over (time, sensel) blocks, blocks spread over ``workers`` threads."""
+def _apply_numpy(x2d, filt, threads, progress, precision):
+    """Overlap-save over (time, sensel) blocks, blocks spread over ``threads`` threads."""
     from concurrent.futures import ThreadPoolExecutor
 
     half = filt.n_taps // 2
@@ -128,7 +128,6 @@ def _apply_numpy(x2d, filt, workers, progress, precision):
         lines, offset = _filter_lines(ext, filt, precision)
         np.add(lines[half:half + t1 - t0], offset, out=out[t0:t1, s0:s1])  # in float64
 
-    threads = workers
     if threads == 1:
         for block in (progress(blocks, total=len(blocks)) if progress else blocks):
             run(block)
