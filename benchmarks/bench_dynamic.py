@@ -20,10 +20,10 @@ floor for per-channel work). Times are best and median of ``--repeat`` runs.
 """
 
 import argparse
-import time
 
 import numpy as np
 import xarray as xr
+from _timing import run_times
 from scipy import signal
 
 from tactilecal.dynamic import CorrectionFilter, apply_filter, evaluate, fit_filter
@@ -66,15 +66,6 @@ def accuracy(seeds):
           f"{a[:, 2].min():.2f}x (goal 3x)")
 
 
-def _times(fn, repeat):
-    out = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - t0)
-    return np.array(out)
-
-
 def throughput(seconds, subset, repeat):
     fs_hz, shape = 4000.0, (44, 44)
     n = int(seconds * fs_hz)
@@ -93,7 +84,7 @@ def throughput(seconds, subset, repeat):
         out = np.empty_like(data)
         out[...] = data
 
-    t_first_copy = _times(fresh_copy, 1)[0]  # memory this process never held before
+    t_first_copy = run_times(fresh_copy, 1)[0]  # memory this process never held before
     chunked = rec.chunk({"frame": 65536})
     runs = {
         "apply_filter, method='auto' (multirate)": lambda: apply_filter(rec, filt),
@@ -101,14 +92,14 @@ def throughput(seconds, subset, repeat):
         "apply_filter on dask (65536-frame chunks)":
             lambda: apply_filter(chunked, filt).compute(),
     }
-    times = {name: _times(fn, repeat) for name, fn in runs.items()}
-    t_copy = _times(fresh_copy, repeat).min()
+    times = {name: run_times(fn, repeat) for name, fn in runs.items()}
+    t_copy = run_times(fresh_copy, repeat).min()
     x = data.reshape(n, -1)[:, :subset].T.copy()
     sqrt_fir = signal.firwin2(filt.n_taps, np.linspace(0, fs_hz / 2, 4097),
                               np.sqrt(filt.gain(np.linspace(0, fs_hz / 2, 4097))), fs=fs_hz)
-    t_fir = _times(lambda: [signal.filtfilt(sqrt_fir, [1.0], row) for row in x], 1).min()
+    t_fir = run_times(lambda: [signal.filtfilt(sqrt_fir, [1.0], row) for row in x], 1).min()
     b, a = signal.butter(4, 140.0, fs=fs_hz)
-    t_iir = _times(lambda: [signal.filtfilt(b, a, row) for row in x], repeat).min()
+    t_iir = run_times(lambda: [signal.filtfilt(b, a, row) for row in x], repeat).min()
     scale = samples / x.size
     t_fir, t_iir = t_fir * scale, t_iir * scale
     print(f"filtfilt per channel, timed on {subset} channels and scaled x{scale:.0f}: "

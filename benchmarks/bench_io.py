@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import xarray as xr
+from _timing import run_times
 
 from tactilecal.io import read_tekscan, write_tekscan
 
@@ -36,12 +37,7 @@ def simulated(n_frames, size=44, seed=0):
 
 
 def best_of(func, repeat):
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        func()
-        times.append(time.perf_counter() - start)
-    return min(times)
+    return run_times(func, repeat).min()
 
 
 def main():
