@@ -3,6 +3,7 @@
 import json
 import math
 import os
+from pathlib import Path
 
 import numpy as np
 
@@ -38,6 +39,21 @@ def dumps(obj, **kwargs):
     """Serialise ``obj`` with :func:`to_jsonable` applied first."""
     kwargs.setdefault("indent", 2)
     return json.dumps(to_jsonable(obj), **kwargs)
+
+
+def read_json_object(path, expected):
+    """Read a JSON object from ``path``; a ValueError names the file if it holds anything else.
+
+    ``expected`` completes the message for text that is not JSON (``"a FILTER.json"``).
+    """
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}); "
+                         f"expected {expected}") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"{path}: JSON {type(data).__name__}; expected an object")
+    return data
 
 
 def write_json(path, obj):

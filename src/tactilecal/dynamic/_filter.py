@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import fft, signal
 
-from tactilecal._jsonutil import write_json
+from tactilecal._jsonutil import read_json_object, write_json
 from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
 
 __all__ = ["CorrectionFilter", "load_filter", "FORMAT", "zero_phase_fir", "centred_spectrum"]
@@ -303,14 +303,5 @@ def load_filter(path):
     ValueError
         Not JSON, or not a filter file.
     """
-    import json
-    from pathlib import Path
-
-    try:
-        d = json.loads(Path(path).read_text(encoding="utf-8"))
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}); "
-                         "expected a FILTER.json written by 'tactilecal dynamic fit'") from None
-    if not isinstance(d, dict):
-        raise ValueError(f"{path}: JSON {type(d).__name__}; expected an object")
+    d = read_json_object(path, "a FILTER.json written by 'tactilecal dynamic fit'")
     return CorrectionFilter.from_dict(d, where=str(path))

@@ -1,11 +1,12 @@
 """Recognise and load the inputs of a report: calibration JSON, FILTER.json, recordings."""
 
 import hashlib
-import json
 from datetime import UTC, datetime
 from pathlib import Path
 
 import xarray as xr
+
+from tactilecal._jsonutil import read_json_object
 
 __all__ = ["load_input", "file_provenance"]
 
@@ -37,17 +38,6 @@ def _classify_dict(data, where):
     raise ValueError(f"{where}: JSON with keys {sorted(data)[:8]} is neither a calibration "
                      f"(keys {list(REQUIRED_KEYS)}) nor a dynamic filter (keys "
                      f"{list(_FILTER_KEYS)})")
-
-
-def _read_json(path):
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}); expected "
-                         "a calibration JSON or a FILTER.json") from None
-    if not isinstance(data, dict):
-        raise ValueError(f"{path}: JSON {type(data).__name__}; expected an object")
-    return data
 
 
 def load_input(item):
@@ -92,7 +82,8 @@ def load_input(item):
         raise FileNotFoundError(f"report input {path} does not exist or is not a file")
     prov = {"input": str(item), **file_provenance(path)}
     if path.suffix.lower() == ".json":
-        kind, obj = _classify_dict(_read_json(path), str(path))
+        data = read_json_object(path, "a calibration JSON or a FILTER.json")
+        kind, obj = _classify_dict(data, str(path))
         return kind, obj, prov
     if path.suffix.lower() in (".nc", ".nc4", ".netcdf"):
         from tactilecal.io import read_netcdf
