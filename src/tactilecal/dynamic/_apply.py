@@ -24,7 +24,7 @@ import numpy as np
 import xarray as xr
 from scipy import fft
 
-from tactilecal.dynamic._multirate import apply_multirate, plan_multirate
+from tactilecal.dynamic._multirate import apply_multirate, plan_multirate, run_tasks
 from tactilecal.dynamic._records import label, sampling_rate_hz
 
 __all__ = ["apply_filter"]
@@ -112,30 +112,20 @@ def _extended_rows(x, start, stop, half):
 
 def _apply_numpy(x2d, filt, threads, progress, precision):
     """Overlap-save over (time, sensel) blocks, blocks spread over ``threads`` threads."""
-    from concurrent.futures import ThreadPoolExecutor
-
     half = filt.n_taps // 2
     n, m = x2d.shape
     n_fft = fft.next_fast_len(max(min(BLOCK_FRAMES, n + 2 * half), 4 * filt.n_taps), real=True)
     step = n_fft - 2 * half
     out = np.empty_like(x2d)
-    blocks = [(t0, s0) for t0 in range(0, n, step) for s0 in range(0, m, BLOCK_SENSELS)]
 
-    def run(block):
-        t0, s0 = block
+    def run(t0, s0):
         t1, s1 = min(t0 + step, n), min(s0 + BLOCK_SENSELS, m)
         ext = _extended_rows(x2d[:, s0:s1], t0, t1, half)
         lines, offset = _filter_lines(ext, filt, precision)
         np.add(lines[half:half + t1 - t0], offset, out=out[t0:t1, s0:s1])  # in float64
 
-    if threads == 1:
-        for block in (progress(blocks, total=len(blocks)) if progress else blocks):
-            run(block)
-        return out
-    with ThreadPoolExecutor(max_workers=threads) as pool:
-        done = pool.map(run, blocks)
-        for _ in (progress(done, total=len(blocks)) if progress else done):
-            pass
+    run_tasks([lambda t0=t0, s0=s0: run(t0, s0) for t0 in range(0, n, step)
+               for s0 in range(0, m, BLOCK_SENSELS)], threads, progress)
     return out
 
 

@@ -40,7 +40,7 @@ from scipy import fft, signal
 
 from tactilecal.dynamic._filter import centred_spectrum, zero_phase_fir
 
-__all__ = ["MultiratePlan", "plan_multirate", "apply_multirate"]
+__all__ = ["MultiratePlan", "plan_multirate", "apply_multirate", "run_tasks"]
 
 #: Attenuation (dB) of the anti-aliasing / interpolation low-pass in its stop band.
 STOPBAND_DB = 70.0
@@ -164,8 +164,11 @@ def _interpolate_add(x, lines, first, lowpass, factor, t0, t1, out):  # pragma: 
                 out[t, s] = x[t, s] + acc[s]
 
 
-def _run(tasks, workers, progress=None):
-    """Run callables on a thread pool (the kernels release the GIL)."""
+def run_tasks(tasks, workers, progress=None):
+    """Run callables on ``workers`` threads (the kernels and FFTs release the GIL).
+
+    ``progress`` wraps the iterator of finished tasks, called with ``total=``.
+    """
     with ThreadPoolExecutor(max_workers=workers) as pool:
         done = pool.map(lambda task: task(), tasks)
         for _ in (progress(done, total=len(tasks)) if progress else done):
@@ -218,7 +221,7 @@ def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings
     first = -(c // factor) - half  # decimated rows that stage 3 needs, plus stage 2's reach
     n_low = (n - 1 + c) // factor + half - first + 1
     lines = np.empty((m, n_low), dtype=np.float32 if precision == "single" else float)
-    _run([lambda a=a, b=b: _decimate_to_lines(x2d, lowpass, factor, first, a, b, lines)
+    run_tasks([lambda a=a, b=b: _decimate_to_lines(x2d, lowpass, factor, first, a, b, lines)
           for a, b in _ranges(n_low, ROWS_PER_TASK)], workers)
     lap("decimate")
     if check is not None:
@@ -226,11 +229,11 @@ def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings
     n_fft = fft.next_fast_len(max(min(BLOCK_FFT, n_low), 4 * taps.size), real=True)
     n_fft += n_fft % 2  # even, so that the half-spectrum's length gives it back
     gain = centred_spectrum(taps, n_fft).astype(lines.dtype)
-    _run([lambda a=a, b=b: _convolve_lines(lines, gain, half, a, b)
+    run_tasks([lambda a=a, b=b: _convolve_lines(lines, gain, half, a, b)
           for a, b in _ranges(m, LINES_PER_TASK)], workers)
     lap("correct")
     out = np.empty_like(x2d)
-    _run([lambda a=a, b=b: _interpolate_add(x2d, lines, first + half, lowpass, factor, a, b,
+    run_tasks([lambda a=a, b=b: _interpolate_add(x2d, lines, first + half, lowpass, factor, a, b,
                                             out)
           for a, b in _ranges(n, ROWS_PER_TASK)], workers, progress)
     lap("interpolate into the new output")
