@@ -24,6 +24,7 @@ import numpy as np
 import xarray as xr
 from scipy import fft
 
+from tactilecal.dynamic._filter import PRECISIONS
 from tactilecal.dynamic._multirate import apply_multirate, plan_multirate, run_tasks
 from tactilecal.dynamic._records import label, sampling_rate_hz
 
@@ -36,8 +37,6 @@ BLOCK_FRAMES = 1 << 14
 BLOCK_SENSELS = 32
 #: Relative mismatch allowed between the record's rate and the filter's ``fs_hz``.
 RATE_TOLERANCE = 0.005
-#: Floating-point types of the FFT work.
-PRECISIONS = {"single": (np.float32, np.complex64), "double": (np.float64, np.complex128)}
 METHODS = ("auto", "direct")
 
 
@@ -50,7 +49,7 @@ def _filter_lines(block, filt, precision="single"):
     offset. The circular convolution equals the linear one ``n_taps // 2`` samples away
     from both ends of the block (overlap-save).
     """
-    real, _ = PRECISIONS[precision]
+    real = PRECISIONS[precision]
     n = block.shape[0]
     n_fft = fft.next_fast_len(n, real=True)
     start = np.array(block[:1], dtype=float)

@@ -26,6 +26,8 @@ from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
 
 __all__ = ["CorrectionFilter", "load_filter", "FORMAT", "zero_phase_fir", "centred_spectrum"]
 
+#: Floating-point type of the FFT work for each ``precision`` of ``apply_filter``.
+PRECISIONS = {"single": np.float32, "double": np.float64}
 #: Identifies FILTER.json files.
 FORMAT = "tactilecal-dynamic-filter/1"
 _OUTSIDE = ("taper", "hold")

@@ -38,7 +38,7 @@ import numba
 import numpy as np
 from scipy import fft, signal
 
-from tactilecal.dynamic._filter import centred_spectrum, zero_phase_fir
+from tactilecal.dynamic._filter import PRECISIONS, centred_spectrum, zero_phase_fir
 
 __all__ = ["MultiratePlan", "plan_multirate", "apply_multirate", "run_tasks"]
 
@@ -220,7 +220,7 @@ def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings
     c, half = lowpass.size // 2, taps.size // 2
     first = -(c // factor) - half  # decimated rows that stage 3 needs, plus stage 2's reach
     n_low = (n - 1 + c) // factor + half - first + 1
-    lines = np.empty((m, n_low), dtype=np.float32 if precision == "single" else float)
+    lines = np.empty((m, n_low), dtype=PRECISIONS[precision])
     run_tasks([lambda a=a, b=b: _decimate_to_lines(x2d, lowpass, factor, first, a, b, lines)
           for a, b in _ranges(n_low, ROWS_PER_TASK)], workers)
     lap("decimate")
