@@ -1,0 +1,194 @@
+"""One validation layer for every file the toolkit reads.
+
+Recordings, manifests, load-cell time series and the calibration, equilibration and filter
+JSON files all pass their text and values through these helpers before use, so that bad
+input gives one kind of message everywhere: the file, line or key, what was found and what
+was expected (``docs/developer-guide.md``, "Errors for bad input").
+
+The documented error classes are :class:`ValueError` for a bad value (also a file that is
+not text, or not in the expected format) and :class:`TypeError` for a value of the wrong
+type (a JSON string where a number belongs); :class:`OSError` comes from the operating system
+(missing file, no permission) and the CLI prints it in one line naming the path.
+"""
+
+import math
+import numbers
+
+__all__ = ["decode_text", "read_text", "check_number", "check_type", "require_keys",
+           "check_size"]
+
+_BOMS = ((b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
+
+MAX_VALUES = 2**31
+"""The most values any array read from a text file may hold (checked before allocating)."""
+
+
+def decode_text(raw, name, *, expected="a text file"):
+    r"""Decode the bytes of a text file: UTF-8 (with or without BOM), UTF-16 with BOM, cp1252.
+
+    Windows software (Tekscan's, Excel) writes cp1252 or UTF-16 with a byte-order mark; the
+    fallback to cp1252 is strict, so bytes that are no text in any of these raise.
+
+    Parameters
+    ----------
+    raw : bytes
+        The file's bytes.
+    name : str
+        File name for error messages.
+    expected : str, keyword-only
+        What the file should be, to complete the message.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ValueError
+        NUL bytes without a UTF-16 byte-order mark (a binary file, or UTF-16 without BOM),
+        or bytes that decode in none of the encodings; the message names the line.
+
+    Examples
+    --------
+    >>> decode_text("Time (µs),x\n".encode("cp1252"), "lc.csv")
+    'Time (µs),x\n'
+    >>> decode_text("\ufeffa,b\n".encode("utf-16"), "m.csv")
+    'a,b\n'
+    """
+    for bom, codec in _BOMS:
+        if raw.startswith(bom):
+            try:
+                text = raw.decode(codec)
+            except UnicodeDecodeError as exc:
+                raise ValueError(f"line {_line_of(raw, exc.start)} of {name}: bytes "
+                                 f"that are not {codec.upper()} after its byte-order mark; "
+                                 f"expected {expected}") from None
+            return text.lstrip("\ufeff")
+    nul = raw.find(b"\x00")
+    if nul >= 0:
+        raise ValueError(f"line {_line_of(raw, nul)} of {name}: a NUL byte (a binary "
+                         f"file, or UTF-16 without byte-order mark?); expected {expected} "
+                         "in UTF-8")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as first:
+        try:
+            return raw.decode("cp1252")
+        except UnicodeDecodeError:
+            raise ValueError(f"line {_line_of(raw, first.start)} of {name}: byte "
+                             f"0x{raw[first.start]:02x} is not text (UTF-8 or Windows "
+                             f"cp1252); expected {expected}") from None
+
+
+def read_text(path, *, expected="a text file"):
+    """Read and decode a text file with :func:`decode_text` (``OSError`` passes through)."""
+    with open(path, "rb") as f:
+        return decode_text(f.read(), str(path), expected=expected)
+
+
+def check_type(value, types, where, *, expected):
+    """Return ``value`` if it is one of ``types`` (``bool`` is no number), else TypeError.
+
+    Examples
+    --------
+    >>> check_type("x", str, "key 'method' of cal.json", expected="a string")
+    'x'
+    """
+    if isinstance(value, bool) and bool not in _as_tuple(types):
+        ok = False
+    else:
+        ok = isinstance(value, types)
+    if not ok:
+        raise TypeError(f"{where} is {_short(value)} ({type(value).__name__}); "
+                        f"expected {expected}")
+    return value
+
+
+def check_number(value, where, *, minimum=None, maximum=None, min_inclusive=True,
+                 max_inclusive=True, integer=False, allow_none=False):
+    """Return ``value`` as a float (or int) after checking type, finiteness and range.
+
+    Parameters
+    ----------
+    value : object
+        The value as read (a JSON number, a NumPy scalar...). Strings are not numbers.
+    where : str
+        What the value is and where it came from, e.g. ``"key 'params.A' of cal.json"``.
+    minimum, maximum : float, optional
+        Allowed range.
+    min_inclusive, max_inclusive : bool
+        Whether the bounds themselves are allowed.
+    integer : bool
+        Require a whole number (returned as ``int``).
+    allow_none : bool
+        Return ``None`` for ``None`` (JSON ``null``) instead of raising.
+
+    Raises
+    ------
+    TypeError
+        Not a number.
+    ValueError
+        NaN, infinite, not whole when ``integer``, or outside the range.
+
+    Examples
+    --------
+    >>> check_number(2, "b", minimum=0, min_inclusive=False)
+    2.0
+    >>> check_number(-1.0, "key 'A' of cal.json", minimum=0, min_inclusive=False)
+    Traceback (most recent call last):
+    ...
+    ValueError: key 'A' of cal.json is -1.0; expected a finite number > 0
+    """
+    if value is None and allow_none:
+        return None
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{where} is {_short(value)} ({type(value).__name__}); expected a "
+                        f"{'whole ' if integer else ''}number")
+    number = float(value)
+    expected = _range_text(minimum, maximum, min_inclusive, max_inclusive, integer)
+    bad = not math.isfinite(number) or (integer and not number.is_integer())
+    if minimum is not None:
+        bad |= number < minimum or (number == minimum and not min_inclusive)
+    if maximum is not None:
+        bad |= number > maximum or (number == maximum and not max_inclusive)
+    if bad:
+        raise ValueError(f"{where} is {_short(value)}; expected {expected}")
+    return int(number) if integer else number
+
+
+def require_keys(data, keys, where, *, expected):
+    """Raise ValueError naming the missing keys of a JSON object (``expected`` says what)."""
+    missing = [k for k in keys if k not in data]
+    if missing:
+        raise ValueError(f"{where} lacks the keys {missing}; expected {expected} with "
+                         f"{list(keys)}")
+
+
+def check_size(count, where, *, limit=MAX_VALUES):
+    """Raise ValueError when ``count`` values would be more than ``limit`` (before allocating)."""
+    if count > limit:
+        raise ValueError(f"{where}: {count:.4g} values; expected at most {limit:.4g}")
+    return count
+
+
+def _line_of(raw, offset):
+    return raw.count(b"\n", 0, offset) + 1
+
+
+def _as_tuple(types):
+    return types if isinstance(types, tuple) else (types,)
+
+
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _range_text(minimum, maximum, min_inclusive, max_inclusive, integer):
+    kind = "a whole number" if integer else "a finite number"
+    parts = []
+    if minimum is not None:
+        parts.append(f"{'>=' if min_inclusive else '>'} {minimum:g}")
+    if maximum is not None:
+        parts.append(f"{'<=' if max_inclusive else '<'} {maximum:g}")
+    return f"{kind} {' and '.join(parts)}".rstrip()
