@@ -52,15 +52,22 @@ def test_gain_is_lognormal_with_requested_spread():
 def test_threshold_saturation_and_dead_sensels():
     s = make_sensor("9500", gain_spread=0, read_noise=0, n_dead=5, seed=1)
     live = ~s.dead
-    below = np.full((14, 14), s.force_of_raw(2.4))
-    at = np.full((14, 14), s.force_of_raw(3.0))
+    at = np.full((14, 14), s.force_of_raw(2.0))  # default threshold 2
+    above = np.full((14, 14), s.force_of_raw(3.0))
     huge = np.full((14, 14), 1e4)
-    assert (s.read(below)[live] == 0).all()
-    assert (s.read(at)[live] == 3).all()
+    assert (s.read(at)[live] == 0).all()
+    assert (s.read(above)[live] == 3).all()
     assert (s.read(huge)[live] == 255).all()
-    for f in (below, at, huge):
+    for f in (at, above, huge):
         assert (s.read(f)[s.dead] == 0).all()
     assert s.dead.sum() == 5
+
+
+def test_readings_at_the_noise_threshold_are_zeroed_as_tekscan_does():
+    # the real I-Scan export (NOISE_THRESHOLD 3) has readings 0 and 4.., never 1..3
+    s = make_sensor("9500", gain_spread=0, read_noise=0, n_dead=0, noise_threshold=3)
+    readings = s.read(s.force_of_raw(np.arange(1.0, 6.0))[:, None, None] * np.ones((14, 14)))
+    assert readings[:, 0, 0].tolist() == [0.0, 0.0, 0.0, 4.0, 5.0]
 
 
 def test_dead_sensels_are_uniform_random_positions_per_seed():
@@ -87,7 +94,7 @@ def test_to_dataarray_follows_the_data_model():
     assert da["frame"].dtype == np.int64 and da["row"].dtype == np.int64
     np.testing.assert_allclose(da["time"].values, np.arange(4) * 0.005)
     assert set(ATTRS) <= set(da.attrs) and da.attrs["units"] == "raw"
-    assert da.attrs["source"] == "x" and da.attrs["noise_threshold"] == 3
+    assert da.attrs["source"] == "x" and da.attrs["noise_threshold"] == 2
     da = s.to_dataarray(raw, time_s=[0.0, 0.1, 0.2, 0.3])
     assert da.attrs["seconds_per_frame"] == pytest.approx(0.1)
     assert s.to_dataarray(raw[0]).sizes["frame"] == 1

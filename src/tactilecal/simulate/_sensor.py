@@ -87,8 +87,9 @@ class SimulatedSensor:
     Each sensel ``k`` follows the power law of Zvyagin (2022), eq. 1, scaled by its own gain:
     an ideal sensel carrying the force ``f_k`` newtons reads ``(f_k / A_N) ** (1 / b)``; the
     simulated sensel reads ``gain[k]`` times that, plus Gaussian read noise of standard
-    deviation ``read_noise`` (raw units), rounded to an integer, set to 0 below
-    ``noise_threshold``, clipped at 255 (saturation), and always 0 where ``dead``.
+    deviation ``read_noise`` (raw units), rounded to an integer, set to 0 at or below
+    ``noise_threshold`` (as Tekscan software does: the real I-Scan export with
+    ``NOISE_THRESHOLD 3`` has no reading 3), clipped at 255 (saturation), and always 0 where ``dead``.
 
     Attributes
     ----------
@@ -109,7 +110,8 @@ class SimulatedSensor:
     read_noise : float
         Standard deviation of the read noise in raw units.
     noise_threshold : int
-        Readings below it are reported as 0 (Tekscan default 3).
+        Readings at or below it are reported as 0. Default 2: the smallest non-zero reading
+        is then 3, as in Zvyagin's (2022) sessions.
     seconds_per_frame : float
         Nominal frame period in s used when no time is given (200 Hz as in Zvyagin 2022).
     """
@@ -125,7 +127,7 @@ class SimulatedSensor:
     gain: np.ndarray = field(repr=False)
     dead: np.ndarray = field(repr=False)
     read_noise: float = 0.5
-    noise_threshold: int = 3
+    noise_threshold: int = 2
     seconds_per_frame: float = 0.005
 
     @property
@@ -193,7 +195,7 @@ class SimulatedSensor:
             raw += noise
         np.rint(raw, out=raw)
         np.clip(raw, 0, SATURATION_RAW, out=raw)
-        np.multiply(raw, raw >= self.noise_threshold, out=raw)
+        np.multiply(raw, raw > self.noise_threshold, out=raw)
         np.multiply(raw, ~self.dead, out=raw)
         return raw
 
@@ -274,7 +276,7 @@ class SimulatedSensor:
 
 
 def make_sensor(model="5051", *, A_N=0.0035, b=1.16, gain_spread=0.05, read_noise=0.5,
-                n_dead=3, noise_threshold=3, seed=0):
+                n_dead=3, noise_threshold=2, seed=0):
     """Build a simulated sensor with a known power law, gains and dead sensels.
 
     Parameters
@@ -297,7 +299,9 @@ def make_sensor(model="5051", *, A_N=0.0035, b=1.16, gain_spread=0.05, read_nois
         replacement over the whole matrix (from ``seed``), so they may fall inside or outside
         a loaded patch, as in use.
     noise_threshold : int
-        Readings below it are reported as 0 (Tekscan default 3).
+        Readings at or below it are reported as 0, as Tekscan's ``NOISE_THRESHOLD`` (the real
+        exports write 3). The default 2 leaves 3 as the smallest non-zero reading, as in
+        Zvyagin's (2022) sessions, eq. 5.
     seed : int
         Seed of the gains and dead-sensel positions.
 
