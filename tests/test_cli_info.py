@@ -18,6 +18,7 @@ def _info_json(capsys, path):
 def test_real_iscan(capsys, iscan_csv):
     out = _info_json(capsys, iscan_csv)
     assert (out["sensor_type"], out["catalogue_sensor"]) == ("6900", "6900")
+    assert out["catalogue_match"] == "SENSOR_TYPE '6900'"
     assert (out["rows"], out["cols"], out["frames"]) == (28, 28, 309)
     assert out["duration_s"] == pytest.approx(31.1) and out["units"] == "raw"
     assert out["sensel_area_mm2"] == pytest.approx(1.6129) and out["calibration"] == {}
@@ -63,6 +64,19 @@ def test_simulated_truth(capsys, tmp_path):
     assert out["saturated_frames"] == 3 and out["saturated_frame_numbers"] == [4, 8, 9]
     assert out["max_raw"] == 255 and out["catalogue_sensor"] is None
     assert out["duration_s"] == pytest.approx(0.11)
+
+
+def test_info_names_the_catalogue_entry_a_knee_export_matched(capsys, tmp_path):
+    values = np.zeros((2, 22, 34))
+    values[:, :3, :3] = np.nan  # part of the B outline
+    data = xr.DataArray(values, dims=("frame", "row", "col"),
+                        coords={"frame": [1, 2], "time": ("frame", [0.0, 0.01])},
+                        attrs={"units": "raw", "sensor_type": "KNEE", "row_spacing_mm": 2.0,
+                               "col_spacing_mm": 2.0, "sensel_area_mm2": 4.0})
+    write_tekscan(data, tmp_path / "knee.csv")
+    out = _info_json(capsys, tmp_path / "knee.csv")
+    assert out["catalogue_sensor"] == "4010N"
+    assert out["catalogue_match"] == "geometry 22 x 34 sensels at 2 x 2 mm"
 
 
 def test_bad_file_exits_1_with_the_reason(capsys, tmp_path):

@@ -2,7 +2,7 @@ import dataclasses
 
 import pytest
 
-from tactilecal.sensors import CATALOGUE, SensorModel, custom_sensor, get_sensor
+from tactilecal.sensors import CATALOGUE, SensorModel, custom_sensor, get_sensor, match_sensor
 
 
 def test_5051_and_5051_350():
@@ -72,3 +72,36 @@ def test_bad_sensor_fields(kwargs, match):
     args.update(kwargs)
     with pytest.raises(ValueError, match=match):
         SensorModel(**args)
+
+
+def test_4010n_knee_sensor_as_its_exports_describe_it():
+    s = get_sensor("4010n")
+    assert (s.rows, s.cols) == (22, 34)
+    assert s.row_spacing_mm == s.col_spacing_mm == 2.0 and s.sensel_area_mm2 == 4.0
+
+
+def test_match_by_sensor_type_then_grade_suffix():
+    assert match_sensor("9500").entry is CATALOGUE["9500"]
+    hit = match_sensor("5051-1000", rows=44, cols=44, row_spacing_mm=1.27, col_spacing_mm=1.27)
+    assert hit.entry is CATALOGUE["5051"] and "without the pressure grade" in hit.how
+    assert "but the file" not in hit.how
+
+
+def test_match_by_geometry_when_the_name_is_unknown():
+    hit = match_sensor("", rows=22, cols=34, row_spacing_mm=2.0, col_spacing_mm=2.0)
+    assert hit.entry is CATALOGUE["4010N"] and hit.how.startswith("geometry 22 x 34")
+    miss = match_sensor("XYZ", rows=3, cols=5, row_spacing_mm=2.0, col_spacing_mm=2.0)
+    assert miss.entry is None and "no entry with 3 x 5" in miss.how
+
+
+def test_geometry_shared_by_two_entries_is_not_guessed():
+    # the 5051 and the 5051-350 have the same grid: a nameless file cannot tell them apart
+    hit = match_sensor(None, rows=44, cols=44, row_spacing_mm=1.27, col_spacing_mm=1.27)
+    assert hit.entry is None and "several entries (5051, 5051-350)" in hit.how
+
+
+def test_a_name_whose_geometry_differs_is_reported_with_the_difference():
+    hit = match_sensor("5051", rows=28, cols=28, row_spacing_mm=2.54, col_spacing_mm=1.27)
+    assert hit.entry is CATALOGUE["5051"]
+    assert "grid is 28 x 28, the entry's 44 x 44" in hit.how
+    assert "row spacing is 2.54 mm, the entry's 1.27 mm" in hit.how

@@ -35,7 +35,7 @@ def summarise(data):
     Returns
     -------
     dict
-        Keys ``file, sensor_type, catalogue_sensor, rows, cols, sensels, frames,
+        Keys ``file, sensor_type, catalogue_sensor, catalogue_match, rows, cols, sensels, frames,
         first_frame, last_frame, duration_s, seconds_per_frame, units, row_spacing_mm,
         col_spacing_mm, sensel_area_mm2, sensitivity, noise_threshold, calibration,
         blank_sensels, never_loaded_sensels, max_value, max_raw, max_raw_source,
@@ -48,19 +48,22 @@ def summarise(data):
     (p = SCALE_FACTOR x raw^EXPONENT) or a single ``CALIBRATION_POINT_1`` (linear through
     zero, p = load_N / (raw_sum x sensel_area_mm2) per raw count); else None.
     """
-    from tactilecal.sensors import CATALOGUE
+    from tactilecal.sensors import match_sensor
 
     attrs, values = data.attrs, data.values
     blank = np.isnan(values).all(axis=0)
     never_loaded = ~blank & ~(np.nan_to_num(values, nan=0.0) > 0).any(axis=0)
     times = data.time.values
     saturated, rule = _saturated(values, attrs)
-    sensor = str(attrs.get("sensor_type", "")).upper()
+    match = match_sensor(attrs.get("sensor_type"), rows=data.sizes["row"], cols=data.sizes["col"],
+                         row_spacing_mm=attrs.get("row_spacing_mm"),
+                         col_spacing_mm=attrs.get("col_spacing_mm"))
     finite = values[np.isfinite(values)]
     max_value = float(finite.max()) if finite.size else None
     return {
         "file": attrs.get("source"), "sensor_type": attrs.get("sensor_type"),
-        "catalogue_sensor": sensor if sensor in CATALOGUE else None,
+        "catalogue_sensor": None if match.entry is None else match.entry.name,
+        "catalogue_match": match.how,
         "rows": data.sizes["row"], "cols": data.sizes["col"],
         "sensels": data.sizes["row"] * data.sizes["col"], "frames": data.sizes["frame"],
         "first_frame": int(data.frame[0]) if data.sizes["frame"] else None,

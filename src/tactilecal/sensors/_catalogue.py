@@ -6,8 +6,10 @@ product of the two centre-to-centre spacings, which is how Tekscan's own exports
 """
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
-__all__ = ["SensorModel", "CATALOGUE", "get_sensor", "custom_sensor"]
+__all__ = ["SensorModel", "CATALOGUE", "get_sensor", "custom_sensor", "match_sensor",
+           "SensorMatch"]
 
 PSI_TO_KPA = 6.894757293168361
 """Kilopascals per psi (1 lbf/in2 = 4.4482216152605 N / 645.16 mm2)."""
@@ -116,8 +118,93 @@ CATALOGUE = {
         "FSCAN", 60, 21, 5.08, 5.08,
         notes="F-Scan insole from a real F-Scan 6.33 export (footPress FrasP01L.asf): "
               "ROWS 60, COLS 21, ROW_SPACING 5.08 mm, SENSEL_AREA 25.8064 mm2."),
+    "4010N": SensorModel(
+        "4010N", 22, 34, 2.0, 2.0,
+        notes="I-Scan knee (tibiofemoral) sensor as its ASCII exports describe it (tactilecal "
+              "issue 11): 22 rows x 34 columns, 2.0 mm spacing, 4 mm2 sensels, the outline "
+              "of the two condyle pads written as B cells."),
 }
 """Known sensor models by name (upper case)."""
+
+GEOMETRY_RTOL = 0.01
+"""Relative tolerance on spacings when a file is matched to an entry by its geometry."""
+
+
+class SensorMatch(NamedTuple):
+    """Which catalogue entry a recording matches, and how (see :func:`match_sensor`)."""
+
+    entry: SensorModel | None
+    how: str
+
+
+def match_sensor(sensor_type=None, *, rows=None, cols=None, row_spacing_mm=None,
+                 col_spacing_mm=None):
+    """Find the catalogue entry of a recording from its ``SENSOR_TYPE`` or its geometry.
+
+    The name is tried first (exactly, then without a pressure-grade suffix: ``5051-350``
+    finds ``5051-350``, ``5051-1000`` finds ``5051``); when it names no entry, the entry with
+    the same rows, columns and spacings (within :data:`GEOMETRY_RTOL`) is taken, if exactly
+    one has them. A name that matches an entry whose geometry differs from the file's is
+    still reported, with the difference.
+
+    Parameters
+    ----------
+    sensor_type : str, optional
+        The file's ``SENSOR_TYPE``.
+    rows, cols : int, optional
+        The file's sensel grid.
+    row_spacing_mm, col_spacing_mm : float, optional
+        The file's spacings.
+
+    Returns
+    -------
+    SensorMatch
+        ``entry`` (None when nothing matches) and ``how`` it was matched, in words.
+
+    Examples
+    --------
+    >>> match_sensor("5051-1000").how
+    "SENSOR_TYPE '5051-1000' (entry 5051, without the pressure grade)"
+    >>> m = match_sensor("KNEE", rows=22, cols=34, row_spacing_mm=2.0, col_spacing_mm=2.0)
+    >>> m.entry.name, m.how
+    ('4010N', 'geometry 22 x 34 sensels at 2 x 2 mm')
+    """
+    geometry = (rows, cols, row_spacing_mm, col_spacing_mm)
+    entry, how = _match_name(sensor_type)
+    if entry is not None:
+        differs = _geometry_difference(entry, *geometry)
+        return SensorMatch(entry, how + (f"; but the file's {differs}" if differs else ""))
+    if None in geometry:
+        return SensorMatch(None, f"no entry named {sensor_type!r} and no full geometry to match")
+    hits = [e for e in CATALOGUE.values() if not _geometry_difference(e, *geometry)]
+    shape = f"{rows} x {cols} sensels at {row_spacing_mm:g} x {col_spacing_mm:g} mm"
+    if len(hits) == 1:
+        return SensorMatch(hits[0], f"geometry {shape}")
+    found = f"several entries ({', '.join(e.name for e in hits)})" if hits else "no entry"
+    return SensorMatch(None, f"no entry named {sensor_type!r}; {found} with {shape}")
+
+
+def _match_name(sensor_type):
+    key = str(sensor_type or "").strip().upper()
+    if key in CATALOGUE:
+        return CATALOGUE[key], f"SENSOR_TYPE {sensor_type!r}"
+    base = key.split("-")[0]
+    if base and base in CATALOGUE:
+        return CATALOGUE[base], (f"SENSOR_TYPE {sensor_type!r} (entry {base}, without the "
+                                 "pressure grade)")
+    return None, ""
+
+
+def _geometry_difference(entry, rows, cols, row_spacing_mm, col_spacing_mm):
+    """Describe how a file's geometry differs from ``entry`` ('' when it agrees or is unknown)."""
+    differences = []
+    if rows is not None and cols is not None and (rows, cols) != (entry.rows, entry.cols):
+        differences.append(f"grid is {rows} x {cols}, the entry's {entry.rows} x {entry.cols}")
+    for value, expected, label in ((row_spacing_mm, entry.row_spacing_mm, "row spacing"),
+                                   (col_spacing_mm, entry.col_spacing_mm, "column spacing")):
+        if value is not None and abs(value - expected) > GEOMETRY_RTOL * expected:
+            differences.append(f"{label} is {value:g} mm, the entry's {expected:g} mm")
+    return "; ".join(differences)
 
 
 def get_sensor(name):
