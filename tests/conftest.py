@@ -32,3 +32,9 @@ def iscan_csv(realdata):
 def fscan_asf(realdata):
     """The real F-Scan 6.33 walking-step export (205 x 60 x 21, kPa, CRLF)."""
     return realdata / "footPress_FrasP01L.asf"
+
+
+@pytest.fixture(scope="session")
+def fscan_right_asf(realdata):
+    """The real F-Scan 6.33 export of the other foot (FrasP01R: 1-point, 2.171 kPa/count)."""
+    return realdata / "footPress_FrasP01R.asf"

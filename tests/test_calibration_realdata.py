@@ -21,6 +21,15 @@ def test_frasp01l_header_one_point_calibration(fscan_asf):
     assert raw.max() <= 255 and np.abs(kpa - raw * kpa_per_count).max() <= 0.5
 
 
+def test_frasp01r_header_one_point_calibration(fscan_right_asf):
+    """75.0001 kg x 9.80665 / (13127 x 25.8064e-6 m2) = 2.171 kPa per count, 553.6 kPa at 255."""
+    rec = read_tekscan(fscan_right_asf)
+    cal = header_calibration(rec)
+    assert cal.params["A"] / cal.sensel_area_mm2 * 1000 == pytest.approx(2.171, abs=0.0005)
+    assert cal.saturation_pressure_kPa == pytest.approx(rec.attrs["saturation_pressure_kPa"],
+                                                        abs=0.05)
+
+
 def test_header_without_calibration(iscan_csv):
     with pytest.raises(ValueError, match="has no CALIBRATION_POINT_1 and no SCALE_FACTOR"):
         header_calibration(read_tekscan(iscan_csv))

@@ -239,6 +239,11 @@ def _sensel_area(areas, area):
 
 def _metrics(load, predicted, n_points):
     """Fit quality over the used points: errors in N and in percent of the applied load."""
+    if len(load) == 0:  # e.g. a header's power law, which carries no points to score
+        return {"n_points": int(n_points), "n_used": 0,
+                **dict.fromkeys(("rmse_N", "mean_error_pct", "median_abs_error_pct",
+                                 "max_abs_error_pct", "within_5pct", "within_10pct", "r2"),
+                                float("nan"))}
     err = predicted - load
     pct = np.abs(100.0 * err / load)
     ss_tot = float(((load - load.mean()) ** 2).sum())

@@ -2,7 +2,9 @@
 
 import numpy as np
 
+from tactilecal._validate import check_number
 from tactilecal.calibration._calibrate import result_from_arrays
+from tactilecal.io._units import pressure_to_kPa, unit_kind
 
 __all__ = ["header_calibration"]
 
@@ -46,12 +48,7 @@ def header_calibration(recording):
         raise ValueError(f"{name}: no sensel_area_mm2 in the header; expected SENSEL_AREA")
     area = float(area)
     if "scale_factor" in attrs and "exponent" in attrs:
-        unit = attrs.get("units", "kPa")
-        from tactilecal.io import pressure_to_kPa
-
-        scale_kPa = float(pressure_to_kPa(float(attrs["scale_factor"]), unit))
-        params = {"A": scale_kPa * area / 1000.0, "b": float(attrs["exponent"])}
-        return _result(params, "header-power-2pt", area, np.zeros((0, 256)), np.zeros(0), [])
+        return _power_law(attrs, name, area)
     if "calibration_point_1_load_N" not in attrs:
         raise ValueError(f"{name}: the header has no CALIBRATION_POINT_1 and no SCALE_FACTOR/"
                          "EXPONENT; expected a Tekscan calibration in the header")
@@ -60,10 +57,34 @@ def header_calibration(recording):
     cells = int(attrs.get("calibration_point_1_loaded_cells", 0))
     hist = np.zeros((1, 256))
     if cells:  # the header keeps only sums: spread the raw sum evenly over the cells
-        lo = int(raw_sum // cells)
+        if not 0 < raw_sum <= 255 * cells:
+            raise ValueError(f"{name}: CALIBRATION_POINT_1 has a raw sum of {raw_sum:g} over "
+                             f"{cells} loaded cells; expected 1..{255 * cells} (0..255 each)")
+        lo = min(int(raw_sum // cells), 254)
         hist[0, lo], hist[0, lo + 1] = cells - (raw_sum - lo * cells), raw_sum - lo * cells
     return _result({"A": load / raw_sum, "b": 1.0}, "header-linear", area, hist,
                    np.array([load]), [raw_sum, cells])
+
+
+def _power_law(attrs, name, area):
+    """pressure = SCALE_FACTOR x raw**EXPONENT in the file's pressure unit (I-Scan 2-point).
+
+    The unit is the header's ``UNITS`` when it is a pressure, else the unit of its
+    ``SATURATION_PRESSURE``; with neither the law has no unit and is an error.
+    """
+    candidates = (attrs.get("units"), attrs.get("saturation_pressure_unit"))
+    unit = next((u for u in candidates if u is not None and unit_kind(u) == "pressure"), None)
+    if unit is None:
+        raise ValueError(f"{name}: SCALE_FACTOR/EXPONENT without a pressure unit (UNITS is "
+                         f"{attrs.get('units')!r}, no SATURATION_PRESSURE unit); expected "
+                         "UNITS e.g. MPa or kPa")
+    scale = check_number(attrs["scale_factor"], f"SCALE_FACTOR of {name}", minimum=0,
+                         min_inclusive=False)
+    exponent = check_number(attrs["exponent"], f"EXPONENT of {name}", minimum=0,
+                            min_inclusive=False)
+    scale_kPa = float(pressure_to_kPa(scale, unit))
+    params = {"A": scale_kPa * area / 1000.0, "b": exponent}
+    return _result(params, "header-power-2pt", area, np.zeros((0, 256)), np.zeros(0), [])
 
 
 def _result(params, method, area, hist, load, point):
