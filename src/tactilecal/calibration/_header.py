@@ -67,7 +67,7 @@ def header_calibration(recording):
 
 
 def _power_law(attrs, name, area):
-    """pressure = SCALE_FACTOR x raw**EXPONENT in the file's pressure unit (I-Scan 2-point).
+    """Pressure = SCALE_FACTOR x raw**EXPONENT in the file's pressure unit (I-Scan 2-point).
 
     The unit is the header's ``UNITS`` when it is a pressure, else the unit of its
     ``SATURATION_PRESSURE``; with neither the law has no unit and is an error.

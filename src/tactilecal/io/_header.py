@@ -6,6 +6,7 @@ The header is parsed into the attributes of ``docs/data-model.md``: every line v
 
 import re
 
+from tactilecal._validate import check_number
 from tactilecal.io._units import (
     area_to_mm2,
     force_to_N,
@@ -84,7 +85,7 @@ def number_with_unit(header, key, name):
     return float(match.group(1)), (normalise_unit(unit, where=where) if unit else None)
 
 
-def integer(header, key, name, *, minimum=None):
+def integer(header, key, name, *, minimum=None, maximum=None):
     """Return the integer value of header ``key``."""
     value, line = header[key]
     try:
@@ -95,6 +96,9 @@ def integer(header, key, name, *, minimum=None):
     if minimum is not None and result < minimum:
         raise ValueError(f"line {line} of {name}: {key} is {result}; expected at least "
                          f"{minimum}")
+    if maximum is not None and result > maximum:
+        raise ValueError(f"line {line} of {name}: {key} is {value}; expected at most "
+                         f"{maximum}")
     return result
 
 
@@ -148,8 +152,32 @@ def header_attrs(header, name):
     if "SENSITIVITY" in header:
         attrs["sensitivity"] = header["SENSITIVITY"][0]
     attrs.update(_calibration_attrs(header, name))
+    _check_ranges(attrs, header, name)
     attrs.update({f"tekscan_{key}": value for key, (value, _) in header.items()})
     return attrs
+
+
+# attribute -> (header key, minimum, minimum allowed?, maximum): what a sensor can have.
+# A frame lasts at most a day; readings are 8-bit, so no threshold above 255.
+_RANGES = {
+    "row_spacing_mm": ("ROW_SPACING", 0.0, False, None),
+    "col_spacing_mm": ("COL_SPACING", 0.0, False, None),
+    "sensel_area_mm2": ("SENSEL_AREA", 0.0, False, None),
+    "seconds_per_frame": ("SECONDS_PER_FRAME", 0.0, False, 86400.0),
+    "noise_threshold": ("NOISE_THRESHOLD", 0.0, True, 255.0),
+    "scale_factor": ("SCALE_FACTOR", 0.0, False, None),
+    "exponent": ("EXPONENT", 0.0, False, None),
+    "saturation_pressure": ("SATURATION_PRESSURE", 0.0, False, None),
+}
+
+
+def _check_ranges(attrs, header, name):
+    """Header numbers outside what a sensor can have are errors naming key and line."""
+    for attr, (key, minimum, inclusive, maximum) in _RANGES.items():
+        if attr in attrs and key in header:
+            value, line = header[key]
+            check_number(attrs[attr], f"line {line} of {name}: {key} ({value!r})",
+                         minimum=minimum, min_inclusive=inclusive, maximum=maximum)
 
 
 def _calibration_attrs(header, name):

@@ -24,6 +24,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._validate import check_size
 from tactilecal.io._header import header_attrs, integer, parse_header_lines
 
 __all__ = ["read_tekscan"]
@@ -93,10 +94,13 @@ def read_tekscan(path):
     cols = integer(header, "COLS", name, minimum=1)
     attrs = header_attrs(header, name)
     first_line = raw.count(b"\n", 0, marker.end()) + 1
-    frames, values = _read_body(raw, marker.end(), first_line, rows, cols, header, name)
+    frames, values, data_lines = _read_body(raw, marker.end(), first_line, rows, cols, header,
+                                            name)
     numbers, times, raw_sums, lines = frames
+    _check_values(values, attrs.get("units"), data_lines, name)
+    _check_frames(numbers, times, lines, header, name)
     data = values.reshape(len(numbers), rows, cols)
-    if attrs.get("units") == "raw":
+    if attrs.get("units", "raw") == "raw":
         _check_raw_sums(data, numbers, raw_sums, lines, name)
     # without SECONDS_PER_FRAME only the first frame's time (0 s) is known; the rest are NaN
     index_time = np.arange(len(numbers)) * attrs.get("seconds_per_frame", np.nan)
@@ -155,6 +159,13 @@ def _read_body(raw, offset, first_line, rows, cols, header, name):
     frame_idx, data_idx = np.flatnonzero(is_frame), np.flatnonzero(is_data)
     frames = _frame_lines(body, starts, ends, frame_idx, data_idx, stop, first_line, rows,
                           header, name)
+    _check_bytes(raw, offset, offset + end, buf, starts, ends, data_idx, first_line, name)
+    # COLS is checked against the data before pandas allocates a column per name
+    widest = int((ends[data_idx] - starts[data_idx]).max()) if data_idx.size else 0
+    if cols > (widest + 1) // 2:
+        _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows, cols,
+                           name)
+    check_size(data_idx.size * cols, name)
     # Fast path: one parse, then one count. A short row is padded with NaN by pandas and a
     # stray "F" (comment character) truncates a row: both leave more NaN than "B"s. A long
     # row, a non-numeric value or an empty value make pandas raise. Only then do the exact
@@ -165,18 +176,85 @@ def _read_body(raw, offset, first_line, rows, cols, header, name):
                     - sum(bytes(body[starts[i]:ends[i]]).count(b"B") for i in frame_idx))
     try:
         values = _parse_values(raw, offset, data_idx.size, cols, spaced)
-    except ValueError as exc:
-        failure = exc
+    except (ValueError, pd.errors.ParserWarning) as exc:
+        failure = ValueError(f"{name}: {exc}")
     else:
         found_nan = values.size - np.count_nonzero(np.isfinite(values))
         if found_nan == expected_nan:
-            return frames, values
+            return frames, values, first_line + data_idx
         failure = ValueError(f"{name}: {found_nan} values read as NaN or infinite; "
                              f"expected {expected_nan} NaN, one per 'B'")
     _check_row_lengths(buf, starts, ends, data_idx, frame_idx, first_line, rows, cols, name)
     _check_stray_comment(body, buf[:end], starts, ends, data_idx, first_line, name)
     _raise_bad_value(body, starts, ends, data_idx, first_line, name, spaced)
     raise failure
+
+
+def _check_bytes(raw, start, stop, buf, starts, ends, data_idx, first_line, name):
+    """Refuse what pandas would read as something else: ``1_0`` (read as 10) and a lone CR.
+
+    A carriage return not followed by LF ends a row for pandas but not for the line table,
+    so a row would silently shift; both are searched with ``bytes`` methods (C speed).
+    """
+    underscore = raw.find(b"_", start, stop)
+    while underscore >= 0:
+        i = np.searchsorted(starts, underscore - start, side="right") - 1
+        if np.isin(i, data_idx):
+            raise ValueError(f"line {first_line + i} of {name}: "
+                             f"{bytes(buf[starts[i]:ends[i]])[:60]!r} has '_' inside a "
+                             "value; expected numbers or 'B' separated by commas")
+        underscore = raw.find(b"_", start + int(ends[i]), stop)
+    if raw.count(b"\r", start, stop) > raw.count(b"\r\n", start, stop):
+        lone = np.flatnonzero((buf[:stop - start - 1] == 13) & (buf[1:stop - start] != 10))
+        i = np.searchsorted(starts, lone[0], side="right") - 1
+        raise ValueError(f"line {first_line + i} of {name}: a carriage return (CR) inside the "
+                         "line; expected CR only before the line feed (CRLF line ends)")
+
+
+def _check_values(values, units, data_lines, name):
+    """Raw readings are whole numbers 0..255 (8-bit sensels).
+
+    A file without ``UNITS`` is read as raw (I-Scan writes ``UNITS raw`` for raw exports,
+    but hand-made files omit it), so its values must be raw readings too. Calibrated values
+    are not range-checked: filtered or drift-corrected pressures may dip below zero.
+    """
+    if values.size == 0 or units not in (None, "raw"):
+        return
+    lo, hi = np.fmin.reduce(values, axis=None), np.fmax.reduce(values, axis=None)
+    fraction = np.floor(values) < values  # False for NaN ("B"); np.fmod is 10x slower
+    if lo >= 0 and hi <= 255 and not fraction.any():
+        return
+    bad = (values < 0) | (values > 255) | fraction
+    expected = ("a whole number 0..255 (UNITS raw)" if units else
+                "a whole number 0..255: the file has no UNITS line, so it is read as raw; "
+                "add e.g. 'UNITS kPa' before ASCII_DATA if its values are calibrated")
+    row, col = np.unravel_index(np.flatnonzero(bad)[0], values.shape)
+    raise ValueError(f"line {data_lines[row]} of {name}, value {col + 1}: "
+                     f"{values[row, col]:.17g}; expected {expected}")
+
+
+def _check_frames(numbers, times, lines, header, name):
+    """Frame times finite and increasing; START_FRAME/END_FRAME match the frames present."""
+    given = np.flatnonzero(~np.isnan(times))
+    bad = given[~np.isfinite(times[given])]
+    if bad.size:
+        k = bad[0]
+        raise ValueError(f"frame {numbers[k]} of {name} (line {lines[k]}): time "
+                         f"{times[k]}; expected a finite time in s")
+    steps = np.flatnonzero(np.diff(times[given]) <= 0)
+    if steps.size:
+        k = given[steps[0] + 1]
+        raise ValueError(f"frame {numbers[k]} of {name} (line {lines[k]}): time "
+                         f"{times[k]:g} s does not come after the previous frame's "
+                         f"{times[given[steps[0]]]:g} s; expected increasing frame times")
+    for key, k in (("START_FRAME", 0), ("END_FRAME", -1)):
+        if key in header and len(numbers) > 1:
+            value, line = header[key]
+            if value.strip() != str(numbers[k]):
+                raise ValueError(f"line {line} of {name}: {key} is {value!r} but the "
+                                 f"{'first' if k == 0 else 'last'} frame is {numbers[k]} "
+                                 "(frames missing, or the header edited?); expected them "
+                                 "to agree")
 
 
 def _text(body, starts, ends, i):

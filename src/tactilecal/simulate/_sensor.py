@@ -89,7 +89,8 @@ class SimulatedSensor:
     simulated sensel reads ``gain[k]`` times that, plus Gaussian read noise of standard
     deviation ``read_noise`` (raw units), rounded to an integer, set to 0 at or below
     ``noise_threshold`` (as Tekscan software does: the real I-Scan export with
-    ``NOISE_THRESHOLD 3`` has no reading 3), clipped at 255 (saturation), and always 0 where ``dead``.
+    ``NOISE_THRESHOLD 3`` has no reading 3), clipped at 255 (saturation), and always 0
+    where ``dead``.
 
     Attributes
     ----------
