@@ -1,6 +1,7 @@
 """``tactilecal analyze``: table, JSON, CSV, exit codes."""
 
 import json
+import re
 
 import numpy as np
 import pandas as pd
@@ -13,10 +14,12 @@ def test_analyze_real_fscan_text_and_csv(fscan_asf, tmp_path, capsys):
     out = tmp_path / "summary.csv"
     assert main(["-q", "analyze", str(fscan_asf), "--out", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "peak_force_N          924.359" in text and "peak_force_frame      9" in text
+    assert re.search(r"peak_force_N +924.359\n", text) and re.search(r"peak_force_frame +9\n", text)
+    assert re.search(r"saturated_frames +0\n", text)
     table = pd.read_csv(out)
     assert list(table.columns) == ["frame", "time_s", "force_N", "contact_area_mm2",
-                                   "cof_row_mm", "cof_col_mm", "peak_kPa", "mean_kPa"]
+                                   "cof_row_mm", "cof_col_mm", "peak_kPa", "mean_kPa",
+                                   "saturated_sensels"]
     assert len(table) == 205 and table.frame.iloc[0] == 1
     np.testing.assert_allclose(table.time_s.iloc[-1], 204 * 0.032)
 

@@ -77,7 +77,7 @@ def test_calibrate_every_method_and_zvyagin_path(sessions, capsys):
 
 def test_calibrate_errors(sessions, capsys):
     assert main(["calibrate", str(sessions["cal"]), "--method", "nope"]) == 1
-    assert "method='nope' is unknown; expected one of" in capsys.readouterr().err
+    assert "--method 'nope'; expected one of" in capsys.readouterr().err
     assert main(["calibrate"]) == 1
     assert "no MANIFEST given" in capsys.readouterr().err
     assert main(["calibrate", "--movie", "x.csv"]) == 1

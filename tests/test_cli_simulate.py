@@ -63,7 +63,7 @@ def test_errors(tmp_path, capsys):
     assert main(["simulate", "deadweight", str(tmp_path), "--model", "nope"]) == 1
     assert "tactilecal simulate: error: unknown sensor 'nope'" in capsys.readouterr().err
     assert main(["simulate", "deadweight", str(tmp_path), "--patches", "0"]) == 1
-    assert "n_patches: got 0" in capsys.readouterr().err
+    assert "argument --patches: '0'; expected a finite number > 0" in capsys.readouterr().err
     with pytest.raises(SystemExit) as exc:
         main(["simulate"])
     assert exc.value.code == 2

@@ -33,20 +33,39 @@ def atomic_path(path, *, suffix=None):
     path = Path(path)
     if not path.parent.exists():
         raise FileNotFoundError(f"cannot write {path}: folder {path.parent} does not exist")
-    fd, tmp_name = tempfile.mkstemp(
-        prefix=f".{path.name}.", suffix=path.suffix if suffix is None else suffix,
-        dir=path.parent,
-    )
+    try:
+        fd, tmp_name = tempfile.mkstemp(
+            prefix=f".{path.name}.", suffix=path.suffix if suffix is None else suffix,
+            dir=path.parent,
+        )
+    except OSError as exc:  # name the path the user gave, not the hidden temporary file
+        raise type(exc)(exc.errno, f"cannot write here ({exc.strerror})", str(path)) from None
     os.close(fd)
     tmp = Path(tmp_name)
     try:
         yield tmp
         tmp.chmod(0o666 & ~_umask())  # mkstemp makes 0600; give the file the usual mode
-        os.replace(tmp, path)
+        try:
+            os.replace(tmp, path)
+        except OSError as exc:
+            raise type(exc)(exc.errno, f"cannot replace it ({exc.strerror})", str(path)) \
+                from None
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             tmp.unlink()
         raise
+
+
+def make_folder(path, *, what="output folder"):
+    """Create folder ``path`` (and its parents) unless it exists; a file there is an error.
+
+    Returns the folder as a :class:`pathlib.Path`.
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{what} {path} is a file; expected a folder (or a new name)")
+    path.mkdir(parents=True, exist_ok=True)
+    return path
 
 
 def _umask():

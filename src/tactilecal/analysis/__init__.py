@@ -32,7 +32,7 @@ from tactilecal.analysis._regions import (
     select_region,
 )
 from tactilecal.analysis._time import CreepResult, HysteresisResult, creep, hysteresis
-from tactilecal.analysis._units import force_map_N, pressure_map_kPa
+from tactilecal.analysis._units import force_map_N, pressure_map_kPa, saturated_sensels
 
 __all__ = [
     "CreepResult",
@@ -56,6 +56,7 @@ __all__ = [
     "plot_profiles",
     "pressure_map_kPa",
     "row_profile",
+    "saturated_sensels",
     "select_region",
     "summary",
     "total_force",

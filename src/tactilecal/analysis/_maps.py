@@ -13,6 +13,7 @@ from tactilecal.analysis._units import (
     _units,
     force_map_N,
     pressure_map_kPa,
+    saturated_sensels,
     sensel_area_mm2,
     spacing_mm,
 )
@@ -278,4 +279,19 @@ def summary(recording, *, threshold_kPa=0.0, calibration=None):
     ds.attrs = {k: pressure.attrs[k] for k in ("source", "calibration_json", "sensor_type")
                 if k in pressure.attrs}
     ds.attrs["threshold_kPa"] = float(threshold_kPa)
+    _mark_saturation(ds, recording)
     return ds
+
+
+def _mark_saturation(ds, recording):
+    """Add ``saturated_sensels`` per frame; where > 0, force and pressures are lower bounds."""
+    counts, rule = saturated_sensels(recording)
+    ds.attrs["saturation_rule"] = rule
+    if counts is None:
+        return
+    ds["saturated_sensels"] = counts.astype(np.int64).assign_attrs(
+        long_name="saturated sensels", units="1",
+        description="sensels at saturation; where > 0 the frame's force_N, peak_kPa and "
+                    "mean_kPa are lower bounds")
+    for name in ("force_N", "peak_kPa", "mean_kPa"):
+        ds[name].attrs["lower_bound_where"] = "saturated_sensels > 0"

@@ -8,7 +8,12 @@ one place.
 
 import numpy as np
 
-__all__ = ["force_map_N", "pressure_map_kPa", "sensel_area_mm2", "spacing_mm"]
+__all__ = ["force_map_N", "pressure_map_kPa", "saturated_sensels", "sensel_area_mm2",
+           "spacing_mm"]
+
+SATURATION_TOLERANCE = 1e-3
+"""Calibrated files: a value within 0.1 % of the saturation pressure counts as saturated
+(exports round pressures, e.g. 1514 kPa for a saturation pressure of 1514.73 kPa)."""
 
 
 def _name(recording):
@@ -29,6 +34,34 @@ def _units(recording):
         raise ValueError(f"{_name(recording)}: units {unit!r} are a {kind}; expected raw, "
                          "a pressure (kPa, MPa, psi) or a force per sensel (N, kgf, lbf)")
     return unit, kind
+
+
+def saturated_sensels(recording):
+    """Count the saturated sensels of every frame, and say by which rule.
+
+    A raw reading of 255 is saturated: the load there is at least the calibration's value at
+    255, so forces and pressures of such a frame are lower bounds. A calibrated recording in
+    a pressure unit is saturated where it is within 0.1 % of its ``saturation_pressure_kPa``
+    attribute (the header's, or the calibration's after :meth:`CalibrationResult.apply`).
+
+    Returns
+    -------
+    (xarray.DataArray or None, str)
+        Count per frame (int, dim ``frame``; lazy for a dask-backed recording), or None when
+        the recording does not say what saturation is; and the rule as text.
+    """
+    from tactilecal.io import pressure_to_kPa
+
+    unit, kind = _units(recording)
+    if kind == "raw":
+        return (recording >= 255).sum(("row", "col")), "raw value 255"
+    limit_kPa = recording.attrs.get("saturation_pressure_kPa")
+    if limit_kPa is None or kind != "pressure" or not np.isfinite(float(limit_kPa)):
+        return None, ("unknown (calibrated recording without a saturation pressure in a "
+                      "pressure unit)")
+    threshold = float(limit_kPa) / pressure_to_kPa(1.0, unit) * (1 - SATURATION_TOLERANCE)
+    return ((recording >= threshold).sum(("row", "col")),
+            f"value >= {threshold:.6g} {unit} (saturation pressure - 0.1 %)")
 
 
 def _check_dims(recording):

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from tactilecal.cli._common import info, print_json, progress
+from tactilecal.cli._common import info, non_negative_float, print_json, progress, warn_saturated
 
 COLUMNS = ["force_N", "contact_area_mm2", "cof_row_mm", "cof_col_mm", "peak_kPa", "mean_kPa"]
 
@@ -16,7 +16,7 @@ def register(subparsers):
                     "NetCDF). Raw recordings need --cal.")
     p.add_argument("recording", help="Tekscan ASCII export (.csv, .asf...) or NetCDF (.nc)")
     p.add_argument("--cal", metavar="CAL.json", help="calibration JSON for raw recordings")
-    p.add_argument("--threshold-kpa", type=float, default=0.0, metavar="KPA",
+    p.add_argument("--threshold-kpa", type=non_negative_float, default=0.0, metavar="KPA",
                    help="a sensel is loaded above this pressure (default 0)")
     p.add_argument("--out", metavar="summary.csv", help="write the per-frame table as CSV")
     p.add_argument("--json", action="store_true",
@@ -37,7 +37,17 @@ def overview(table, source):
         "mean_force_N": float(np.nanmean(force)),
         "max_contact_area_mm2": float(table["contact_area_mm2"].max()),
         "max_pressure_kPa": float(table["peak_kPa"].max()),
+        **_saturation(table, i),
     }
+
+
+def _saturation(table, i):
+    """Saturated frames, and whether the peak force is a lower bound (None: unknown)."""
+    if "saturated_sensels" not in table:
+        return {"saturated_frames": None, "peak_force_is_lower_bound": None}
+    counts = table["saturated_sensels"].to_numpy()
+    return {"saturated_frames": int((counts > 0).sum()),
+            "peak_force_is_lower_bound": bool(len(counts) and counts[i] > 0)}
 
 
 def per_frame_table(recording, *, calibration=None, threshold_kPa=0.0):
@@ -49,7 +59,8 @@ def per_frame_table(recording, *, calibration=None, threshold_kPa=0.0):
     if "frame" not in table:
         table["frame"] = np.arange(1, len(table) + 1)
     table["time_s"] = table["time"] if "time" in table else np.nan
-    return table[["frame", "time_s", *COLUMNS]]
+    extra = ["saturated_sensels"] if "saturated_sensels" in table else []
+    return table[["frame", "time_s", *COLUMNS, *extra]]
 
 
 def run(args):
@@ -58,13 +69,13 @@ def run(args):
     from tactilecal.report import load_input
 
     bar = progress(total=3, desc="analyze", quiet=args.quiet)
-    kind, recording, _ = load_input(args.recording)
+    kind, recording, _ = load_input(args.recording, what="RECORDING")
     if kind != "recording":
         raise ValueError(f"{args.recording} is a {kind} file; expected a recording")
     bar.update()
     calibration = None
     if args.cal:
-        kind, calibration, _ = load_input(args.cal)
+        kind, calibration, _ = load_input(args.cal, what="--cal")
         if kind != "calibration":
             raise ValueError(f"--cal {args.cal} is a {kind} file; expected a calibration JSON")
     table = per_frame_table(recording, calibration=calibration,
@@ -77,6 +88,8 @@ def run(args):
     bar.update()
     bar.close()
     head = overview(table, str(args.recording))
+    if head["saturated_frames"]:
+        warn_saturated(head["saturated_frames"], len(table), args.recording)
     if args.json:
         print_json({"overview": head, "calibration": args.cal,
                     "threshold_kPa": args.threshold_kpa,

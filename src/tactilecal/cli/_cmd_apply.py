@@ -1,6 +1,6 @@
 """``tactilecal apply``: convert a raw recording to pressure with a calibration."""
 
-from tactilecal.cli._common import info
+from tactilecal.cli._common import info, warn_saturated
 
 
 def register(subparsers):
@@ -31,12 +31,18 @@ def _read(path):
 
 def run(args):
     """Run ``tactilecal apply``."""
+    from tactilecal.analysis import saturated_sensels
     from tactilecal.calibration import load_calibration
     from tactilecal.io import write_netcdf
 
     result = load_calibration(args.calibration)
-    out = result.apply(_read(args.recording), units=args.units)
+    recording = _read(args.recording)
+    out = result.apply(recording, units=args.units)
     write_netcdf(out, args.out)
+    counts, _ = saturated_sensels(recording)
+    n_saturated = int((counts > 0).sum())
+    if n_saturated:
+        warn_saturated(n_saturated, recording.sizes["frame"], args.recording)
     info(args, f"{args.recording}: {out.sizes['frame']} frames calibrated with "
                f"{result.method} ({args.units}) -> {args.out}")
     return 0

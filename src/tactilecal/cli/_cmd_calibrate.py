@@ -2,7 +2,14 @@
 
 from pathlib import Path
 
-from tactilecal.cli._common import info, print_json
+from tactilecal.cli._common import (
+    info,
+    info_grouped,
+    non_negative_int,
+    positive_float,
+    positive_int,
+    print_json,
+)
 
 
 def register(subparsers):
@@ -20,9 +27,9 @@ def register(subparsers):
     p.add_argument("--mode", choices=("faithful", "robust"),
                    help="zvyagin: follow the paper as written or the robust variant "
                         "(docs/zvyagin.md; default faithful)")
-    p.add_argument("--degree", type=int, help="polynomial degree (default 3)")
+    p.add_argument("--degree", type=positive_int, help="polynomial degree (default 3)")
     p.add_argument("--knots", help="piecewise/lut knots, comma-separated raw values")
-    p.add_argument("--point", type=int,
+    p.add_argument("--point", type=non_negative_int,
                    help="linear: index of the one usable point (I-Scan 1-point calibration)")
     p.add_argument("--pair", help="power-2pt: two usable-point indices 'I,J' (default: the "
                                   "points nearest 20 %% and 80 %% of the largest load)")
@@ -34,7 +41,7 @@ def register(subparsers):
                    help="detect non-working sensels across the frames and leave them out")
     p.add_argument("--equilibration", metavar="EQ.json",
                    help="per-sensel gains from 'tactilecal equilibrate', applied first")
-    p.add_argument("--n-bootstrap", type=int, default=0,
+    p.add_argument("--n-bootstrap", type=non_negative_int, default=0,
                    help="bootstrap resamples for the parameter errors (default: Jacobian)")
     p.add_argument("--movie", metavar="RECORDING", help="raw recording for movie calibration")
     p.add_argument("--loads", metavar="LOADCELL.csv",
@@ -43,7 +50,7 @@ def register(subparsers):
     p.add_argument("--time-col", help="--loads time column (name or 0-based index)")
     p.add_argument("--load-col", help="--loads load column (name or 0-based index)")
     p.add_argument("--lag", type=float, help="--movie: known lag in s (skip cross-correlation)")
-    p.add_argument("--max-lag", type=float,
+    p.add_argument("--max-lag", type=positive_float,
                    help="--movie: search lags up to this many seconds (periodic loadings)")
     p.add_argument("--out", metavar="CAL.json", help="write the calibration JSON here")
     p.add_argument("--json", action="store_true", help="print the calibration JSON")
@@ -93,8 +100,10 @@ def _manifest_points(args, equilibration):
 
 def run(args):
     """Run ``tactilecal calibrate``."""
-    from tactilecal.calibration import calibrate, load_equilibration
+    from tactilecal.calibration import METHODS, calibrate, load_equilibration
 
+    if args.method not in METHODS:  # before any manifest file is read
+        raise ValueError(f"--method {args.method!r}; expected one of {', '.join(METHODS)}")
     equilibration = load_equilibration(args.equilibration) if args.equilibration else None
     if args.movie:
         if args.manifest or not args.loads:
@@ -114,9 +123,7 @@ def run(args):
             raise ValueError("no MANIFEST given; expected 'tactilecal calibrate MANIFEST' "
                              "or '--movie REC --loads LOADCELL.csv'")
         points, dead = _manifest_points(args, equilibration)
-        for p in points:
-            if p.note:
-                info(args, f"{p.source}: {p.note}")
+        info_grouped(args, [f"{p.source}: {p.note}" for p in points if p.note])
         result = calibrate(points, method=args.method, **_options(args))
         if dead is not None:
             result.details["non_working_sensels"] = dead.to_dict()

@@ -1,7 +1,7 @@
 """``tactilecal compare CAL.json...``: a Zvyagin-Table-2-like table and curves on one plot."""
 
-from pathlib import Path
 
+from tactilecal._atomic import make_folder
 from tactilecal.cli._common import info, print_json
 
 
@@ -35,8 +35,7 @@ def run(args):
     rows = compare_table(cals, names)
     figure = None
     if args.out:
-        outdir = Path(args.out)
-        outdir.mkdir(parents=True, exist_ok=True)
+        outdir = make_folder(args.out, what="--out")
         figure = outdir / "compare_curves.png"
         ax = plot_compare(cals, names)
         with atomic_path(figure) as tmp:

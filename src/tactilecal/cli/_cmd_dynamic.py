@@ -1,6 +1,7 @@
 """``tactilecal dynamic fit|apply|evaluate``: dynamic calibration (Gillis 2013, section 4)."""
 
-from tactilecal.cli._common import info, print_json, progress
+from tactilecal._atomic import make_folder
+from tactilecal.cli._common import info, positive_int, print_json, progress
 
 
 def register(subparsers):
@@ -41,7 +42,7 @@ def register(subparsers):
     a.add_argument("filter", metavar="FILTER.json")
     a.add_argument("input", metavar="INPUT")
     a.add_argument("--out", required=True, metavar="OUTPUT")
-    a.add_argument("--chunk-frames", type=int, default=65536,
+    a.add_argument("--chunk-frames", type=positive_int, default=65536,
                    help="frames per chunk when streaming NetCDF (default 65536)")
     a.add_argument("--method", default="auto", choices=["auto", "direct"],
                    help="auto (default): multirate when the correction is band-limited "
@@ -161,8 +162,6 @@ def _write_figures(ev, filt, folder):
 
 def run_evaluate(args):
     """Run ``tactilecal dynamic evaluate``."""
-    from pathlib import Path
-
     import numpy as np
 
     from tactilecal._jsonutil import write_json
@@ -175,8 +174,7 @@ def run_evaluate(args):
     result = ev.to_dict()
     result.update(filter=args.filter, sensor=args.sensor, reference=args.reference)
     if args.out:
-        folder = Path(args.out)
-        folder.mkdir(parents=True, exist_ok=True)
+        folder = make_folder(args.out, what="--out")
         result["figures"] = _write_figures(ev, filt, folder)
         write_json(folder / "evaluation.json", result)
     if args.json:

@@ -4,10 +4,6 @@ import numpy as np
 
 from tactilecal.cli._common import print_json
 
-SATURATION_TOLERANCE = 1e-3
-"""Calibrated files: a value within 0.1 % of the saturation pressure counts as saturated
-(exports round pressures, e.g. 1514 kPa for a saturation pressure of 1514.73 kPa)."""
-
 _CALIBRATION_PREFIXES = ("calibration_point_", "calibration_mode_", "saturation_pressure",
                          "scale_factor", "exponent")
 
@@ -48,13 +44,15 @@ def summarise(data):
     (p = SCALE_FACTOR x raw^EXPONENT) or a single ``CALIBRATION_POINT_1`` (linear through
     zero, p = load_N / (raw_sum x sensel_area_mm2) per raw count); else None.
     """
+    from tactilecal.analysis import saturated_sensels
     from tactilecal.sensors import match_sensor
 
     attrs, values = data.attrs, data.values
     blank = np.isnan(values).all(axis=0)
     never_loaded = ~blank & ~(np.nan_to_num(values, nan=0.0) > 0).any(axis=0)
     times = data.time.values
-    saturated, rule = _saturated(values, attrs)
+    counts, rule = saturated_sensels(data)
+    saturated = None if counts is None else counts.values > 0
     match = match_sensor(attrs.get("sensor_type"), rows=data.sizes["row"], cols=data.sizes["col"],
                          row_spacing_mm=attrs.get("row_spacing_mm"),
                          col_spacing_mm=attrs.get("col_spacing_mm"))
@@ -103,21 +101,6 @@ def _max_raw(max_value, attrs):
         return {"max_raw": p_kPa / kPa_per_raw,
                 "max_raw_source": "inverted 1-point linear calibration (CALIBRATION_POINT_1)"}
     return {"max_raw": None, "max_raw_source": None}
-
-
-def _saturated(values, attrs):
-    """Frames holding a saturated sensel, and the rule used (None when it cannot be told)."""
-    if attrs.get("units") == "raw":
-        return (values >= 255).any(axis=(1, 2)), "raw value 255"
-    limit_kPa = attrs.get("saturation_pressure_kPa")
-    if limit_kPa is None or attrs.get("units") not in ("kPa", "MPa", "Pa", "psi"):
-        return None, "unknown (calibrated file without a SATURATION_PRESSURE in a pressure unit)"
-    from tactilecal.io import pressure_to_kPa
-
-    limit = limit_kPa / pressure_to_kPa(1.0, attrs["units"])
-    threshold = limit * (1 - SATURATION_TOLERANCE)
-    return ((values >= threshold).any(axis=(1, 2)),
-            f"value >= {threshold:.6g} {attrs['units']} (SATURATION_PRESSURE - 0.1 %)")
 
 
 def _text(summary):

@@ -1,8 +1,8 @@
 """``tactilecal plot CAL.json --out DIR``: the figures of a calibration as PNG files."""
 
-from pathlib import Path
 
-from tactilecal.cli._common import info, print_json
+from tactilecal._atomic import make_folder
+from tactilecal.cli._common import info, positive_int, print_json
 
 GENERIC = ("calibration_curve", "calibration_points", "calibration_errors")
 
@@ -19,7 +19,7 @@ def register(subparsers):
     p.add_argument("calibration", metavar="CAL.json")
     p.add_argument("--out", metavar="DIR", required=True, help="folder for the PNG files "
                    "(created if missing)")
-    p.add_argument("--dpi", type=int, default=120, help="resolution (default 120)")
+    p.add_argument("--dpi", type=positive_int, default=120, help="resolution (default 120)")
     p.add_argument("--json", action="store_true", help="print the written paths as JSON")
     p.set_defaults(func=run)
 
@@ -50,13 +50,8 @@ def run(args):
     """Run ``tactilecal plot``."""
     from tactilecal.calibration import load_calibration
 
-    if args.dpi <= 0:
-        raise ValueError(f"--dpi {args.dpi}; expected a positive resolution")
     result = load_calibration(args.calibration)
-    outdir = Path(args.out)
-    if outdir.exists() and not outdir.is_dir():
-        raise ValueError(f"--out {outdir} is a file; expected a folder")
-    outdir.mkdir(parents=True, exist_ok=True)
+    outdir = make_folder(args.out, what="--out")
     if result.method == "zvyagin":
         from tactilecal.zvyagin import save_figures
 

@@ -3,7 +3,7 @@
 import shlex
 import sys
 
-from tactilecal.cli._common import info, progress
+from tactilecal.cli._common import info, non_negative_float, progress
 
 
 def register(subparsers):
@@ -20,7 +20,7 @@ def register(subparsers):
     p.add_argument("--cal", metavar="CAL.json", help="calibration for raw recordings")
     p.add_argument("--filter", metavar="FILTER.json", help="dynamic filter to report")
     p.add_argument("--title", help="page title")
-    p.add_argument("--threshold-kpa", type=float, default=0.0, metavar="KPA",
+    p.add_argument("--threshold-kpa", type=non_negative_float, default=0.0, metavar="KPA",
                    help="loaded-sensel threshold for contact areas (default 0)")
     p.set_defaults(func=run)
 

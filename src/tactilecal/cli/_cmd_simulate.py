@@ -7,7 +7,14 @@ OUTDIR`` writes a loading-machine recording, its load-cell CSV and ``truth.json`
 
 from collections import Counter
 
-from tactilecal.cli._common import info, print_json
+from tactilecal.cli._common import (
+    info,
+    non_negative_int,
+    positive_float,
+    positive_int,
+    print_json,
+    share,
+)
 
 __all__ = ["register", "run_deadweight", "run_ramp_hold", "scaled_sensor"]
 
@@ -27,9 +34,9 @@ def register(subparsers):
                     "patch, plus manifest.csv (file, frame, mass_kg, pad_mass_g, label) and "
                     "truth.json.")
     dw.add_argument("outdir", metavar="OUTDIR", help="output folder (created if missing)")
-    dw.add_argument("--patches", type=int, default=150, help="number of patches (150)")
+    dw.add_argument("--patches", type=positive_int, default=150, help="number of patches (150)")
     _common_options(dw)
-    dw.add_argument("--saturated-share", type=float, default=0.0,
+    dw.add_argument("--saturated-share", type=share, default=0.0,
                     help="share of patches with a saturated reading (0)")
     dw.set_defaults(func=run_deadweight)
     rh = sub.add_parser(
@@ -38,16 +45,17 @@ def register(subparsers):
                     "cell's record (loadcell.csv, header 'Time (s),Load (N)') and truth.json.")
     rh.add_argument("outdir", metavar="OUTDIR", help="output folder (created if missing)")
     _common_options(rh)
-    rh.add_argument("--hold", type=float, default=3.0, help="hold time per level in s (3)")
-    rh.add_argument("--ramp", type=float, default=2.0, help="transition time in s (2)")
-    rh.add_argument("--frame-rate", type=float, default=100.0, help="sensor rate in Hz (100)")
-    rh.add_argument("--loadcell-rate", type=float, default=500.0,
+    rh.add_argument("--hold", type=positive_float, default=3.0, help="hold time per level in s (3)")
+    rh.add_argument("--ramp", type=positive_float, default=2.0, help="transition time in s (2)")
+    rh.add_argument("--frame-rate", type=positive_float, default=100.0,
+                    help="sensor rate in Hz (100)")
+    rh.add_argument("--loadcell-rate", type=positive_float, default=500.0,
                     help="load-cell rate in Hz (500)")
     rh.set_defaults(func=run_ramp_hold)
 
 
 def _common_options(parser):
-    parser.add_argument("--seed", type=int, default=0, help="random seed (0)")
+    parser.add_argument("--seed", type=non_negative_int, default=0, help="random seed (0)")
     parser.add_argument("--model", default="5051",
                         help="sensor model (5051); A_N is scaled by its sensel area so every "
                              "model has the 5051's pressure per raw count")

@@ -17,10 +17,10 @@ Steps (each writes its files under ``out_dir``):
 
 import shutil
 import time
-from pathlib import Path
 
 import numpy as np
 
+from tactilecal._atomic import make_folder
 from tactilecal._jsonutil import write_json
 
 #: Methods run by the demo, in the order of the printed table.
@@ -124,9 +124,9 @@ def run_demo(out_dir="tactilecal-demo", *, quiet=False):
     from tactilecal.demo._bundle import BUNDLE, bundle_path, demo_sensor
     from tactilecal.report import write_report
 
-    out = Path(out_dir)
+    out = make_folder(out_dir)
     for sub in ("calibrations", "validation", "experiment", "dynamic"):
-        (out / sub).mkdir(parents=True, exist_ok=True)
+        (out / sub).mkdir(exist_ok=True)
     start = time.perf_counter()
     bundle = bundle_path()
     shutil.copytree(bundle, out / "data", dirs_exist_ok=True)

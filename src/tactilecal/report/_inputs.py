@@ -40,7 +40,7 @@ def _classify_dict(data, where):
                      f"{list(_FILTER_KEYS)})")
 
 
-def load_input(item):
+def load_input(item, *, what="report input"):
     """Return ``(kind, obj, provenance)`` for one report input.
 
     Parameters
@@ -48,6 +48,8 @@ def load_input(item):
     item : str, os.PathLike, CalibrationResult, CorrectionFilter, dict or xarray.DataArray
         A file (``.json``: calibration or FILTER.json; ``.nc``: NetCDF recording; anything
         else: Tekscan ASCII export) or an object in memory.
+    what : str, keyword-only
+        What the input is to the caller, for messages (a command names its argument).
 
     Returns
     -------
@@ -75,11 +77,11 @@ def load_input(item):
     if hasattr(item, "to_dict") and hasattr(item, "fs_hz"):
         return "filter", item.to_dict(), {"input": "CorrectionFilter in memory"}
     if not isinstance(item, str | Path):
-        raise ValueError(f"report input of type {type(item).__name__}; expected a file path, "
+        raise ValueError(f"{what} of type {type(item).__name__}; expected a file path, "
                          "a CalibrationResult, a filter, a dict or a DataArray")
     path = Path(item)
     if not path.is_file():
-        raise FileNotFoundError(f"report input {path} does not exist or is not a file")
+        raise FileNotFoundError(f"{what} {path} does not exist or is not a file")
     prov = {"input": str(item), **file_provenance(path)}
     if path.suffix.lower() == ".json":
         data = read_json_object(path, "a calibration JSON or a FILTER.json")

@@ -3,12 +3,11 @@
 import csv
 import io
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from tactilecal._atomic import write_text_atomic
+from tactilecal._atomic import make_folder, write_text_atomic
 from tactilecal._jsonutil import write_json
 from tactilecal.simulate._loads import (
     G_STANDARD,
@@ -152,8 +151,7 @@ class DeadweightSession:
         """
         from tactilecal.io import write_tekscan
 
-        outdir = Path(outdir)
-        outdir.mkdir(parents=True, exist_ok=True)
+        outdir = make_folder(outdir)
         rows = self.manifest_rows()
         for i, row in enumerate(rows):
             write_tekscan(self.recording(i), outdir / row["file"])

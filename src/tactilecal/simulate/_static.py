@@ -1,13 +1,12 @@
 """Uniform loads (equilibration) and ramp-and-hold loading-machine sessions (Gillis 2013)."""
 
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
 import xarray as xr
 
-from tactilecal._atomic import write_text_atomic
+from tactilecal._atomic import make_folder, write_text_atomic
 from tactilecal._jsonutil import write_json
 from tactilecal.simulate._loads import smooth_field
 from tactilecal.simulate._sensor import SimulatedSensor
@@ -152,8 +151,7 @@ class RampHold:
         """
         from tactilecal.io import write_tekscan
 
-        outdir = Path(outdir)
-        outdir.mkdir(parents=True, exist_ok=True)
+        outdir = make_folder(outdir)
         paths = {"recording": outdir / "recording.csv", "loadcell": outdir / "loadcell.csv",
                  "truth": outdir / "truth.json"}
         write_tekscan(self.raw, paths["recording"])

@@ -1,0 +1,121 @@
+"""CLI safety on hostile input (issue 11): one line, exit 1, nothing replaced or left behind."""
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tactilecal.cli import main
+from tactilecal.io import write_tekscan
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("session")
+    assert main(["-q", "simulate", "deadweight", str(folder), "--patches", "12"]) == 0
+    cal = folder / "cal.json"
+    assert main(["-q", "calibrate", str(folder / "manifest.csv"), "--out", str(cal)]) == 0
+    return folder, cal
+
+
+def _raw_recording(path, value):
+    data = xr.DataArray(np.full((4, 3, 3), float(value)), dims=("frame", "row", "col"),
+                        coords={"frame": np.arange(1, 5), "time": ("frame", np.arange(4) * 0.1)},
+                        attrs={"units": "raw", "sensel_area_mm2": 1.6129, "row_spacing_mm": 1.27,
+                               "col_spacing_mm": 1.27, "seconds_per_frame": 0.1})
+    write_tekscan(data, path)
+    return path
+
+
+def _one_line_error(capsys, *needles):
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    for needle in needles:
+        assert needle in err, err
+    return err
+
+
+def test_quiet_after_the_subcommand_is_accepted(tmp_path, capsys):
+    assert main(["simulate", "ramp-hold", str(tmp_path / "rh"), "--quiet"]) == 0
+    assert capsys.readouterr().err == ""
+    assert main(["simulate", "ramp-hold", str(tmp_path / "rh2"), "-q", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)
+
+
+def test_unwritable_output_names_the_path_given(session, capsys):
+    folder, _ = session
+    target = "/dev/null/cal.json"  # a file where a folder should be: fails even for root
+    assert main(["-q", "calibrate", str(folder / "manifest.csv"), "--out", target]) == 1
+    err = _one_line_error(capsys, target)
+    assert "/dev/null/.cal.json" not in err
+
+
+def test_output_that_is_an_input_is_refused(session, tmp_path, capsys):
+    folder, cal = session
+    rec = _raw_recording(tmp_path / "rec.csv", 100)
+    before = rec.read_bytes()
+    assert main(["-q", "apply", str(cal), str(rec), "--out", str(rec)]) == 1
+    _one_line_error(capsys, f"--out {rec} is the input")
+    assert rec.read_bytes() == before
+
+
+@pytest.mark.parametrize(("argv", "flag"), [
+    (["dynamic", "apply", "f.json", "x.nc", "--out", "y.nc", "--chunk-frames", "0"],
+     "--chunk-frames"),
+    (["simulate", "deadweight", "out", "--saturated-share", "1.5"], "--saturated-share"),
+    (["analyze", "x.csv", "--threshold-kpa", "nan"], "--threshold-kpa"),
+    (["simulate", "ramp-hold", "out", "--frame-rate", "-100"], "--frame-rate"),
+])
+def test_impossible_flag_value_is_one_line_naming_the_flag(argv, flag, capsys):
+    assert main(argv) == 1
+    _one_line_error(capsys, f"argument {flag}")
+
+
+def test_unknown_method_is_refused_before_reading_the_manifest(tmp_path, capsys):
+    assert main(["calibrate", str(tmp_path / "missing.csv"), "--method", "abc"]) == 1
+    _one_line_error(capsys, "--method 'abc'; expected one of")
+
+
+@pytest.mark.parametrize("argv", [["simulate", "deadweight", "{f}", "--patches", "3"],
+                                  ["demo", "--out", "{f}"]])
+def test_output_folder_that_is_a_file_is_an_error(tmp_path, argv, capsys):
+    existing = tmp_path / "existing"
+    existing.write_text("keep me")
+    assert main(["-q", *[a.format(f=existing) for a in argv]]) == 1
+    _one_line_error(capsys, f"{existing} is a file; expected a folder")
+    assert existing.read_text() == "keep me"
+
+
+def test_analyze_names_its_own_input(tmp_path, capsys):
+    assert main(["analyze", str(tmp_path / "nope.csv")]) == 1
+    _one_line_error(capsys, "RECORDING", "nope.csv does not exist")
+
+
+def test_all_255_recording_is_flagged_saturated(session, tmp_path, capsys):
+    _, cal = session
+    rec = _raw_recording(tmp_path / "sat.csv", 255)
+    assert main(["-q", "analyze", str(rec), "--cal", str(cal), "--json"]) == 0
+    captured = capsys.readouterr()
+    overview = json.loads(captured.out)["overview"]
+    assert overview["saturated_frames"] == 4 and overview["peak_force_is_lower_bound"] is True
+    assert "4 of 4 frames have saturated sensels" in captured.err
+
+
+def test_unsaturated_recording_is_not_flagged(session, tmp_path, capsys):
+    _, cal = session
+    rec = _raw_recording(tmp_path / "ok.csv", 100)
+    assert main(["-q", "analyze", str(rec), "--cal", str(cal), "--json"]) == 0
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["overview"]["saturated_frames"] == 0
+    assert "saturated" not in captured.err
+
+
+def test_applied_recording_keeps_saturation_recognisable(session, tmp_path, capsys):
+    _, cal = session
+    rec = _raw_recording(tmp_path / "sat.csv", 255)
+    out = tmp_path / "sat.nc"
+    assert main(["-q", "apply", str(cal), str(rec), "--out", str(out)]) == 0
+    assert "4 of 4 frames have saturated sensels" in capsys.readouterr().err
+    assert main(["-q", "analyze", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["overview"]["saturated_frames"] == 4
