@@ -1,6 +1,7 @@
 """CLI safety on hostile input (issue 11): one line, exit 1, nothing replaced or left behind."""
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -119,3 +120,31 @@ def test_applied_recording_keeps_saturation_recognisable(session, tmp_path, caps
     assert "4 of 4 frames have saturated sensels" in capsys.readouterr().err
     assert main(["-q", "analyze", str(out), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["overview"]["saturated_frames"] == 4
+
+
+def test_temp_file_of_a_killed_writer_is_removed_on_the_next_write(tmp_path, capsys):
+    import subprocess
+    import sys
+
+    from tactilecal._atomic import write_text_atomic
+
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True, check=True)
+    pid = int(dead.stdout)  # a process that has ended
+    stale = tmp_path / f".out.json.tmp{pid}.abcd.json"
+    stale.write_text("half")
+    alive = tmp_path / f".out.json.tmp{os.getpid()}.efgh.json"  # a writer still running
+    alive.write_text("busy")
+    write_text_atomic(tmp_path / "out.json", "{}")
+    assert not stale.exists() and alive.exists()
+    assert f"removed {stale}" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([alive.name, "out.json"])
+
+
+def test_failed_write_leaves_no_temp_file(tmp_path):
+    from tactilecal._atomic import atomic_path
+
+    with pytest.raises(RuntimeError), atomic_path(tmp_path / "x.nc") as tmp:
+        tmp.write_text("partial")
+        raise RuntimeError("writer failed")
+    assert list(tmp_path.iterdir()) == []

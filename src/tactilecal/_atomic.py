@@ -1,7 +1,9 @@
 """Atomic file writes: write to a temporary name in the target folder, then rename."""
 
 import contextlib
+import glob
 import os
+import sys
 import tempfile
 from pathlib import Path
 
@@ -33,10 +35,11 @@ def atomic_path(path, *, suffix=None):
     path = Path(path)
     if not path.parent.exists():
         raise FileNotFoundError(f"cannot write {path}: folder {path.parent} does not exist")
+    remove_stale(path)
     try:
         fd, tmp_name = tempfile.mkstemp(
-            prefix=f".{path.name}.", suffix=path.suffix if suffix is None else suffix,
-            dir=path.parent,
+            prefix=f".{path.name}.tmp{os.getpid()}.",
+            suffix=path.suffix if suffix is None else suffix, dir=path.parent,
         )
     except OSError as exc:  # name the path the user gave, not the hidden temporary file
         raise type(exc)(exc.errno, f"cannot write here ({exc.strerror})", str(path)) from None
@@ -54,6 +57,35 @@ def atomic_path(path, *, suffix=None):
         with contextlib.suppress(FileNotFoundError):
             tmp.unlink()
         raise
+
+
+def remove_stale(path):
+    """Remove the temporary files a killed writer of ``path`` left behind; return them.
+
+    Temporary names carry the writer's process id (``.NAME.tmpPID.XXXX``); a file whose
+    process no longer runs is stale (``kill -9`` skips the clean-up of :func:`atomic_path`).
+    Each removal is reported on standard error.
+    """
+    stale = []
+    for tmp in Path(path).parent.glob(f".{glob.escape(Path(path).name)}.tmp*"):
+        pid = tmp.name[len(Path(path).name) + 5:].split(".", 1)[0]
+        if pid.isdigit() and not _running(int(pid)):
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+                stale.append(tmp)
+                print(f"removed {tmp}, left by an interrupted write of {path}",
+                      file=sys.stderr)
+    return stale
+
+
+def _running(pid):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # another user's process
+        return True
+    return True
 
 
 def make_folder(path, *, what="output folder"):
