@@ -64,7 +64,7 @@ def test_manifest_mass_and_pad_and_errors(tmp_path, session_dir):
     cases = [
         ("file,load_N\na.csv,1\n", r"m.csv has columns \['file', 'load_N'\]; expected file, "),
         ("file,frame,load_N\na.csv,5,\n", "m.csv line 2: load_N and mass_kg are both blank"),
-        ("file,frame,load_N\na.csv,5,x\n", "m.csv line 2: load_N 'x' is not a number"),
+        ("file,frame,load_N\na.csv,5,x\n", "m.csv line 2: load_N is 'x'; expected a number"),
         ("file,frame,load_N\na.csv,5,1\nb.csv,5,1\n", "m.csv line 3: file .*b.csv does not"),
         ("file,frame,load_N\na.csv,99,1\n", r"m.csv line 2: frame 99 is not in a.csv \(frames"),
         ("file,frame,load_N\n", "m.csv has no rows"),

@@ -13,9 +13,10 @@ type (a JSON string where a number belongs); :class:`OSError` comes from the ope
 
 import math
 import numbers
+import re
 
-__all__ = ["decode_text", "read_text", "check_number", "check_type", "require_keys",
-           "check_size"]
+__all__ = ["decode_text", "read_text", "check_line_ends", "parse_number", "check_number",
+           "check_type", "require_keys", "check_size"]
 
 _BOMS = ((b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
 
@@ -84,6 +85,49 @@ def read_text(path, *, expected="a text file"):
     """Read and decode a text file with :func:`decode_text` (``OSError`` passes through)."""
     with open(path, "rb") as f:
         return decode_text(f.read(), str(path), expected=expected)
+
+
+def check_line_ends(text, name):
+    r"""Raise ValueError naming the line of a carriage return that ends no line (not CRLF).
+
+    CSV parsers end a line at a lone CR, so a row would silently split in two.
+
+    Examples
+    --------
+    >>> check_line_ends("a,b\r\n1,2\r\n", "m.csv")
+    >>> check_line_ends("a,b\n1\r,2\n", "m.csv")
+    Traceback (most recent call last):
+    ...
+    ValueError: line 2 of m.csv: a carriage return (CR) inside the line; expected CR only ...
+    """
+    unix = text.replace("\r\n", "\n")
+    lone = unix.find("\r")
+    if lone >= 0:
+        raise ValueError(f"line {unix.count(chr(10), 0, lone) + 1} of {name}: a carriage "
+                         "return (CR) inside the line; expected CR only before the line feed "
+                         "(CRLF line ends)")
+
+
+_NUMBER = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*")
+
+
+def parse_number(text, where, **limits):
+    """Parse the text of a number strictly (no ``1_0``, ``nan``, ``inf``), then check it.
+
+    ``limits`` are those of :func:`check_number`; ``where`` names the file, line and column.
+
+    Examples
+    --------
+    >>> parse_number(" 2.5", "line 3 of m.csv, mass_kg", minimum=0)
+    2.5
+    >>> parse_number("1_0", "line 3 of m.csv, mass_kg")
+    Traceback (most recent call last):
+    ...
+    ValueError: line 3 of m.csv, mass_kg is '1_0'; expected a number
+    """
+    if not isinstance(text, str) or not _NUMBER.fullmatch(text):
+        raise ValueError(f"{where} is {_short(text)}; expected a number")
+    return check_number(float(text), where, **limits)
 
 
 def check_type(value, types, where, *, expected):

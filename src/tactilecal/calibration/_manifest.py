@@ -1,10 +1,13 @@
 """Calibration manifests (CSV, one row per point) and plateau detection for blank frames."""
 
+import csv
+import io
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from tactilecal._validate import check_line_ends, check_number, parse_number, read_text
 from tactilecal.calibration._points import _points_from_histograms, frame_histograms
 
 __all__ = ["load_points", "load_frames", "find_plateau"]
@@ -70,38 +73,55 @@ def find_plateau(total, *, window=3, rel_tol=0.02, min_level=0.5):
 
 
 def _manifest_table(path):
-    try:
-        table = pd.read_csv(path, dtype=str, keep_default_na=False, skipinitialspace=True)
-    except pd.errors.EmptyDataError:
+    """Return the manifest's rows as dicts of text (``csv`` module, any encoding Excel writes).
+
+    Every row must have as many values as the header: an extra comma shifts the columns.
+    """
+    text = read_text(path, expected="a manifest CSV")
+    check_line_ends(text, path)
+    lines = list(csv.reader(io.StringIO(text, newline=""), skipinitialspace=True))
+    if not lines or not any(cell.strip() for cell in lines[0]):
         raise ValueError(f"{path} is empty; expected a CSV header with file, frame and "
-                         "load_N or mass_kg") from None
-    table.columns = [c.strip() for c in table.columns]
-    missing = [c for c in ("file", "frame") if c not in table.columns]
-    if missing or not ({"load_N", "mass_kg"} & set(table.columns)):
-        raise ValueError(f"{path} has columns {list(table.columns)}; expected file, frame and "
+                         "load_N or mass_kg")
+    columns = [c.strip() for c in lines[0]]
+    missing = [c for c in ("file", "frame") if c not in columns]
+    if missing or not ({"load_N", "mass_kg"} & set(columns)):
+        raise ValueError(f"{path} has columns {columns}; expected file, frame and "
                          "load_N or mass_kg (optional pad_mass_g, label)")
-    if table.empty:
+    rows = []
+    for number, cells in enumerate(lines[1:], start=2):
+        if not any(cell.strip() for cell in cells):
+            continue
+        if len(cells) != len(columns):
+            raise ValueError(f"line {number} of {path} has {len(cells)} values; expected "
+                             f"{len(columns)}, one per column {columns}")
+        rows.append((number, dict(zip(columns, (c.strip() for c in cells), strict=True))))
+    if not rows:
         raise ValueError(f"{path} has no rows; expected one row per calibration point")
-    return table
+    return rows
 
 
-def _number(text, column, where):
-    try:
-        return float(text)
-    except ValueError:
-        raise ValueError(f"{where}: {column} {text!r} is not a number; expected a number") \
-            from None
+_MAX_LOAD_N = 1e9
+"""No dead weight on a tactile sensor comes near 1e9 N (100,000 t): a larger load is a typo."""
+
+
+def _number(text, column, where, **limits):
+    return parse_number(text, f"{where}: {column}", **limits)
 
 
 def _row_load_N(row, where):
     """Load of one manifest row: ``load_N``, else (mass_kg + pad_mass_g / 1000) * g."""
     from tactilecal.io import G_STANDARD
 
+    positive = {"minimum": 0.0, "min_inclusive": False, "maximum": _MAX_LOAD_N}
     if row.get("load_N", ""):
-        return _number(row["load_N"], "load_N", where)
+        return _number(row["load_N"], "load_N", where, **positive)
     if row.get("mass_kg", ""):
-        pad = _number(row["pad_mass_g"], "pad_mass_g", where) if row.get("pad_mass_g") else 0.0
-        return (_number(row["mass_kg"], "mass_kg", where) + pad / 1000.0) * G_STANDARD
+        pad = (_number(row["pad_mass_g"], "pad_mass_g", where, minimum=0.0,
+                       maximum=_MAX_LOAD_N) if row.get("pad_mass_g") else 0.0)
+        mass = _number(row["mass_kg"], "mass_kg", where, minimum=0.0, maximum=_MAX_LOAD_N)
+        return check_number((mass + pad / 1000.0) * G_STANDARD, f"{where}: the load in N",
+                            **positive)
     raise ValueError(f"{where}: load_N and mass_kg are both blank; expected a load")
 
 
@@ -124,7 +144,7 @@ def _pick_frame(rec, text, where, name):
     """Return (0-based index, note) of the manifest's frame or of the detected plateau."""
     frames = rec["frame"].values
     if text:
-        number = _number(text, "frame", where)
+        number = _number(text, "frame", where, integer=True)
         hits = np.flatnonzero(frames == number)
         if not len(hits):
             raise ValueError(f"{where}: frame {text} is not in {name} (frames "
@@ -142,12 +162,11 @@ def _manifest_frames(manifest_path, equilibration, quiet=True):
     from tactilecal.cli._common import progress
 
     path = Path(manifest_path)
-    table = _manifest_table(path)
+    rows = _manifest_table(path)
     cache = {}
-    rows = table.to_dict(orient="records")
-    for k, row in enumerate(progress(rows, total=len(rows), desc=f"reading {path.name}",
-                                     quiet=quiet or len(rows) < 50)):
-        where = f"{path.name} line {k + 2}"
+    for line, row in progress(rows, total=len(rows), desc=f"reading {path.name}",
+                              quiet=quiet or len(rows) < 50):
+        where = f"{path.name} line {line}"
         load = _row_load_N(row, where)
         rec = _read_recording(path.parent / row["file"], where, cache)
         i, note = _pick_frame(rec, row["frame"], where, row["file"])

@@ -1,5 +1,6 @@
 """Reader for load-cell / force-time CSV files with a header row."""
 
+import io
 import re
 from pathlib import Path
 
@@ -7,6 +8,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._validate import check_line_ends, read_text
 from tactilecal.io._units import (
     force_to_N,
     mass_to_N,
@@ -59,9 +61,9 @@ def _pick(columns, choice, default, role, name):
     return choice
 
 
-def _first_bad_cell(path, column, name):
+def _first_bad_cell(text, column, name):
     """Slow path (only after the fast parse failed): raise naming the first bad cell's line."""
-    table = _as_text(path)
+    table = _as_text(text, name)
     raw = table[column]
     values = pd.to_numeric(raw, errors="coerce").to_numpy(dtype=np.float64)
     bad = np.flatnonzero(~np.isfinite(values))
@@ -73,10 +75,10 @@ def _first_bad_cell(path, column, name):
                          "finite number")
 
 
-def _as_text(path):
+def _as_text(text, name):
     """Every cell as text, blank lines dropped, index = 0-based line number after the header."""
-    table = pd.read_csv(path, dtype=str, skip_blank_lines=False,
-                        keep_default_na=False, skipinitialspace=True)
+    table = _read_csv(text, name, dtype=str, skip_blank_lines=False, keep_default_na=False,
+                      skipinitialspace=True)
     table.columns = [str(c).strip() for c in table.columns]
     blank = (table.fillna("").apply(lambda column: column.str.strip()) == "").all(axis=1)
     return table[~blank.to_numpy()]
@@ -121,20 +123,22 @@ def read_timeseries(path, time_col=None, value_col=None):
     """
     path = Path(path)
     name = str(path)
-    columns = _columns(path, name)
+    text = read_text(path, expected="a CSV file with a header row")
+    check_line_ends(text, name)
+    columns = _columns(text, name)
     t_name = _pick(columns, time_col, 0, "time_col", name)
     v_name = _pick(columns, value_col, 1, "value_col", name)
     t_unit = unit_from_column(t_name, where=f"column {t_name!r} of {name}") or "s"
     if unit_kind(t_unit) != "time":
         raise ValueError(f"time column {t_name!r} of {name} is in {t_unit!r}; expected a "
                          "time unit (s, ms, us, min)")
-    raw_times, raw_values = _load_columns(path, columns, t_name, v_name, name)
+    raw_times, raw_values = _load_columns(text, columns, t_name, v_name, name)
     times = time_to_s(raw_times, t_unit)
     values, units = _convert_values(raw_values, v_name, name)
     steps = np.flatnonzero(np.diff(times) <= 0)
     if steps.size:
         i = steps[0] + 1
-        line = _line_numbers(path)[i] if len(times) else i + 2
+        line = _line_numbers(text, name)[i] if len(times) else i + 2
         raise ValueError(f"line {line} of {name}: time {times[i]:g} s follows "
                          f"{times[i - 1]:g} s; expected strictly increasing times")
     return xr.DataArray(values, dims="time", coords={"time": times}, name=str(v_name),
@@ -142,36 +146,40 @@ def read_timeseries(path, time_col=None, value_col=None):
                                "time_column": str(t_name)})
 
 
-def _columns(path, name):
-    if _is_blank(path):
+def _columns(text, name):
+    if not text.strip():
         raise ValueError(f"{name} is empty; expected a header row and at least 2 rows")
-    header = pd.read_csv(path, nrows=0, skipinitialspace=True)
+    header = _read_csv(text, name, nrows=0, skipinitialspace=True)
     return [str(c).strip() for c in header.columns]
 
 
-def _is_blank(path, block=1 << 20):
-    """Return True when the file holds only whitespace (reads up to the first text)."""
-    with open(path, "rb") as f:
-        while chunk := f.read(block):
-            if chunk.lstrip(b"\xef\xbb\xbf").strip():
-                return False
-    return True
+def _read_csv(text, name, **kwargs):
+    """pandas.read_csv on decoded text; a malformed row is a ValueError naming the file."""
+    try:
+        return pd.read_csv(io.StringIO(text), **kwargs)
+    except pd.errors.ParserError as exc:
+        detail = " ".join(str(exc).split()).replace("Error tokenizing data. C error: ", "")
+        raise ValueError(f"{name}: {detail}; expected the same number of comma-separated "
+                         "values on every line as in the header") from None
 
 
-def _load_columns(path, columns, t_name, v_name, name):
+def _load_columns(text, columns, t_name, v_name, name):
     """Both columns as float64 in one C-parser pass; on any problem find the bad line."""
     wanted = sorted({columns.index(t_name), columns.index(v_name)})
-    try:
-        table = pd.read_csv(path, usecols=wanted, dtype=np.float64,
-                            keep_default_na=False, skipinitialspace=True, engine="c")
+    try:  # every column is parsed (no usecols), so a row with an extra value is an error
+        table = _read_csv(text, name, header=0, names=range(len(columns)),
+                          dtype=dict.fromkeys(wanted, np.float64), keep_default_na=False,
+                          skipinitialspace=True, engine="c")
+        table = table[wanted]
         table.columns = [columns[i] for i in wanted]
         pair = table[t_name].to_numpy(), table[v_name].to_numpy()
         ok = np.isfinite(pair[0]).all() and np.isfinite(pair[1]).all()
     except ValueError:
         ok = False
     if not ok:
-        _first_bad_cell(path, t_name, name)
-        _first_bad_cell(path, v_name, name)
+        _as_text(text, name)  # a row with too many values: named by pandas' line count
+        _first_bad_cell(text, t_name, name)
+        _first_bad_cell(text, v_name, name)
         raise ValueError(f"{name}: columns {t_name!r}, {v_name!r} could not be read as "
                          "numbers")  # pragma: no cover - the slow path names the cell
     if len(pair[0]) < 2:
@@ -179,9 +187,9 @@ def _load_columns(path, columns, t_name, v_name, name):
     return pair
 
 
-def _line_numbers(path):
+def _line_numbers(text, name):
     """File line number of each data row (blank lines skipped), for error messages."""
-    return np.asarray(_as_text(path).index) + 2
+    return np.asarray(_as_text(text, name).index) + 2
 
 
 def _convert_values(values, column, name):
