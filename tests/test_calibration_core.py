@@ -291,7 +291,7 @@ def test_apply_and_load_errors(tmp_path):
         res.apply(rec.assign_attrs(units="volts", source="v.csv"), units="N")
     bad = tmp_path / "bad.json"
     bad.write_text("{not json")
-    with pytest.raises(ValueError, match="bad.json is not valid JSON"):
+    with pytest.raises(ValueError, match="bad.json: not valid JSON"):
         load_calibration(bad)
     bad.write_text('{"method": "power"}')
     with pytest.raises(ValueError, match="lacks the keys"):

@@ -72,7 +72,7 @@ def test_area_and_validate_errors(tmp_path):
         validate(res, [sat])
     path = tmp_path / "list.json"
     path.write_text(json.dumps([1, 2]))
-    with pytest.raises(ValueError, match="list.json holds a list; expected a JSON object"):
+    with pytest.raises(ValueError, match="list.json: JSON list; expected an object"):
         load_calibration(path)
 
 

@@ -87,5 +87,5 @@ def test_equilibration_errors(tmp_path):
     with pytest.raises(ValueError, match="x.json is not an equilibration JSON"):
         load_equilibration(bad)
     bad.write_text("[")
-    with pytest.raises(ValueError, match="x.json is not valid JSON"):
+    with pytest.raises(ValueError, match="x.json: not valid JSON"):
         load_equilibration(bad)

@@ -46,8 +46,10 @@ def read_json_object(path, expected):
 
     ``expected`` completes the message for text that is not JSON (``"a FILTER.json"``).
     """
+    from tactilecal._validate import read_text
+
     try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
+        data = json.loads(read_text(Path(path), expected=expected))
     except json.JSONDecodeError as exc:
         raise ValueError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}); "
                          f"expected {expected}") from None

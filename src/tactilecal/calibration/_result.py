@@ -1,6 +1,5 @@
 """The calibration result: parameters, uncertainty, per-point table, JSON round-trip."""
 
-import json
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
@@ -10,9 +9,10 @@ import pandas as pd
 import xarray as xr
 
 from tactilecal._atomic import write_text_atomic
-from tactilecal._jsonutil import dumps, to_jsonable
+from tactilecal._jsonutil import dumps, read_json_object, to_jsonable
+from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal._version import __version__
-from tactilecal.calibration._models import force_table, sensel_force
+from tactilecal.calibration._models import MODELS, force_table, sensel_force
 
 __all__ = ["CalibrationResult", "load_calibration"]
 
@@ -241,10 +241,9 @@ class CalibrationResult:
     @classmethod
     def from_dict(cls, data, *, source="calibration"):
         """Rebuild a result from :meth:`to_dict` output (``source`` names it in errors)."""
-        missing = [k for k in REQUIRED_KEYS if k not in data]
-        if missing:
-            raise ValueError(f"{source} lacks the keys {missing}; expected a calibration JSON "
-                             f"with {REQUIRED_KEYS}")
+        check_type(data, dict, source, expected="a calibration JSON object")
+        require_keys(data, REQUIRED_KEYS, source, expected="a calibration JSON")
+        check_calibration(data, source)
         table = pd.DataFrame(data["points"], columns=None if data["points"] else POINT_COLUMNS)
         nan = float("nan")
         return cls(
@@ -259,20 +258,59 @@ class CalibrationResult:
         )
 
 
+def check_calibration(data, source):
+    """Check the types and values of a calibration JSON's keys before they are used.
+
+    The law must give finite forces at raw 0..255, positive at 255; the power law (eq. 1 of
+    Zvyagin 2022) needs A > 0 and b > 0 (A < 0 gives negative forces, b <= 0 no law).
+    """
+    where = f"key '{{}}' of {source}"
+    check_type(data["method"], str, where.format("method"), expected="a method name")
+    model = check_type(data["model"], str, where.format("model"), expected="a model name")
+    if model not in MODELS:
+        raise ValueError(f"{where.format('model')} is {model!r}; expected one of "
+                         f"{sorted(MODELS)}")
+    params = check_type(data["params"], dict, where.format("params"),
+                        expected="an object of parameters")
+    for key in ("points", "metrics", "details", "options", "params_stderr"):
+        if data.get(key) is not None:
+            check_type(data[key], list if key == "points" else dict, where.format(key),
+                       expected="a list of points" if key == "points" else "an object")
+    if model == "power":
+        require_keys(params, ("A", "b"), where.format("params"), expected="a power law")
+        for name in ("A", "b"):
+            check_number(params[name], where.format(f"params.{name}"), minimum=0.0,
+                         min_inclusive=False)
+    for name, value in params.items():
+        for item in np.ravel(value if isinstance(value, list) else [value]):
+            check_number(item, where.format(f"params.{name}"))
+    check_number(data["sensel_area_mm2"], where.format("sensel_area_mm2"), minimum=0.0,
+                 min_inclusive=False, allow_none=True)
+    check_number(data["saturation_pressure_kPa"], where.format("saturation_pressure_kPa"),
+                 allow_none=True)
+    try:
+        table_N = force_table(model, params)
+    except (KeyError, IndexError, TypeError, ValueError) as exc:
+        raise ValueError(f"{where.format('params')}: {exc!r} with model {model!r}; expected "
+                         "the parameters of that model") from None
+    if not np.all(np.isfinite(table_N)) or not table_N[255] > 0:
+        raise ValueError(f"{where.format('params')} give forces from {np.nanmin(table_N):g} "
+                         f"to {np.nanmax(table_N):g} N at raw 0..255; expected finite forces, "
+                         "positive at 255")
+
+
 def load_calibration(path):
     """Read a calibration JSON written by :meth:`CalibrationResult.to_json`.
 
     Raises
     ------
     ValueError
-        If the file is not JSON or lacks a contract key.
+        If the file is not JSON, lacks a contract key, or holds an impossible value (a law
+        that gives negative or non-finite forces, a sensel area <= 0); the message names
+        the file and the key.
+    TypeError
+        If a key holds the wrong type (a string where a number belongs).
     """
     path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{path} is not valid JSON (line {exc.lineno}: {exc.msg}); "
-                         "expected a calibration JSON") from None
-    if not isinstance(data, dict):
-        raise ValueError(f"{path} holds a {type(data).__name__}; expected a JSON object")
+    data = read_json_object(path, "a calibration JSON")
     return CalibrationResult.from_dict(data, source=str(path))

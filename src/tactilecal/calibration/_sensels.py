@@ -5,14 +5,14 @@ load, at one or several load levels; non-working sensels must be told apart from
 that read zero because they are not loaded, reported, and left out of averages.
 """
 
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 from scipy import ndimage
 
-from tactilecal._jsonutil import to_jsonable, write_json
+from tactilecal._jsonutil import read_json_object, to_jsonable, write_json
+from tactilecal._validate import check_number, check_type
 
 __all__ = ["NonWorkingSensels", "find_dead_sensels", "Equilibration", "equilibrate",
            "load_equilibration"]
@@ -165,19 +165,35 @@ class Equilibration:
         if not isinstance(data, dict) or data.get("kind") != "equilibration":
             raise ValueError(f"{source} is not an equilibration JSON; expected "
                              "\"kind\": \"equilibration\" and a \"gain\" table")
-        gain = np.array([[np.nan if v is None else v for v in row] for row in data["gain"]],
-                        dtype=float)
-        return cls(gain=gain, levels=list(data.get("levels", [])))
+        return cls(gain=_gain_table(data.get("gain"), source),
+                   levels=check_type(data.get("levels", []), list, f"key 'levels' of {source}",
+                                     expected="a list"))
+
+
+def _gain_table(rows, source):
+    """Return the ``gain`` key as an array: positive gains, NaN for null (non-working)."""
+    where = f"key 'gain' of {source}"
+    check_type(rows, list, where, expected="a list of rows")
+    if not rows or not all(isinstance(row, list) and len(row) == len(rows[0]) for row in rows):
+        raise ValueError(f"{where} is not a table; expected rows of equal length")
+    for i, row in enumerate(rows):
+        for j, value in enumerate(row):
+            check_number(value, f"{where}, row {i} col {j}", minimum=0.0, min_inclusive=False,
+                         allow_none=True)
+    return np.array([[np.nan if v is None else v for v in row] for row in rows], dtype=float)
 
 
 def load_equilibration(path):
-    """Read an equilibration JSON written by :meth:`Equilibration.to_json`."""
+    """Read an equilibration JSON written by :meth:`Equilibration.to_json`.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Not JSON, not an equilibration, or a gain that is not a positive number or null;
+        the message names the file and the key.
+    """
     path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{path} is not valid JSON (line {exc.lineno}: {exc.msg}); expected "
-                         "an equilibration JSON") from None
+    data = read_json_object(path, "an equilibration JSON")
     return Equilibration.from_dict(data, source=str(path))
 
 

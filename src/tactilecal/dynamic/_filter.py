@@ -22,6 +22,7 @@ import numpy as np
 from scipy import fft, signal
 
 from tactilecal._jsonutil import read_json_object, write_json
+from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
 
 __all__ = ["CorrectionFilter", "load_filter", "FORMAT", "zero_phase_fir", "centred_spectrum"]
@@ -277,6 +278,7 @@ class CorrectionFilter:
             raise ValueError(f"{where}: not a tactilecal dynamic filter (format "
                              f"{d.get('format')!r}, missing keys {missing}); expected "
                              f"format {FORMAT!r} as written by 'tactilecal dynamic fit'")
+        _check_filter_dict(d, where)
         response = d.get("response") or {}
         return cls(d["model"], dict(d["params"]), float(d["fs_hz"]), tuple(d["band_hz"]),
                    d["outside"], float(d["taper_hz"]), int(d["n_taps"]),
@@ -295,6 +297,41 @@ class CorrectionFilter:
         return (f"{self.model} filter ({pars}) for {self.fs_hz:g} Hz, band "
                 f"{self.band_hz[0]:g}..{self.band_hz[1]:g} Hz, above: {self.outside}, "
                 f"{self.n_taps} taps ({self.length_s:.3g} s)")
+
+
+def _check_filter_dict(d, where):
+    """Types and ranges of a FILTER.json's keys, before any is used (names the key)."""
+    key = f"key '{{}}' of {where}"
+    fs_hz = check_number(d["fs_hz"], key.format("fs_hz"), minimum=0.0, min_inclusive=False)
+    band = check_type(d["band_hz"], list | tuple, key.format("band_hz"),
+                      expected="[low, high] in Hz")
+    if len(band) != 2:
+        raise ValueError(f"{key.format('band_hz')} has {len(band)} values; expected [low, high]")
+    low, high = (check_number(v, key.format("band_hz"), minimum=0.0, maximum=fs_hz / 2)
+                 for v in band)
+    if not low < high:
+        raise ValueError(f"{key.format('band_hz')} is {band}; expected low < high")
+    if d["model"] not in (*MODELS, "response"):
+        raise ValueError(f"{key.format('model')} is {d['model']!r}; expected one of "
+                         f"{[*MODELS, 'response']}")
+    for name, value in check_type(d["params"], dict, key.format("params"),
+                                  expected="an object of numbers").items():
+        check_number(value, key.format(f"params.{name}"))
+    if d["outside"] not in ("taper", "hold"):
+        raise ValueError(f"{key.format('outside')} is {d['outside']!r}; expected 'taper' or "
+                         "'hold'")
+    check_number(d["taper_hz"], key.format("taper_hz"), minimum=0.0)
+    check_number(d["n_taps"], key.format("n_taps"), minimum=1, integer=True)
+    check_number(d.get("lag_s"), key.format("lag_s"), allow_none=True)
+    response = d.get("response") or {}
+    check_type(response, dict, key.format("response"), expected="an object")
+    if response:
+        require_keys(response, ("f_hz", "gain"), key.format("response"),
+                     expected="a response")
+        for name in ("f_hz", "gain"):
+            for value in check_type(response[name], list, key.format(f"response.{name}"),
+                                    expected="a list of numbers"):
+                check_number(value, key.format(f"response.{name}"))
 
 
 def load_filter(path):
