@@ -1,5 +1,7 @@
 """apply_filter's multirate method against the direct FIR and against the gain law."""
 
+import re
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -121,3 +123,43 @@ def test_streamed_recording_memory_does_not_grow_with_its_length(tmp_path):
     # measured: the peak grows by 0.07-0.08 of the added data, and is 0.30 of the long record
     assert long - short < 0.2 * (size[240_000] - size[60_000])
     assert long < 0.45 * size[240_000]
+
+
+def test_rounded_frame_times_are_filtered_at_their_mean_rate():
+    """I-Scan prints frame times to 0.01 s: a 0.10097 s step reads as 0.10 or 0.11 s."""
+    from tactilecal.dynamic import CorrectionFilter, apply_filter
+
+    n = 400
+    true_s = np.arange(n) * 0.10097402597402598
+    data = xr.DataArray(np.random.default_rng(0).normal(100, 5, (n, 2, 2)),
+                        dims=("frame", "row", "col"),
+                        coords={"time": ("frame", np.round(true_s, 2))})
+    filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=1 / 0.10097402597402598,
+                                       band_hz=(0.1, 2), n_taps=31)
+    out = apply_filter(data, filt)
+    assert out.attrs["sampling_rate_hz"] == pytest.approx(1 / 0.10097402597402598, rel=1e-4)
+    assert 0.004 < out.attrs["time_jitter_s"] <= 0.01  # rounding of the stamp and the ends
+
+
+def test_truly_irregular_frame_times_are_refused_naming_the_record():
+    from tactilecal.dynamic import CorrectionFilter, apply_filter
+
+    time_s = np.cumsum(np.where(np.arange(400) % 2, 0.05, 0.15))  # steps 0.05 / 0.15 s
+    data = xr.DataArray(np.ones((400, 2, 2)), dims=("frame", "row", "col"),
+                        coords={"time": ("frame", time_s)}, attrs={"source": "walk.csv"})
+    filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=10, band_hz=(0.1, 2),
+                                       n_taps=31)
+    with pytest.raises(ValueError, match="walk.csv: irregular time column"):
+        apply_filter(data, filt)
+
+
+def test_real_iscan_movie_is_accepted_by_dynamic_apply(iscan_csv, tmp_path, capsys):
+    from tactilecal.cli import main
+    from tactilecal.dynamic import CorrectionFilter
+
+    filt = tmp_path / "f.json"
+    CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=309 / 31.1 * 308 / 309,
+                                band_hz=(0.1, 2), n_taps=31).save(filt)
+    assert main(["dynamic", "apply", str(filt), str(iscan_csv), "--out",
+                 str(tmp_path / "o.nc")]) == 0
+    assert re.search(r"off a uniform 9.90\d* Hz grid", capsys.readouterr().err)

@@ -130,7 +130,10 @@ def _apply_recording(filt, args):
             write_netcdf(out, args.out)
     else:
         write_netcdf(out, args.out)
-    return f"{out.shape[0]} frames x {out[0].size} sensels"
+    jitter = (f" (frame times up to {out.attrs['time_jitter_s']:.3g} s off a uniform "
+              f"{out.attrs['sampling_rate_hz']:.6g} Hz grid: filtered at that mean rate)"
+              if out.attrs["time_jitter_s"] * out.attrs["sampling_rate_hz"] > 0.01 else "")
+    return f"{out.shape[0]} frames x {out[0].size} sensels{jitter}"
 
 
 def run_apply(args):

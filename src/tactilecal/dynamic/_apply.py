@@ -26,7 +26,7 @@ from scipy import fft
 
 from tactilecal.dynamic._filter import PRECISIONS
 from tactilecal.dynamic._multirate import apply_multirate, plan_multirate, run_tasks
-from tactilecal.dynamic._records import label, sampling_rate_hz
+from tactilecal.dynamic._records import label, sampling_rate_hz, time_jitter_s
 
 __all__ = ["apply_filter"]
 
@@ -267,5 +267,7 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
         values = values.reshape(data.shape)
     out = xr.DataArray(values, dims=data.dims, coords=data.coords, name=data.name,
                        attrs={**data.attrs, "dynamic_filter": dumps(filt.to_dict(),
-                                                                     indent=None)})
+                                                                     indent=None),
+                              "sampling_rate_hz": fs_hz,
+                              "time_jitter_s": time_jitter_s(data["time"].values)})
     return out
