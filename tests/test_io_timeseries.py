@@ -65,7 +65,7 @@ def test_unit_from_column():
     ("t,F\n0,1\n1,nan\n", {}, r"line 3 of .*, column 'F': 'nan'; expected a finite number"),
     ("t,F\n0,1\n\n2,x\n", {}, r"line 4 of .*, column 'F': 'x'; expected"),  # blank skipped
     ("t,F\n0,1\n\n2,3\n2,4\n", {}, r"line 5 of .*: time 2 s follows 2 s"),
-    ("t,F\n0,1\n1\n", {}, r"line 3 of .*, column 'F': an empty cell; expected a finite"),
+    ("t,F\n0,1\n1\n", {}, r"line 3 of .* has 1 values; expected 2, one per column"),
     ("t,F\n0,1\n1,inf\n", {}, r"line 3 of .*, column 'F': 'inf'; expected a finite"),
     ("t,F\n0,1\n", {}, r"lc.csv has 1 data rows; expected at least 2"),
     ("", {}, r"lc.csv is empty; expected a header row"),

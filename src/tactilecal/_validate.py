@@ -11,12 +11,14 @@ type (a JSON string where a number belongs); :class:`OSError` comes from the ope
 (missing file, no permission) and the CLI prints it in one line naming the path.
 """
 
+import csv
+import io
 import math
 import numbers
 import re
 
-__all__ = ["decode_text", "read_text", "check_line_ends", "parse_number", "check_number",
-           "check_type", "require_keys", "check_size"]
+__all__ = ["decode_text", "read_text", "check_line_ends", "csv_rows", "parse_number",
+           "check_number", "check_type", "require_keys", "check_size"]
 
 _BOMS = ((b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
 
@@ -106,6 +108,36 @@ def check_line_ends(text, name):
         raise ValueError(f"line {unix.count(chr(10), 0, lone) + 1} of {name}: a carriage "
                          "return (CR) inside the line; expected CR only before the line feed "
                          "(CRLF line ends)")
+
+
+def csv_rows(text, name):
+    r"""Yield ``(line number, cells)`` of a CSV, header first; every row as wide as the header.
+
+    Blank lines are skipped; a row with more or fewer values than the header (an extra comma
+    shifts every later column) is a ValueError naming its line. Cells are stripped.
+
+    Examples
+    --------
+    >>> list(csv_rows("a,b\n1,2\n\n3,4\n", "m.csv"))
+    [(1, ['a', 'b']), (2, ['1', '2']), (4, ['3', '4'])]
+    >>> list(csv_rows("a,b\n1,,2\n", "m.csv"))
+    Traceback (most recent call last):
+    ...
+    ValueError: line 2 of m.csv has 3 values; expected 2, one per column ['a', 'b']
+    """
+    check_line_ends(text, name)
+    reader = csv.reader(io.StringIO(text, newline=""))
+    width = None
+    for cells in reader:
+        if not any(cell.strip() for cell in cells):
+            continue
+        cells = [cell.strip() for cell in cells]
+        if width is None:
+            width, header = len(cells), cells
+        elif len(cells) != width:
+            raise ValueError(f"line {reader.line_num} of {name} has {len(cells)} values; "
+                             f"expected {width}, one per column {header}")
+        yield reader.line_num, cells
 
 
 _NUMBER = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*")

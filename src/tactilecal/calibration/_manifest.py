@@ -1,13 +1,11 @@
 """Calibration manifests (CSV, one row per point) and plateau detection for blank frames."""
 
-import csv
-import io
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from tactilecal._validate import check_line_ends, check_number, parse_number, read_text
+from tactilecal._validate import check_number, csv_rows, parse_number, read_text
 from tactilecal.calibration._points import _points_from_histograms, frame_histograms
 
 __all__ = ["load_points", "load_frames", "find_plateau"]
@@ -77,28 +75,18 @@ def _manifest_table(path):
 
     Every row must have as many values as the header: an extra comma shifts the columns.
     """
-    text = read_text(path, expected="a manifest CSV")
-    check_line_ends(text, path)
-    lines = list(csv.reader(io.StringIO(text, newline=""), skipinitialspace=True))
-    if not lines or not any(cell.strip() for cell in lines[0]):
+    lines = list(csv_rows(read_text(path, expected="a manifest CSV"), path))
+    if not lines:
         raise ValueError(f"{path} is empty; expected a CSV header with file, frame and "
                          "load_N or mass_kg")
-    columns = [c.strip() for c in lines[0]]
+    columns = lines[0][1]
     missing = [c for c in ("file", "frame") if c not in columns]
     if missing or not ({"load_N", "mass_kg"} & set(columns)):
         raise ValueError(f"{path} has columns {columns}; expected file, frame and "
                          "load_N or mass_kg (optional pad_mass_g, label)")
-    rows = []
-    for number, cells in enumerate(lines[1:], start=2):
-        if not any(cell.strip() for cell in cells):
-            continue
-        if len(cells) != len(columns):
-            raise ValueError(f"line {number} of {path} has {len(cells)} values; expected "
-                             f"{len(columns)}, one per column {columns}")
-        rows.append((number, dict(zip(columns, (c.strip() for c in cells), strict=True))))
-    if not rows:
+    if len(lines) == 1:
         raise ValueError(f"{path} has no rows; expected one row per calibration point")
-    return rows
+    return [(number, dict(zip(columns, cells, strict=True))) for number, cells in lines[1:]]
 
 
 _MAX_LOAD_N = 1e9

@@ -249,9 +249,10 @@ class CalibrationResult:
         return cls(
             method=data["method"], model=data["model"], params=dict(data["params"]),
             params_stderr=dict(data.get("params_stderr") or {}),
-            sensel_area_mm2=nan if data["sensel_area_mm2"] is None else data["sensel_area_mm2"],
+            sensel_area_mm2=(nan if data["sensel_area_mm2"] is None
+                             else float(data["sensel_area_mm2"])),
             saturation_pressure_kPa=(nan if data["saturation_pressure_kPa"] is None
-                                     else data["saturation_pressure_kPa"]),
+                                     else float(data["saturation_pressure_kPa"])),
             points=table, metrics=dict(data["metrics"]), details=dict(data.get("details") or {}),
             options=dict(data.get("options") or {}), version=data.get("version", ""),
             created=data.get("created", ""),
@@ -273,7 +274,7 @@ def check_calibration(data, source):
     params = check_type(data["params"], dict, where.format("params"),
                         expected="an object of parameters")
     for key in ("points", "metrics", "details", "options", "params_stderr"):
-        if data.get(key) is not None:
+        if key in REQUIRED_KEYS or data.get(key) is not None:
             check_type(data[key], list if key == "points" else dict, where.format(key),
                        expected="a list of points" if key == "points" else "an object")
     if model == "power":
@@ -289,7 +290,8 @@ def check_calibration(data, source):
     check_number(data["saturation_pressure_kPa"], where.format("saturation_pressure_kPa"),
                  allow_none=True)
     try:
-        table_N = force_table(model, params)
+        with np.errstate(all="ignore"):  # overflow is caught below as a non-finite force
+            table_N = force_table(model, params)
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise ValueError(f"{where.format('params')}: {exc!r} with model {model!r}; expected "
                          "the parameters of that model") from None

@@ -320,7 +320,12 @@ def _check_filter_dict(d, where):
     if d["outside"] not in ("taper", "hold"):
         raise ValueError(f"{key.format('outside')} is {d['outside']!r}; expected 'taper' or "
                          "'hold'")
-    check_number(d["taper_hz"], key.format("taper_hz"), minimum=0.0)
+    check_number(d["taper_hz"], key.format("taper_hz"), minimum=0.0, min_inclusive=False)
+    if d.get("fit") is not None:
+        require_keys(check_type(d["fit"], dict, key.format("fit"), expected="an object"),
+                     ("model", "log_base", "params", "stderr", "r2", "rmse", "f_hz",
+                      "measured", "fitted", "residuals"), key.format("fit"),
+                     expected="a transfer-function fit")
     check_number(d["n_taps"], key.format("n_taps"), minimum=1, integer=True)
     check_number(d.get("lag_s"), key.format("lag_s"), allow_none=True)
     response = d.get("response") or {}

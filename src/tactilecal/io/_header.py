@@ -107,7 +107,16 @@ def _length_mm(header, key, name):
     if unit is None:
         raise ValueError(f"line {header[key][1]} of {name}: {key} has no unit; expected "
                          "e.g. '0.127 centimeters' or '5.08 mm'")
-    return length_to_mm(number, unit)
+    return _converted(length_to_mm, number, unit, header, key, name)
+
+
+def _converted(convert, number, unit, header, key, name):
+    """``convert(number, unit)``; a unit of the wrong kind is an error naming key and line."""
+    try:
+        return convert(number, unit)
+    except ValueError as exc:
+        raise ValueError(f"line {header[key][1]} of {name}: {key} {header[key][0]!r}: "
+                         f"{exc}") from None
 
 
 def header_attrs(header, name):
@@ -139,7 +148,8 @@ def header_attrs(header, name):
         if unit is None:
             raise ValueError(f"line {header['SENSEL_AREA'][1]} of {name}: SENSEL_AREA has "
                              "no unit; expected e.g. '0.016129 cm2' or '25.8064 mm2'")
-        attrs["sensel_area_mm2"] = area_to_mm2(number, unit)
+        attrs["sensel_area_mm2"] = _converted(area_to_mm2, number, unit, header,
+                                              "SENSEL_AREA", name)
     elif "row_spacing_mm" in attrs and "col_spacing_mm" in attrs:
         attrs["sensel_area_mm2"] = attrs["row_spacing_mm"] * attrs["col_spacing_mm"]
     for key, attr in (("SECONDS_PER_FRAME", "seconds_per_frame"),

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from tactilecal._validate import check_line_ends, read_text
+from tactilecal._validate import csv_rows, read_text
 from tactilecal.io._units import (
     force_to_N,
     mass_to_N,
@@ -124,7 +124,8 @@ def read_timeseries(path, time_col=None, value_col=None):
     path = Path(path)
     name = str(path)
     text = read_text(path, expected="a CSV file with a header row")
-    check_line_ends(text, name)
+    for _ in csv_rows(text, name):  # one pass: a lone CR or a row of another width
+        pass
     columns = _columns(text, name)
     t_name = _pick(columns, time_col, 0, "time_col", name)
     v_name = _pick(columns, value_col, 1, "value_col", name)

@@ -1,0 +1,51 @@
+"""Seeded mutation fuzzing of every reader (issue 11): no traceback, nothing silently accepted.
+
+The engine is ``benchmarks/fuzz.py`` (its command line runs 10,000 mutations); here a few
+hundred run in seconds, on the real exports when ``../shared/realdata`` is present and on
+files tactilecal writes itself either way.
+"""
+
+import importlib.util
+import random
+from pathlib import Path
+
+import pytest
+
+from tactilecal.cli import main
+
+ENGINE = Path(__file__).resolve().parents[1] / "benchmarks" / "fuzz.py"
+
+
+@pytest.fixture(scope="module")
+def fuzz():
+    spec = importlib.util.spec_from_file_location("tactilecal_fuzz", ENGINE)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_mutated_inputs_give_documented_errors_or_valid_data(fuzz, tmp_path):
+    outcomes = fuzz.run(600, seed=11, folder=tmp_path)
+    failing = [o for o in outcomes if o[2] in fuzz.FAILING]
+    assert not failing, fuzz.report(outcomes)
+    classes = {o[2] for o in outcomes}
+    assert {"ok", "error"} <= classes  # the mutations both break files and leave some readable
+    assert {o[0] for o in outcomes} == set(fuzz.READERS)  # every reader was fuzzed
+
+
+def test_mutated_recordings_through_the_cli_exit_0_or_1_with_one_line(fuzz, tmp_path, capsys):
+    seeds = [s for s in fuzz.make_seeds(tmp_path / "seeds") if s[0] == "recording"]
+    rng = random.Random(5)
+    codes = []
+    for k in range(40):
+        _, source = seeds[k % len(seeds)]
+        mutated, what = fuzz.mutate(rng, "recording", source.read_bytes())
+        path = tmp_path / f"m{k}{source.suffix}"
+        path.write_bytes(mutated)
+        code = main(["-q", "info", str(path), "--json"])
+        err = capsys.readouterr().err.strip()
+        assert code in (0, 1), what
+        if code == 1:
+            assert len(err.splitlines()) == 1 and path.name in err, (what, err)
+        codes.append(code)
+    assert set(codes) == {0, 1}
