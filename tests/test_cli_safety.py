@@ -148,3 +148,11 @@ def test_failed_write_leaves_no_temp_file(tmp_path):
         tmp.write_text("partial")
         raise RuntimeError("writer failed")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_report_of_a_saturated_recording_says_its_forces_are_lower_bounds(session, tmp_path):
+    _, cal = session
+    rec = _raw_recording(tmp_path / "sat.csv", 255)
+    out = tmp_path / "r.html"
+    assert main(["-q", "report", str(rec), str(cal), "--out", str(out)]) == 0
+    assert "4 of 4 frames hold sensels at saturation" in out.read_text()

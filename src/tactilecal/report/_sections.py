@@ -192,7 +192,14 @@ def recording_blocks(recording, label, *, calibration=None, threshold_kPa=0.0,
         ("largest sensel pressure [kPa]", float(s.peak_kPa.max())),
         ("loaded-sensel threshold [kPa]", float(threshold_kPa)),
     ]
+    saturated = (int((s["saturated_sensels"] > 0).sum()) if "saturated_sensels" in s
+                 else "unknown")
+    numbers.append(("frames with saturated sensels", saturated))
     blocks.append(table_html(numbers, header=("quantity", "value")))
+    if saturated not in (0, "unknown"):
+        blocks.append(note_html(f"{saturated} of {s.sizes['frame']} frames hold sensels at "
+                                f"saturation ({s.attrs['saturation_rule']}): their force "
+                                "and pressures are lower bounds, not measurements"))
     blocks += [
         _try_figure(f"{label}: total force and contact area against time",
                     lambda: analysis.plot_force_time(s)),
