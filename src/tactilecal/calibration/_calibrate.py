@@ -5,6 +5,7 @@ from importlib import import_module
 import numpy as np
 import pandas as pd
 
+from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._methods import FITTERS
 from tactilecal.calibration._models import force_table
 from tactilecal.calibration._points import points_to_arrays, take_rows
@@ -38,7 +39,7 @@ def _select(load, meta, keep_saturated):
     sat = meta["saturated_cells"]
     if not keep_saturated:
         bad = sat > 0
-        reasons[bad] = [f"saturated: {k} sensels at 255 (keep_saturated=True keeps it)"
+        reasons[bad] = [f"saturated: {k} sensels at 255 (saturated='keep' keeps it)"
                         for k in sat[bad]]
     empty = meta["loaded_cells"] == 0
     reasons[empty] = "no loaded sensels (raw > 0)"
@@ -72,8 +73,9 @@ def calibrate(points, method="power", **options):
         ``"lut"`` (monotone lookup table, option ``knots``), ``"polynomial"`` (option
         ``degree``), ``"zvyagin"`` (:func:`tactilecal.zvyagin.calibrate_zvyagin`).
     **options
-        ``keep_saturated`` (default False: points with sensels at 255 are left out and
-        reported), ``scale_by_working`` (``linear``/``power-2pt``: multiply each load by
+        ``saturated`` (``"drop"``, the default of :mod:`tactilecal._saturation`: points
+        with sensels at 255 are left out and reported; ``"keep"``; ``keep_saturated`` is
+        the older spelling), ``scale_by_working`` (``linear``/``power-2pt``: multiply each load by
         working / all sensels, thesis sec. 3.5), ``sensel_area_mm2`` (default: from the
         points), ``n_bootstrap`` and ``seed`` (bootstrap the parameter errors over points),
         and the method's own options.
@@ -114,7 +116,9 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
     """
     if method not in FITTERS:
         raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
-    keep_saturated = bool(options.pop("keep_saturated", False))
+    saturated = resolve_saturated(options.pop("saturated", None),
+                                  options.pop("keep_saturated", None))
+    keep_saturated = saturated == "keep"
     scale_by_working = bool(options.pop("scale_by_working", False))
     area = options.pop("sensel_area_mm2", None)
     n_bootstrap = int(options.pop("n_bootstrap", 0))
@@ -145,7 +149,7 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
         used[others], reasons[others] = False, "not one of the two I-Scan 2-point points"
     if scale_by_working:
         fit.details["working_fraction"] = fraction[used].tolist()
-    all_options = {**options, "keep_saturated": keep_saturated,
+    all_options = {**options, "saturated": saturated, "keep_saturated": keep_saturated,
                    "scale_by_working": scale_by_working, "n_bootstrap": n_bootstrap}
     return result_from_arrays(hist, load, meta, method=method, model=fit.model,
                               params=fit.params, params_stderr=fit.params_stderr, used=used,
@@ -160,8 +164,9 @@ def _check_options(method, options):
                 if p.kind is p.KEYWORD_ONLY]
     unknown = sorted(set(options) - set(accepted))
     if unknown:
+        generic = ["saturated", "keep_saturated", "sensel_area_mm2", "n_bootstrap"]
         raise ValueError(f"method={method!r} does not take the options {unknown}; expected "
-                         f"{accepted + ['keep_saturated', 'sensel_area_mm2', 'n_bootstrap']}")
+                         f"{accepted + generic}")
 
 
 def _working_fraction(meta):

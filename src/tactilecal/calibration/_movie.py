@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
 from tactilecal.calibration._methods import FITTERS
 from tactilecal.calibration._models import force_table
@@ -249,9 +250,10 @@ def _first_pass_table(hist, load, method, options, min_load_fraction, max_points
     keep = np.isfinite(load)
     keep[keep] = load[keep] >= min_load_fraction * load[keep].max()
     keep &= hist[:, 1:].any(axis=1)
-    if not options.get("keep_saturated", False):
+    if resolve_saturated(options.get("saturated"), options.get("keep_saturated")) == "drop":
         keep &= hist[:, 255] == 0
-    generic = {"keep_saturated", "scale_by_working", "n_bootstrap", "seed", "sensel_area_mm2"}
+    generic = {"saturated", "keep_saturated", "scale_by_working", "n_bootstrap", "seed",
+               "sensel_area_mm2"}
     fit = FITTERS[method](hist[keep], load[keep],
                           **{k: v for k, v in options.items() if k not in generic})
     return force_table(fit.model, fit.params), fit

@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+from tactilecal._saturation import SATURATED_CHOICES, SATURATED_DEFAULT, resolve_saturated
 from tactilecal.cli._common import (
     info,
     info_grouped,
@@ -33,8 +34,11 @@ def register(subparsers):
                    help="linear: index of the one usable point (I-Scan 1-point calibration)")
     p.add_argument("--pair", help="power-2pt: two usable-point indices 'I,J' (default: the "
                                   "points nearest 20 %% and 80 %% of the largest load)")
+    p.add_argument("--saturated", choices=SATURATED_CHOICES,
+                   help="patches with a sensel at 255: drop them from the fit or keep them "
+                        f"(default {SATURATED_DEFAULT}, as in the Python API)")
     p.add_argument("--keep-saturated", action="store_true",
-                   help="keep points with saturated (255) sensels in the fit")
+                   help="same as --saturated keep (older spelling)")
     p.add_argument("--scale-by-working", action="store_true",
                    help="linear/power-2pt: scale loads by working / all sensels")
     p.add_argument("--mask-dead", action="store_true",
@@ -58,7 +62,7 @@ def register(subparsers):
 
 
 def _options(args):
-    opts = {"keep_saturated": args.keep_saturated}
+    opts = {"saturated": resolve_saturated(args.saturated, args.keep_saturated or None)}
     if args.objective:
         opts["objective"] = args.objective
     if args.mode:

@@ -1,0 +1,60 @@
+"""One saturation default for the CLI and the API (issue 12): same manifest, same numbers."""
+
+import json
+
+import pytest
+
+from tactilecal import calibrate
+from tactilecal._saturation import SATURATED_DEFAULT
+from tactilecal.calibration import load_points
+from tactilecal.cli import main
+
+
+@pytest.fixture(scope="module")
+def saturated_session(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("sat")
+    assert main(["-q", "simulate", "deadweight", str(folder), "--patches", "40",
+                 "--saturated-share", "0.25", "--seed", "4"]) == 0
+    return folder / "manifest.csv"
+
+
+def _cli(manifest, *flags, capsys):
+    assert main(["-q", "calibrate", str(manifest), *flags, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+@pytest.mark.parametrize("method", ["power", "zvyagin"])
+def test_cli_and_api_give_the_same_calibration_by_default(saturated_session, method, capsys):
+    api = calibrate(load_points(saturated_session), method=method)
+    cli = _cli(saturated_session, "--method", method, capsys=capsys)
+    for name in ("A", "b"):
+        assert cli["params"][name] == pytest.approx(api.params[name], rel=1e-12)
+    saturated = [p["saturated_cells"] > 0 for p in cli["points"]]
+    assert any(saturated)  # the session does hold saturated patches ...
+    assert not any(p["used"] for p, s in zip(cli["points"], saturated, strict=True) if s)
+    assert SATURATED_DEFAULT == "drop"  # ... and the default leaves them out, in both
+
+
+@pytest.mark.parametrize("method", ["power", "zvyagin"])
+def test_saturated_keep_is_the_same_option_in_cli_and_api(saturated_session, method, capsys):
+    api = calibrate(load_points(saturated_session), method=method, saturated="keep")
+    cli = _cli(saturated_session, "--method", method, "--saturated", "keep", capsys=capsys)
+    assert cli["params"]["b"] == pytest.approx(api.params["b"], rel=1e-12)
+    dropped = calibrate(load_points(saturated_session), method=method)
+    assert api.params["b"] != pytest.approx(dropped.params["b"], rel=1e-6)
+
+
+def test_keep_saturated_is_an_alias_and_contradictions_are_errors(saturated_session):
+    points = load_points(saturated_session)
+    alias = calibrate(points, method="power", keep_saturated=True)
+    assert alias.params == calibrate(points, method="power", saturated="keep").params
+    with pytest.raises(ValueError, match="saturated='drop' and keep_saturated=True disagree"):
+        calibrate(points, method="power", saturated="drop", keep_saturated=True)
+    with pytest.raises(ValueError, match=r"saturated='censor'; expected one of \('drop', "):
+        calibrate(points, method="zvyagin", saturated="censor")
+
+
+def test_zvyagin_quotes_no_parameter_error_it_cannot_defend(saturated_session):
+    cal = calibrate(load_points(saturated_session), method="zvyagin")
+    assert cal.params_stderr == {"A": None, "b": None}
+    assert "far too small to quote" in cal.details["stderr_note"]
