@@ -35,6 +35,9 @@ def test_mutated_inputs_give_documented_errors_or_valid_data(fuzz, tmp_path):
 
 def test_mutated_recordings_through_the_cli_exit_0_or_1_with_one_line(fuzz, tmp_path, capsys):
     seeds = [s for s in fuzz.make_seeds(tmp_path / "seeds") if s[0] == "recording"]
+    for _, source in seeds:  # the seeds themselves are valid
+        assert main(["-q", "info", str(source), "--json"]) == 0
+        capsys.readouterr()
     rng = random.Random(5)
     codes = []
     for k in range(40):
@@ -48,4 +51,4 @@ def test_mutated_recordings_through_the_cli_exit_0_or_1_with_one_line(fuzz, tmp_
         if code == 1:
             assert len(err.splitlines()) == 1 and path.name in err, (what, err)
         codes.append(code)
-    assert set(codes) == {0, 1}
+    assert 1 in codes  # the mutations did break files
