@@ -144,3 +144,8 @@ def test_uneven_increasing_frame_times_read(tmp_path):
     """I-Scan 6.10I steps 0.10 / 0.11 s between frames: not an error for the reader."""
     data = read_tekscan(_file(tmp_path, times=[0, 0.1, 0.21]))
     assert np.diff(data.time.values) == pytest.approx([0.1, 0.11])
+
+
+def test_file_without_units_is_read_as_raw_and_says_so(tmp_path):
+    data = read_tekscan(_file(tmp_path, drop=("UNITS",)))
+    assert data.attrs["units"] == "raw" and "no UNITS line" in data.attrs["units_note"]

@@ -98,6 +98,10 @@ def read_tekscan(path):
                                             name)
     numbers, times, raw_sums, lines = frames
     _check_values(values, attrs.get("units"), data_lines, name)
+    if "units" not in attrs:  # the values were just checked to be raw readings
+        attrs["units"] = "raw"
+        attrs["units_note"] = ("no UNITS line: read as raw (every value a whole number "
+                               "0..255)")
     _check_frames(numbers, times, lines, header, name)
     data = values.reshape(len(numbers), rows, cols)
     if attrs.get("units", "raw") == "raw":
