@@ -50,7 +50,7 @@ def test_keep_saturated_is_an_alias_and_contradictions_are_errors(saturated_sess
     assert alias.params == calibrate(points, method="power", saturated="keep").params
     with pytest.raises(ValueError, match="saturated='drop' and keep_saturated=True disagree"):
         calibrate(points, method="power", saturated="drop", keep_saturated=True)
-    with pytest.raises(ValueError, match=r"saturated='censor'; expected one of \('drop', "):
+    with pytest.raises(ValueError, match=r"saturated='censor'; expected one of \('drop', 'keep'"):
         calibrate(points, method="zvyagin", saturated="censor")
 
 
@@ -58,3 +58,28 @@ def test_zvyagin_quotes_no_parameter_error_it_cannot_defend(saturated_session):
     cal = calibrate(load_points(saturated_session), method="zvyagin")
     assert cal.params_stderr == {"A": None, "b": None}
     assert "far too small to quote" in cal.details["stderr_note"]
+
+
+def test_censored_is_offered_for_the_power_method_only_and_says_so(saturated_session):
+    points = load_points(saturated_session)
+    cal = calibrate(points, method="power", saturated="censored")
+    assert cal.details["censored"] > 0 and cal.options["saturated"] == "censored"
+    with pytest.raises(ValueError, match=r"saturated='censored' is implemented for \['power'\]"):
+        calibrate(points, method="polynomial", saturated="censored")
+
+
+def test_censored_fit_needs_two_unsaturated_patches():
+    import numpy as np
+
+    from tactilecal.calibration import points_from_frames
+
+    frames = np.zeros((4, 3, 3))
+    frames[:, 1, 1] = [100, 255, 255, 255]
+    with pytest.raises(ValueError, match="1 patch\\(es\\) without a saturated sensel"):
+        calibrate(points_from_frames(frames, [1.0, 3.0, 4.0, 5.0]), method="power",
+                  saturated="censored")
+
+
+def test_censored_zvyagin_is_refused_with_the_reason(saturated_session):
+    with pytest.raises(ValueError, match="method 'zvyagin' takes 'drop' or 'keep'"):
+        calibrate(load_points(saturated_session), method="zvyagin", saturated="censored")

@@ -9,9 +9,10 @@ from here, so the two give the same calibration from the same manifest.
 
 __all__ = ["SATURATED_CHOICES", "SATURATED_DEFAULT", "resolve_saturated"]
 
-SATURATED_CHOICES = ("drop", "keep")
+SATURATED_CHOICES = ("drop", "keep", "censored")
 """``"drop"``: leave patches with a sensel at 255 out of the fit (reported per point);
-``"keep"``: fit them as if 255 were their true reading (Zvyagin's paper as written)."""
+``"keep"``: fit them as if 255 were their true reading (Zvyagin's paper as written);
+``"censored"``: fit them as lower bounds of their load (the power method only, so far)."""
 
 SATURATED_DEFAULT = "drop"
 """The default: on the independent simulator of issue 12 (8 sessions, Sensor2 parameters),

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 
 from tactilecal._saturation import resolve_saturated
-from tactilecal.calibration._methods import FITTERS
+from tactilecal.calibration._methods import CENSORED_FITTERS, FITTERS
 from tactilecal.calibration._models import force_table
 from tactilecal.calibration._points import points_to_arrays, take_rows
 from tactilecal.calibration._result import CalibrationResult
@@ -126,14 +126,21 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
     _check_options(method, options)
     if scale_by_working and method not in SCALABLE:
         raise ValueError(f"scale_by_working is offered for {SCALABLE}; method={method!r}")
-    used, reasons = _select(load, meta, keep_saturated)
+    if saturated == "censored" and method not in CENSORED_FITTERS:
+        raise ValueError(f"saturated='censored' is implemented for {sorted(CENSORED_FITTERS)}; "
+                         f"method={method!r} takes 'drop' or 'keep'")
+    used, reasons = _select(load, meta, keep_saturated or saturated == "censored")
     if not used.any():
         kinds = sorted({str(r).split(":")[0] for r in reasons})
         raise ValueError(f"no usable calibration points among {len(load)} ({', '.join(kinds)}); "
                          "expected at least one unsaturated point with a positive load")
     fraction = _working_fraction(meta)
     fit_load = load * fraction if scale_by_working else load
-    fit = FITTERS[method](take_rows(hist, used), fit_load[used], **options)
+    if saturated == "censored":
+        fit = CENSORED_FITTERS[method](take_rows(hist, used), fit_load[used],
+                                       meta["saturated_cells"][used] > 0, **options)
+    else:
+        fit = FITTERS[method](take_rows(hist, used), fit_load[used], **options)
     if n_bootstrap:
         fit.params_stderr = _bootstrap(method, hist[used], fit_load[used], options,
                                        n_bootstrap, seed)

@@ -12,7 +12,7 @@ from scipy import optimize
 
 from tactilecal.calibration._models import LEVELS, force_table
 
-__all__ = ["Fit", "FITTERS", "OBJECTIVES", "DEFAULT_OBJECTIVE"]
+__all__ = ["Fit", "FITTERS", "CENSORED_FITTERS", "OBJECTIVES", "DEFAULT_OBJECTIVE"]
 
 OBJECTIVES = ("l2", "l1", "relative")
 DEFAULT_OBJECTIVE = "relative"
@@ -231,6 +231,50 @@ def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS, *
     return Fit("power", {"A": A, "b": b}, stderr, details)
 
 
+def fit_power_censored(hist, load_N, censored, *, objective=DEFAULT_OBJECTIVE,
+                       b_bounds=B_BOUNDS):
+    """Power law f = A * raw**b where a patch with a sensel at 255 is a lower bound.
+
+    A sensel at 255 carries at least f(255), so for a censored patch the law's prediction
+    (255 counted as 255) is a lower bound of its load: only a prediction above the load is
+    an error. The cost is ``sum_uncensored w**2 (A S_T(b) - F_T)**2 + sum_censored w**2
+    max(0, A S_T(b) - F_T)**2`` (a Tobit-style one-sided residual on the patch load; weights
+    as :func:`fit_power`), minimised over ``(log A, b)`` by
+    :func:`scipy.optimize.least_squares` from the fit to the uncensored patches.
+
+    Parameters
+    ----------
+    hist, load_N : array_like
+        Histograms (n, 256) and loads (n,) of the used patches.
+    censored : array_like of bool
+        Patches with at least one sensel at 255.
+    """
+    if objective == "l1":
+        raise ValueError("objective='l1' has no censored fit; expected 'l2' or 'relative'")
+    hist = np.asarray(hist, dtype=float)
+    censored = np.asarray(censored, dtype=bool)
+    if (~censored).sum() < 2:
+        raise ValueError(f"{(~censored).sum()} patch(es) without a saturated sensel; a "
+                         "censored fit needs at least 2 to start from (every other patch "
+                         "is only a lower bound)")
+    start = fit_power(hist[~censored], load_N[~censored], objective=objective,
+                      b_bounds=b_bounds)
+    w = _weights(load_N, objective)
+
+    def residuals(x):
+        excess = np.exp(x[0]) * _power_sums(hist, x[1]) - load_N
+        return w * np.where(censored, np.maximum(excess, 0.0), excess)
+
+    sol = optimize.least_squares(residuals, [np.log(start.params["A"]), start.params["b"]],
+                                 bounds=([-np.inf, b_bounds[0]], [np.inf, b_bounds[1]]))
+    A, b = float(np.exp(sol.x[0])), float(sol.x[1])
+    active = censored & (residuals(sol.x) > 0)
+    details = {"objective": objective, "censored": int(censored.sum()),
+               "censored_active": int(active.sum()), "cost": float(sol.cost),
+               "stderr_method": "none (censored fit: use n_bootstrap)"}
+    return Fit("power", {"A": A, "b": b}, {"A": None, "b": None}, details)
+
+
 def fit_linear_offset(hist, load_N, *, objective="l2", **_):
     """Paikowsky & Hajduk (1997) linear calibration with offset, P = K (RSD - b).
 
@@ -337,3 +381,6 @@ FITTERS = {
     "lut": fit_lut,
     "polynomial": fit_polynomial,
 }
+
+CENSORED_FITTERS = {"power": fit_power_censored}
+"""Methods with a censored fit (``saturated="censored"``): patches at 255 as lower bounds."""

@@ -5,7 +5,8 @@ Power-law sensels with gain spread, read noise, noise threshold, saturation and 
 (:func:`deadweight_session`); uniform loads for equilibration (:func:`uniform_load`);
 ramp-and-hold loading-machine sessions with a load-cell record like Gillis (2013)
 (:func:`ramp_hold`); sine sweeps and blind tests of Gillis (2013) Table 4.2 seen by a sensor
-with a known frequency-dependent gain (:func:`sine_sweep`, :func:`random_sine_sets`).
+with a known frequency-dependent gain (:func:`sine_sweep`, :func:`random_sine_sets`); a
+family of sensors for sweeping static methods (:data:`FAMILY`, :func:`family_sessions`).
 """
 
 from tactilecal.simulate._deadweight import (
@@ -19,6 +20,12 @@ from tactilecal.simulate._dynamic import (
     random_sine_sets,
     sensel_matrix,
     sine_sweep,
+)
+from tactilecal.simulate._family import (
+    FAMILY,
+    FamilyMember,
+    family_sessions,
+    true_force_table_N,
 )
 from tactilecal.simulate._loads import PAD_MASS_G
 from tactilecal.simulate._sensor import SimulatedSensor, make_sensor, sensor_geometry
@@ -48,4 +55,8 @@ __all__ = [
     "sine_sweep",
     "random_sine_sets",
     "sensel_matrix",
+    "FAMILY",
+    "FamilyMember",
+    "family_sessions",
+    "true_force_table_N",
 ]

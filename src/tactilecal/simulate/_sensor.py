@@ -115,6 +115,10 @@ class SimulatedSensor:
         is then 3, as in Zvyagin's (2022) sessions.
     seconds_per_frame : float
         Nominal frame period in s used when no time is given (200 Hz as in Zvyagin 2022).
+    curvature : float
+        Log-log curvature of the response, 0 for the pure power law: the reading ``r0`` of
+        eq. 1 becomes ``r0 * exp(curvature * ln(r0 / 32)**2)``, a response no single power
+        law describes (to test how each method degrades under misspecification).
     """
 
     sensor_type: str
@@ -130,6 +134,7 @@ class SimulatedSensor:
     read_noise: float = 0.5
     noise_threshold: int = 2
     seconds_per_frame: float = 0.005
+    curvature: float = 0.0
 
     @property
     def shape(self):
@@ -139,10 +144,15 @@ class SimulatedSensor:
     def ideal_raw(self, force_N):
         """Noise-free, unrounded reading of a unit-gain sensel: ``(f / A) ** (1 / b)``.
 
-        Inverse of Zvyagin (2022) eq. 1. Negative forces count as 0.
+        Inverse of Zvyagin (2022) eq. 1 (times the ``curvature`` term when it is not 0).
+        Negative forces count as 0.
         """
         force = np.maximum(np.asarray(force_N, dtype=np.float64), 0.0)
-        return (force / self.A_N) ** (1.0 / self.b)
+        raw = (force / self.A_N) ** (1.0 / self.b)
+        if self.curvature:
+            log_ratio = np.log(np.where(raw > 0, raw, 32.0) / 32.0)
+            raw = raw * np.exp(self.curvature * log_ratio ** 2)
+        return raw
 
     def force_of_raw(self, raw):
         """Force per sensel in N of a unit-gain reading, ``A * raw ** b`` (Zvyagin eq. 1)."""

@@ -103,6 +103,10 @@ def calibrate_zvyagin(points, **options):
                          f"{list(OPTIONS)}")
     opts = dict(options)
     opts["saturated"] = resolve_saturated(opts.get("saturated"), opts.pop("keep_saturated", None))
+    if opts["saturated"] == "censored":
+        raise ValueError("saturated='censored' is implemented for ['power']; method 'zvyagin' "
+                         "takes 'drop' or 'keep' (its E and pair equations have no censored "
+                         "form yet)")
     points = list(points)
     if len(points) < 2:
         raise ValueError(f"{len(points)} calibration point(s); expected at least 2 patches")
