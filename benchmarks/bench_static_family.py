@@ -7,7 +7,10 @@ held-out patches predicted within 5 % of the applied load, beside the share reac
 true law (a unit-gain sensel's exact response: no global law can do better on average). The
 table gives the median and the worst session of each; defaults are chosen on the worst case.
 
-Usage: ``python benchmarks/bench_static_family.py [--seeds 8] [--members a,b]``
+With ``--coverage N`` it also prints, per member, the share of unsaturated held-out patches
+inside the power method's 95 % prediction interval over N sessions (goal 90-99 %).
+
+Usage: ``python benchmarks/bench_static_family.py [--seeds 8] [--members a,b] [--coverage 50]``
 """
 
 import argparse
@@ -17,7 +20,7 @@ import warnings
 import numpy as np
 
 from tactilecal import calibrate
-from tactilecal.calibration import points_from_frames
+from tactilecal.calibration import points_from_frames, prediction_interval
 from tactilecal.simulate import FAMILY, family_sessions, true_force_table_N
 
 CANDIDATES = {
@@ -56,10 +59,29 @@ def session_scores(member, seed):
     return scores
 
 
+def coverage(member, n_sessions, n_resamples=60):
+    """Share of unsaturated held-out patches inside the 95 % prediction interval (power)."""
+    inside = []
+    for seed in range(n_sessions):
+        train, test = family_sessions(member, seed)
+        points = points_from_frames(train.raw.values, train.load_N)
+        interval = prediction_interval(points, "power", n_resamples=n_resamples, seed=seed)
+        table = calibrate(points, method="power").force_table()
+        hist = np.array([p.histogram for p in points_from_frames(test.raw.values,
+                                                                  test.load_N)], dtype=float)
+        clean = hist[:, 255] == 0
+        low, high = interval.bounds_N(hist[clean] @ table)
+        load = np.asarray(test.load_N, dtype=float)[clean]
+        inside.extend((low <= load) & (load <= high))
+    return float(np.mean(inside)), len(inside)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=8)
     parser.add_argument("--members", default=",".join(FAMILY))
+    parser.add_argument("--coverage", type=int, default=0, metavar="N",
+                        help="sessions per member for the prediction-interval coverage")
     args = parser.parse_args()
     start = time.perf_counter()
     names = ["truth", *CANDIDATES]
@@ -79,6 +101,10 @@ def main():
                 f" ({ratio:.2f})" if name != "truth" else "       ")
         print(row)
     print(f"{'worst ratio':<17}" + "".join(f"{min(worst_ratio[n]):>24.2f}" for n in names))
+    for member in args.members.split(",") if args.coverage else []:
+        share, n = coverage(member, args.coverage)
+        print(f"95 % prediction interval, power, {member}: holds {share:.3f} of {n} held-out "
+              f"patches ({args.coverage} sessions)")
     print(f"{time.perf_counter() - start:.0f} s")
 
 

@@ -38,6 +38,7 @@ from tactilecal.calibration._sensels import (
     find_dead_sensels,
     load_equilibration,
 )
+from tactilecal.calibration._uncertainty import PredictionInterval, prediction_interval
 
 __all__ = [
     "Equilibration", "NonWorkingSensels", "equilibrate", "find_dead_sensels", "load_frames",
@@ -47,5 +48,6 @@ __all__ = [
     "find_plateau", "force_table", "frame_histograms", "load_calibration", "load_points",
     "make_result",
     "plot_calibration_curve", "plot_error_histogram", "plot_points", "points_from_frames",
-    "points_to_arrays", "select_points", "sensel_force", "validate",
+    "points_to_arrays", "select_points", "sensel_force", "validate", "PredictionInterval",
+    "prediction_interval",
 ]

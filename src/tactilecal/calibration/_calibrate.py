@@ -10,6 +10,7 @@ from tactilecal.calibration._methods import CENSORED_FITTERS, FITTERS
 from tactilecal.calibration._models import force_table
 from tactilecal.calibration._points import points_to_arrays, take_rows
 from tactilecal.calibration._result import CalibrationResult
+from tactilecal.calibration._uncertainty import PredictionInterval, prediction_interval
 
 __all__ = ["METHODS", "META_COLUMNS", "calibrate", "calibrate_arrays", "make_result",
            "point_meta", "result_from_arrays", "select_points", "validate"]
@@ -78,7 +79,10 @@ def calibrate(points, method="power", **options):
         the older spelling), ``scale_by_working`` (``linear``/``power-2pt``: multiply each load by
         working / all sensels, thesis sec. 3.5), ``sensel_area_mm2`` (default: from the
         points), ``n_bootstrap`` and ``seed`` (bootstrap the parameter errors over points),
-        and the method's own options.
+        ``n_interval_resamples`` (default 0: none; else the bootstrap refits of the 95 %
+        prediction interval of a new patch's load, :func:`prediction_interval`, stored in
+        ``details["prediction_interval"]`` and used by :func:`validate`), and the
+        method's own options.
 
     Returns
     -------
@@ -99,12 +103,18 @@ def calibrate(points, method="power", **options):
     >>> round(res.params["b"], 6), round(res.params["A"], 6)
     (1.2, 0.004)
     """
+    n_interval = options.pop("n_interval_resamples", 0)
     if method == "zvyagin":
-        return import_module("tactilecal.zvyagin").calibrate_zvyagin(points, **options)
-    if method not in FITTERS:
+        result = import_module("tactilecal.zvyagin").calibrate_zvyagin(points, **options)
+    elif method not in FITTERS:
         raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
-    hist, load = points_to_arrays(points)
-    return calibrate_arrays(hist, load, point_meta(points), method=method, **options)
+    else:
+        hist, load = points_to_arrays(points)
+        result = calibrate_arrays(hist, load, point_meta(points), method=method, **options)
+    if n_interval:
+        interval = prediction_interval(points, method, n_resamples=n_interval, **options)
+        result.details["prediction_interval"] = interval.to_dict()
+    return result
 
 
 def calibrate_arrays(hist, load, meta, *, method="power", **options):
@@ -299,9 +309,11 @@ def validate(result, points, *, include_saturated=False):
     with np.errstate(divide="ignore", invalid="ignore"):
         error_pct = 100.0 * (predicted - load) / load
     rows = [{"file": p.source, "frame": p.frame, "load_N": p.load_N, "predicted_N": pr,
-             "error_pct": e, "saturated": bool(s), "label": p.label}
+             "error_pct": e, "saturated": bool(s), "predicted_is_lower_bound": bool(s),
+             "label": p.label}
             for p, pr, e, s in zip(points, predicted, error_pct, saturated, strict=True)]
     keep = np.isfinite(error_pct) & (include_saturated | ~saturated)
+    inside = _interval_columns(result, rows, predicted, load)
     if not keep.any():
         raise ValueError(f"none of the {len(points)} validation points has a positive load "
                          "and no saturated sensels; expected at least one")
@@ -313,4 +325,20 @@ def validate(result, points, *, include_saturated=False):
                "max_abs_error_pct": float(pct.max()),
                "n_saturated_excluded": int((saturated & ~keep).sum()),
                "calibration_method": result.method}
+    if inside is not None:
+        summary["interval_coverage"] = float(np.mean(inside[keep & ~saturated])) \
+            if (keep & ~saturated).any() else float("nan")
     return {"points": rows, "summary": summary}
+
+
+def _interval_columns(result, rows, predicted, load):
+    """Add each point's prediction interval (if the calibration has one); return inside."""
+    stored = result.details.get("prediction_interval")
+    if not stored:
+        return None
+    low, high = PredictionInterval(**stored).bounds_N(predicted)
+    for row, lo, hi, sat in zip(rows, low, high, [r["saturated"] for r in rows], strict=True):
+        row["predicted_low_N"] = float(lo)
+        # a saturated patch's load is only bounded below
+        row["predicted_high_N"] = float("inf") if sat else float(hi)
+    return (low <= load) & (load <= high)

@@ -208,6 +208,12 @@ class CalibrationResult:
             lines.append(f"    not used ({len(group)}): {example}")
         lines.append(f"  sensel area: {self.sensel_area_mm2:.4g} mm2, saturation pressure: "
                      f"{self.saturation_pressure_kPa:.5g} kPa")
+        interval = self.details.get("prediction_interval")
+        if interval:
+            lines.append(f"  {interval['level']:.0%} prediction interval of a new patch's load: "
+                         f"{100 * interval['rel_low']:+.2f} % .. {100 * interval['rel_high']:+.2f}"
+                         f" % of the prediction ({interval['method']}, "
+                         f"{interval['n_resamples']} refits)")
         lines.extend(f"  {k}: {v:.4g}" if isinstance(v, float) else f"  {k}: {v}"
                      for k, v in self.metrics.items())
         return "\n".join(lines)

@@ -47,6 +47,9 @@ def register(subparsers):
                    help="per-sensel gains from 'tactilecal equilibrate', applied first")
     p.add_argument("--n-bootstrap", type=non_negative_int, default=0,
                    help="bootstrap resamples for the parameter errors (default: Jacobian)")
+    p.add_argument("--intervals", type=non_negative_int, default=0, metavar="N",
+                   help="bootstrap refits for the 95 %% prediction interval of a new patch's "
+                        "load (stored in the JSON, used by validate; default 0: none)")
     p.add_argument("--movie", metavar="RECORDING", help="raw recording for movie calibration")
     p.add_argument("--loads", metavar="LOADCELL.csv",
                    help="load-cell CSV for --movie (time and load columns, or one load column "
@@ -89,6 +92,8 @@ def _options(args):
         opts["scale_by_working"] = True
     if args.n_bootstrap:
         opts["n_bootstrap"] = args.n_bootstrap
+    if args.intervals:
+        opts["n_interval_resamples"] = args.intervals
     return opts
 
 
