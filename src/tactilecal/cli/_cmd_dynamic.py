@@ -1,5 +1,7 @@
 """``tactilecal dynamic fit|apply|evaluate``: dynamic calibration (Gillis 2013, section 4)."""
 
+import sys
+
 from tactilecal._atomic import make_folder
 from tactilecal.cli._common import info, positive_int, print_json, progress
 
@@ -32,6 +34,9 @@ def register(subparsers):
                    help="transfer-function estimator (default h2)")
     f.add_argument("--outside", default="taper", choices=["taper", "hold"],
                    help="gain above the band: taper to 1 (default) or hold")
+    f.add_argument("--force", action="store_true",
+                   help="write the filter even when the model explains less than 90 %% of "
+                        "the complex response (marked forced in FILTER.json)")
     f.set_defaults(func=run_fit)
 
     a = sub.add_parser("apply", help="correct a record or every sensel of a recording",
@@ -73,7 +78,9 @@ def run_fit(args):
 
     sensor, reference = read_record(args.sensor), read_record(args.reference)
     filt = fit_filter(sensor, reference, model=args.model, band_hz=args.band,
-                      method=args.method, outside=args.outside)
+                      method=args.method, outside=args.outside, force=args.force)
+    if filt.forced:
+        print(f"warning: written with --force: {filt.forced}", file=sys.stderr)
     filt.save(args.out)
     if args.json:
         print_json(filt.to_dict())
@@ -122,8 +129,6 @@ def _apply_recording(filt, args):
         data = data.chunk({data.dims[0]: args.chunk_frames})
     out = apply_filter(data, filt, progress=_bar(args, "filtering"), method=args.method)
     if out.chunks is not None and not args.quiet:
-        import sys
-
         from dask.diagnostics import ProgressBar
 
         with ProgressBar(out=sys.stderr):

@@ -28,14 +28,15 @@ from tactilecal.dynamic._centrifuge import (
     water_head_pressure_kPa,
 )
 from tactilecal.dynamic._filter import CorrectionFilter, load_filter
-from tactilecal.dynamic._fit import MODELS, TransferFit, fit_transfer, model_gain
+from tactilecal.dynamic._fit import MODELS, TransferFit, complex_r2, fit_transfer, model_gain
 from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
+from tactilecal.dynamic._rational import RationalModel
 from tactilecal.dynamic._transfer import TransferFunction, transfer_function
 
 __all__ = [
     "align", "estimate_lag", "resample_to",
     "TransferFunction", "transfer_function",
-    "MODELS", "TransferFit", "fit_transfer", "model_gain",
+    "MODELS", "TransferFit", "fit_transfer", "model_gain", "complex_r2", "RationalModel",
     "CorrectionFilter", "load_filter",
     "apply_filter",
     "fit_filter", "evaluate", "Evaluation", "compare_filters", "static_factor",

@@ -48,9 +48,13 @@ def dynamic_part(values, fs_hz, *, static_cutoff_hz=0.5):
     return values - signal.sosfiltfilt(sos, values)
 
 
+MIN_R2_COMPLEX = 0.9
+"""A model must explain at least this share of the complex correction (issue 13)."""
+
+
 def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
                min_coherence=0.9, nperseg=None, lag_method="xcorr", outside="taper",
-               taper_hz=None, n_taps=None):
+               taper_hz=None, n_taps=None, min_r2=MIN_R2_COMPLEX, force=False):
     """Fit a dynamic correction filter on a sweep (Gillis 2013, section 4.3).
 
     Steps: align the records (:func:`align`, lag stored), scale the sensor statically by
@@ -73,6 +77,13 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
         See :func:`estimate_lag`.
     outside, taper_hz, n_taps
         See :meth:`CorrectionFilter.from_model`.
+    min_r2 : float
+        Smallest share of the complex correction (magnitude and phase, :func:`complex_r2`)
+        the model must explain; below it the fit is refused, because applying a filter
+        that misses the sensor's phase can make records worse (issue 13: a viscoelastic
+        sensor's blind-test error grew 1.5x).
+    force : bool
+        Build the filter anyway; it is marked ``forced`` with the reason (FILTER.json).
 
     Returns
     -------
@@ -96,8 +107,25 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
                            min_coherence=min_coherence, band_hz=band_hz)
     fit = fit_transfer(tf, model=model)
     fit.excluded["static_factor"] = factor
-    return CorrectionFilter.from_model(fit, fs_hz=tf.fs_hz, band_hz=band_hz, outside=outside,
+    reason = _poor_fit_reason(fit, tf, min_r2, label(sensor, "sensor"))
+    if reason and not force:
+        raise ValueError(f"{reason}; expected a model of the sensor (pass force=True, or "
+                         "--force, to write the filter anyway, marked forced)")
+    filt = CorrectionFilter.from_model(fit, fs_hz=tf.fs_hz, band_hz=band_hz, outside=outside,
                                        taper_hz=taper_hz, n_taps=n_taps, lag_s=lag_s)
+    filt.forced = reason or None
+    return filt
+
+
+def _poor_fit_reason(fit, tf, min_r2, where):
+    """Why the fitted model does not describe the sensor (None when it does)."""
+    if fit.r2_complex is None or fit.r2_complex >= min_r2:
+        return None
+    lag_deg = float(np.degrees(np.abs(np.angle(tf.response[tf.used]))).max())
+    return (f"{where}: the {fit.model} model explains {fit.r2_complex:.0%} of the complex "
+            f"correction (magnitude R2 {fit.r2:.2f}), less than {min_r2:.0%}; the measured "
+            f"response has a phase of up to {lag_deg:.0f} degrees, which a zero-phase model "
+            "cannot express")
 
 
 @dataclass

@@ -92,6 +92,8 @@ class CorrectionFilter:
         The fit the filter came from.
     lag_s : float or None
         Lag found between the calibration records (see :func:`estimate_lag`).
+    forced : str or None
+        Why the fit was refused when the filter was built anyway (``force=True``).
     """
 
     model: str
@@ -105,6 +107,7 @@ class CorrectionFilter:
     response_gain: np.ndarray | None = None
     fit: TransferFit | None = None
     lag_s: float | None = None
+    forced: str | None = None
     _taps: np.ndarray | None = field(default=None, repr=False, compare=False)
     _spectra: dict = field(default_factory=dict, repr=False, compare=False)
 
@@ -267,6 +270,8 @@ class CorrectionFilter:
             "n_taps": self.n_taps,
             "response": None if self.response_f_hz is None else {
                 "f_hz": self.response_f_hz, "gain": self.response_gain},
+            "forced": self.forced is not None,
+            "forced_reason": self.forced,
         }
 
     @classmethod
@@ -285,7 +290,7 @@ class CorrectionFilter:
                    None if not response else np.asarray(response["f_hz"], float),
                    None if not response else np.asarray(response["gain"], float),
                    None if d.get("fit") is None else TransferFit.from_dict(d["fit"]),
-                   d.get("lag_s"))
+                   d.get("lag_s"), d.get("forced_reason"))
 
     def save(self, path):
         """Write FILTER.json atomically."""
@@ -296,7 +301,8 @@ class CorrectionFilter:
         pars = ", ".join(f"{k} = {v:.5g}" for k, v in self.params.items())
         return (f"{self.model} filter ({pars}) for {self.fs_hz:g} Hz, band "
                 f"{self.band_hz[0]:g}..{self.band_hz[1]:g} Hz, above: {self.outside}, "
-                f"{self.n_taps} taps ({self.length_s:.3g} s)")
+                f"{self.n_taps} taps ({self.length_s:.3g} s)"
+                + (f"; FORCED: {self.forced}" if self.forced else ""))
 
 
 def _check_filter_dict(d, where):

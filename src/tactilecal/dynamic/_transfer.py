@@ -44,6 +44,11 @@ class TransferFunction:
         How it was computed.
     excluded : dict
         Number of bins left out, per reason.
+    response : numpy.ndarray of complex or None
+        The complex ``reference / sensor`` of the same estimator (``h1``: ``P_xy / P_xx``,
+        ``h2``: ``P_yy / P_yx``, ``ratio``: the ratio's magnitude with the phase of
+        ``P_xy``); its phase is the sensor's lag (after the clocks were aligned). ``gain``
+        is its magnitude.
     """
 
     f_hz: np.ndarray
@@ -55,6 +60,7 @@ class TransferFunction:
     nperseg: int
     min_coherence: float
     excluded: dict = field(default_factory=dict)
+    response: np.ndarray | None = None
 
 
 def _check_band(band_hz, fs_hz, where):
@@ -135,10 +141,11 @@ def transfer_function(sensor, reference, *, method="h2", nperseg=None, min_coher
         coherence = np.abs(pxy) ** 2 / (pxx * pyy)
         gain = {"ratio": np.sqrt(pyy / pxx), "h1": np.abs(pxy) / pxx,
                 "h2": pyy / np.abs(pxy)}[method]
+        response = gain * np.exp(1j * np.angle(pxy))  # csd(x, y) = E[conj(X) Y]: y/x phase
     coherent = np.nan_to_num(coherence) >= min_coherence
     in_band = np.ones(f_hz.size, bool) if band is None else (f_hz >= band[0]) & (f_hz <= band[1])
     used = coherent & in_band & (f_hz > 0) & np.isfinite(gain)
     excluded = {"low_coherence": int(np.count_nonzero(~coherent & in_band & (f_hz > 0))),
                 "outside_band": int(np.count_nonzero(~in_band)), "zero_frequency": 1}
     return TransferFunction(f_hz, gain, coherence, used, method, fs_hz, nperseg,
-                            float(min_coherence), excluded)
+                            float(min_coherence), excluded, response)

@@ -20,6 +20,7 @@ from tactilecal.simulate._dynamic import (
     random_sine_sets,
     sensel_matrix,
     sine_sweep,
+    through_response,
 )
 from tactilecal.simulate._family import (
     FAMILY,
@@ -55,6 +56,7 @@ __all__ = [
     "sine_sweep",
     "random_sine_sets",
     "sensel_matrix",
+    "through_response",
     "FAMILY",
     "FamilyMember",
     "family_sessions",

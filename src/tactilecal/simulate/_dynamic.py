@@ -18,7 +18,7 @@ import xarray as xr
 from scipy import fft
 
 __all__ = ["DynamicSession", "sine_sweep", "random_sine_sets", "sensel_matrix",
-           "LBF_N"]
+           "LBF_N", "through_response"]
 
 #: One pound-force in newtons (0.45359237 kg x 9.80665 m/s2).
 LBF_N = 0.45359237 * 9.80665
@@ -254,3 +254,33 @@ def sensel_matrix(session, *, shape=(14, 14), gain_spread=0.05, noise_N=0.01, se
                 "row": np.arange(rows), "col": np.arange(cols)},
         attrs={"units": "N", "source": "simulated sensel matrix",
                "seconds_per_frame": 1.0 / fs_hz})
+
+
+def through_response(record, model):
+    """Return a sensor record as a sensor with the causal response ``model`` would read it.
+
+    The record's deviation from its mean passes through ``H = model`` (a
+    :class:`tactilecal.dynamic.RationalModel` of sensor / reference, bilinear transform at the
+    record's rate, :func:`scipy.signal.sosfilt`); the mean (the static load) is kept. A
+    viscoelastic sensor whose gain falls from 1 to 0.25 between 10 and 40 Hz, with the phase
+    lag that goes with it: ``RationalModel.from_corners_hz(zeros_hz=[40], poles_hz=[10])``.
+
+    Examples
+    --------
+    >>> from tactilecal.dynamic import RationalModel
+    >>> sweep = sine_sweep(step_hz=20, cycles_high=5, fs_sensor_hz=500.0,
+    ...                    fs_reference_hz=500.0, A=0.0)
+    >>> slow = through_response(sweep.sensor, RationalModel.from_corners_hz(
+    ...     zeros_hz=[40.0], poles_hz=[10.0]))
+    >>> bool(abs(float(slow.mean() - sweep.sensor.mean())) < 1.0)
+    True
+    """
+    from scipy import signal
+
+    time_s = record["time"].values
+    fs_hz = (time_s.size - 1) / (time_s[-1] - time_s[0])
+    z, p, k = signal.bilinear_zpk(model.zeros_rad_s, model.poles_rad_s, model.gain, fs=fs_hz)
+    values = np.asarray(record.values, dtype=float)
+    mean = values.mean()
+    out = signal.sosfilt(signal.zpk2sos(z, p, k), values - mean) + mean
+    return record.copy(data=out)
