@@ -156,3 +156,19 @@ def test_report_of_a_saturated_recording_says_its_forces_are_lower_bounds(sessio
     out = tmp_path / "r.html"
     assert main(["-q", "report", str(rec), str(cal), "--out", str(out)]) == 0
     assert "4 of 4 frames hold sensels at saturation" in out.read_text()
+
+
+def test_library_warnings_are_one_line_naming_the_command(tmp_path, capsys):
+    folder = tmp_path / "one"
+    assert main(["-q", "simulate", "deadweight", str(folder), "--patches", "6"]) == 0
+    manifest = folder / "manifest.csv"
+    lines = manifest.read_text().splitlines()
+    first = lines[1].split(",")
+    same = [",".join([row.split(",")[0], row.split(",")[1], *first[2:]]) for row in lines[1:]]
+    manifest.write_text("\n".join([lines[0], *same]) + "\n")  # every patch one weight
+    main(["-q", "calibrate", str(manifest), "--method", "zvyagin"])
+    err = capsys.readouterr().err
+    warning_lines = [line for line in err.splitlines() if "warning" in line]
+    assert warning_lines and all(line.startswith("tactilecal calibrate: warning: ")
+                                 for line in warning_lines)
+    assert "zvyagin_fit(" not in err  # no source line of the library

@@ -12,6 +12,8 @@ why, in one line), 2 usage error (argparse: unknown flag, missing argument).
 import argparse
 import pkgutil
 import sys
+import warnings
+from functools import partial
 from importlib import import_module
 from pathlib import Path
 
@@ -79,7 +81,10 @@ def main(argv=None):
         return 2
     try:
         check_outputs(args)
-        code = args.func(args)
+        with warnings.catch_warnings():  # the CLI shows warnings (one line), never raises them
+            warnings.simplefilter("default")
+            warnings.showwarning = partial(_print_warning, args.command)
+            code = args.func(args)
     except (ValueError, TypeError, KeyError, RuntimeError, OSError) as exc:
         print(f"tactilecal {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 1
@@ -87,6 +92,11 @@ def main(argv=None):
         _silence_stdout()
         return 1
     return 0 if code is None else int(code)
+
+
+def _print_warning(command, message, category, filename, lineno, file=None, line=None):
+    """Show a library warning as one line naming the command (not Python's two lines)."""
+    print(f"tactilecal {command}: warning: {' '.join(str(message).split())}", file=sys.stderr)
 
 
 def _one_line(exc):
