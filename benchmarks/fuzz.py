@@ -15,8 +15,10 @@ deleted or given hostile values) is opened with the matching public reader, and 
   area, a non-increasing time, a law with negative forces...).
 
 ``tests/test_fuzz.py`` runs a few hundred mutations; the command line runs as many as asked:
-``python benchmarks/fuzz.py [--n 10000] [--seed 0]``, printing counts by class and by reader
-and the first example of each failing class.
+``python benchmarks/fuzz.py [--n 10000] [--seed 0] [--cli 500]``, printing counts by class
+and by reader and examples of each failing class; ``--cli N`` also runs N mutants through
+every CLI command that reads their kind of file (info, analyze, apply, report, calibrate,
+validate, plot, dynamic apply).
 """
 
 import argparse
@@ -336,6 +338,72 @@ def run(n, seed=0, folder=None, progress=False):
             shutil.rmtree(folder, ignore_errors=True)
 
 
+def _cli_commands(kind, mutant, good, out):
+    """The CLI commands that read a file of ``kind``, with ``mutant`` in its place."""
+    cal, filt = str(good["calibration"]), str(good["filter"])
+    m = str(mutant)
+    return {
+        "recording": [["info", m], ["analyze", m, "--cal", cal],
+                      ["apply", cal, m, "--out", f"{out}.nc"],
+                      ["report", m, cal, "--out", f"{out}.html"]],
+        "manifest": [["calibrate", m], ["calibrate", m, "--method", "zvyagin"],
+                     ["validate", cal, m]],
+        "timeseries": [["dynamic", "apply", filt, m, "--out", f"{out}.csv"]],
+        "calibration": [["apply", m, str(good["raw"]), "--out", f"{out}.nc"],
+                        ["validate", m, str(good["manifest"])], ["plot", m, "--out", str(out)]],
+        "equilibration": [["calibrate", str(good["manifest"]), "--equilibration", m]],
+        "filter": [["dynamic", "apply", m, str(good["timeseries"]), "--out", f"{out}.csv"]],
+    }[kind]
+
+
+def run_cli(n, seed=0, folder=None):
+    """Run ``n`` mutants through the CLI commands that read them; return the failures.
+
+    A failure is an exit code other than 0/1/2, a traceback, or an error (exit 1) that takes
+    more than one line. Returns ``(n_runs, [(kind, mutation, argv, stderr), ...])``.
+    """
+    import contextlib
+    import io
+
+    from tactilecal.cli import main as cli
+
+    rng = random.Random(seed)
+    own = folder is None
+    folder = Path(tempfile.mkdtemp(prefix="tactilecal-clifuzz-")) if own else Path(folder)
+    try:
+        seeds = make_seeds(folder / "seeds")
+        by_kind = {}
+        for kind, path in seeds:
+            by_kind.setdefault(kind, []).append(path)
+        good = {kind: paths[0] for kind, paths in by_kind.items()}
+        good["raw"] = next(p for p in by_kind["recording"] if p.name == "bare.csv")
+        runs, failures = 0, []
+        for k in range(n):
+            kind, source = seeds[k % len(seeds)]
+            mutated, what = mutate(rng, kind, source.read_bytes())
+            mutant = source.parent / f"mutant{source.suffix}" if kind == "manifest" else \
+                folder / f"mutant_{k % 20}{source.suffix}"
+            mutant.write_bytes(mutated)
+            for argv in _cli_commands(kind, mutant, good, folder / f"out_{k % 20}"):
+                err = io.StringIO()
+                with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
+                    try:
+                        code = cli(["-q", *argv])
+                    except SystemExit as exc:
+                        code = exc.code
+                runs += 1
+                text = err.getvalue().strip()
+                errors = [line for line in text.splitlines() if ": warning: " not in line
+                          and not line.startswith("removed ")]
+                if code not in (0, 1, 2) or "Traceback" in text or (code == 1
+                                                                   and len(errors) != 1):
+                    failures.append((kind, what, " ".join(argv[:1]), text[:300]))
+        return runs, failures
+    finally:
+        if own:
+            shutil.rmtree(folder, ignore_errors=True)
+
+
 def report(outcomes, examples=5):
     """Return the table of counts by class and reader, and failing examples of each kind."""
     by_class = Counter(o[2] for o in outcomes)
@@ -361,8 +429,16 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=10000, help="mutations (10000)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--cli", type=int, default=0, metavar="N",
+                        help="also run N mutants through the CLI commands that read them")
     args = parser.parse_args()
     start = time.perf_counter()
+    if args.cli:
+        runs, failures = run_cli(args.cli, args.seed)
+        print(f"CLI: {args.cli} mutants, {runs} command runs, {len(failures)} failures "
+              "(exit code not 0/1/2, traceback, or an error over more than one line)")
+        for failure in failures[:10]:
+            print("  ", *failure)
     outcomes = run(args.n, args.seed, progress=True)
     print(report(outcomes))
     print(f"{time.perf_counter() - start:.0f} s; real exports "

@@ -52,3 +52,8 @@ def test_mutated_recordings_through_the_cli_exit_0_or_1_with_one_line(fuzz, tmp_
             assert len(err.splitlines()) == 1 and path.name in err, (what, err)
         codes.append(code)
     assert 1 in codes  # the mutations did break files
+
+
+def test_mutated_inputs_through_every_reading_command_fail_in_one_line(fuzz, tmp_path):
+    runs, failures = fuzz.run_cli(14, seed=3, folder=tmp_path)  # ~40 runs, a few seconds
+    assert runs > 30 and not failures, failures[:3]
