@@ -59,7 +59,7 @@ def session_scores(member, seed):
     return scores
 
 
-def coverage(member, n_sessions, n_resamples=60):
+def coverage(member, n_sessions, n_resamples=200):
     """Share of unsaturated held-out patches inside the 95 % prediction interval (power)."""
     inside = []
     for seed in range(n_sessions):

@@ -85,11 +85,11 @@ def main(argv=None):
             warnings.simplefilter("default")
             warnings.showwarning = partial(_print_warning, args.command)
             code = args.func(args)
-    except (ValueError, TypeError, KeyError, RuntimeError, OSError) as exc:
-        print(f"tactilecal {args.command}: error: {_one_line(exc)}", file=sys.stderr)
-        return 1
     except BrokenPipeError:  # the reader went away (`tactilecal info F | head`): stop quietly
         _silence_stdout()
+        return 1
+    except (ValueError, TypeError, KeyError, RuntimeError, OSError) as exc:
+        print(f"tactilecal {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 1
     return 0 if code is None else int(code)
 
