@@ -85,7 +85,7 @@ def number_with_unit(header, key, name):
     return float(match.group(1)), (normalise_unit(unit, where=where) if unit else None)
 
 
-def integer(header, key, name, *, minimum=None, maximum=None):
+def integer(header, key, name, *, minimum=None):
     """Return the integer value of header ``key``."""
     value, line = header[key]
     try:
@@ -96,9 +96,6 @@ def integer(header, key, name, *, minimum=None, maximum=None):
     if minimum is not None and result < minimum:
         raise ValueError(f"line {line} of {name}: {key} is {result}; expected at least "
                          f"{minimum}")
-    if maximum is not None and result > maximum:
-        raise ValueError(f"line {line} of {name}: {key} is {value}; expected at most "
-                         f"{maximum}")
     return result
 
 
