@@ -55,10 +55,11 @@ def test_cli_refuses_in_one_line_and_forces_on_request(viscoelastic, tmp_path, c
             f"{t:.17g},{v:.17g}\n" for t, v in zip(record.time.values, record.values, strict=True)))
         files.append(str(path))
     out = tmp_path / "F.json"
-    assert main(["-q", "dynamic", "fit", *files, "--out", str(out)]) == 1
+    assert main(["-q", "dynamic", "fit", *files, "--out", str(out), "--model", "log"]) == 1
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "complex correction" in err and not out.exists()
-    assert main(["-q", "dynamic", "fit", *files, "--out", str(out), "--force"]) == 0
+    assert main(["-q", "dynamic", "fit", *files, "--out", str(out), "--model", "log",
+                 "--force"]) == 0
     assert "written with --force" in capsys.readouterr().err
     assert json.loads(out.read_text())["forced"] is True
 

@@ -162,6 +162,29 @@ def _apply_dask(arr, filt, precision, method):
                           precision=precision, method="direct" if plan is None else method)
 
 
+def _apply_causal(data, filt):
+    """Filter every sensel with the causal inverse ``1 / H`` (``scipy.signal.sosfilt``).
+
+    Each sensel's first value is removed before and added back after, so the filter starts
+    at rest on the record's first state (``1 / H`` has unit gain at 0 Hz). A dask-backed
+    recording is filtered lazily, chunked over sensels (time in one chunk: the IIR carries
+    its state along time).
+    """
+    from scipy import signal
+
+    sos = filt.sos()
+
+    def run(block):
+        x = np.asarray(block, dtype=float)
+        first = x[:1]
+        return signal.sosfilt(sos, x - first, axis=0) + first
+
+    if data.chunks is None:
+        return run(data.values)
+    arr = data.data.astype(float).rechunk({0: -1})
+    return arr.map_blocks(run, dtype=float)
+
+
 def _nan_sensels(sums):
     """Sensels whose sum over time is NaN (NaN propagates): one pass finds the suspects."""
     return np.flatnonzero(np.isnan(sums))
@@ -255,11 +278,13 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
         raise ValueError(f"{where} is sampled at {fs_hz:.6g} Hz; the filter was built for "
                          f"{filt.fs_hz:.6g} Hz (expected the same rate: resample first or "
                          "build a filter for this rate)")
-    if data.shape[0] < filt.n_taps:
+    if data.shape[0] < filt.n_taps and filt.rational is None:
         raise ValueError(f"{where} has {data.shape[0]} frames ({data.shape[0] / fs_hz:.3g} "
                          f"s); expected at least the filter length {filt.n_taps} frames "
                          f"({filt.length_s:.3g} s)")
-    if data.chunks is not None:
+    if filt.rational is not None:  # a causal IIR: the sensor's phase is undone too
+        values = _apply_causal(data, filt)
+    elif data.chunks is not None:
         values = _apply_dask(data.data.astype(float), filt, precision, method)
     else:
         x2d = np.asarray(data.values, dtype=float).reshape(data.shape[0], -1)

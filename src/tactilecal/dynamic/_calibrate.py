@@ -13,6 +13,7 @@ from tactilecal.dynamic._align import align
 from tactilecal.dynamic._apply import apply_filter
 from tactilecal.dynamic._filter import CorrectionFilter
 from tactilecal.dynamic._fit import fit_transfer
+from tactilecal.dynamic._ratfit import HELD_OUT_EVERY, MIN_IMPROVEMENT, choose_rational
 from tactilecal.dynamic._records import label, sampling_rate_hz, time_and_values
 from tactilecal.dynamic._transfer import _check_band, transfer_function
 
@@ -51,6 +52,9 @@ def dynamic_part(values, fs_hz, *, static_cutoff_hz=0.5):
 MIN_R2_COMPLEX = 0.9
 """A model must explain at least this share of the complex correction (issue 13)."""
 
+MAX_NOISE_GAIN = 10.0
+"""The largest gain a rational inverse may apply at any frequency (noise amplification)."""
+
 
 def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
                min_coherence=0.9, nperseg=None, lag_method="xcorr", outside="taper",
@@ -66,8 +70,12 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
     ----------
     sensor, reference : xarray.DataArray
         1-D records with a ``time`` coordinate (any rates, any start times).
-    model : {"log10", "log", "log-quadratic"}
-        Model of the transfer function.
+    model : {"log10", "log", "log-quadratic", "rational", "auto"}
+        Model of the transfer function: the thesis' zero-phase models, a rational (pole-zero)
+        response fitted to the complex transfer function with its order chosen on held-out
+        bins (:func:`~tactilecal.dynamic._ratfit.choose_rational`; the filter is then its
+        causal inverse), or ``"auto"``: the log model unless a rational model's held-out
+        error is 10 % lower (the reason is in ``fit.excluded["model_choice"]``).
     band_hz : tuple of float, optional
         Only bins inside are fitted; it is also the filter's calibrated band (default: the
         range of the coherent bins).
@@ -105,8 +113,17 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
     sens = sens.copy(data=sens.values * factor)  # keeps attrs (the file named in errors)
     tf = transfer_function(sens, ref, method=method, nperseg=nperseg,
                            min_coherence=min_coherence, band_hz=band_hz)
-    fit = fit_transfer(tf, model=model)
+    fit = fit_transfer(tf, model="log" if model in ("auto", "rational") else model)
     fit.excluded["static_factor"] = factor
+    rational = _rational_candidate(tf, fit) if model in ("auto", "rational") else None
+    if model == "rational" and rational["fit"] is None:
+        raise ValueError(f"{label(sensor, 'sensor')}: {rational['why']}")
+    if rational is not None and (model == "rational" or rational["chosen"]):
+        fit.excluded["model_choice"] = rational["why"]
+        return _rational_filter(fit, rational["fit"], tf, band_hz, outside, taper_hz, n_taps,
+                                lag_s, min_r2, force, label(sensor, "sensor"))
+    if rational is not None:
+        fit.excluded["model_choice"] = rational["why"]
     reason = _poor_fit_reason(fit, tf, min_r2, label(sensor, "sensor"))
     if reason and not force:
         raise ValueError(f"{reason}; expected a model of the sensor (pass force=True, or "
@@ -114,6 +131,54 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
     filt = CorrectionFilter.from_model(fit, fs_hz=tf.fs_hz, band_hz=band_hz, outside=outside,
                                        taper_hz=taper_hz, n_taps=n_taps, lag_s=lag_s)
     filt.forced = reason or None
+    return filt
+
+
+def _rational_candidate(tf, log_fit):
+    """Fit rational orders 1-4 and say whether they beat the thesis' log model, and why.
+
+    The log model (one parameter) is kept unless the rational model's held-out error is at
+    least 10 % lower than the log model's error on the same bins: parsimony first.
+    """
+    used = tf.used
+    try:
+        rfit = choose_rational(tf.f_hz[used], tf.response[used], tf.coherence[used])
+    except ValueError as exc:  # e.g. too few coherent bins for order 4
+        return {"fit": None, "chosen": False, "why": f"log (no rational fit: {exc})"}
+    held = np.arange(used.sum()) % HELD_OUT_EVERY == HELD_OUT_EVERY // 2
+    log_error = float(np.sqrt(np.mean(np.abs(tf.response[used][held]
+                                             - log_fit.fitted[held]) ** 2)))
+    chosen = rfit.held_out_error < (1 - MIN_IMPROVEMENT) * log_error
+    why = (f"held-out error: log {log_error:.3g}, rational order {rfit.order} "
+           f"{rfit.held_out_error:.3g} -> {'rational' if chosen else 'log'} "
+           f"(a model with more parameters must be 10 % better); orders tried "
+           f"{ {k: round(v, 4) for k, v in rfit.candidates.items()} }")
+    return {"fit": rfit, "chosen": chosen, "why": why}
+
+
+def _rational_filter(log_fit, rfit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2,
+                     force, where):
+    """Return the causal-inverse filter of a rational fit (refused below ``min_r2``)."""
+    reason = None
+    if rfit.r2_complex < min_r2:
+        reason = (f"{where}: the best rational model (order {rfit.order}) explains "
+                  f"{rfit.r2_complex:.0%} of the complex correction, less than {min_r2:.0%}; "
+                  "no model of the family (log, log10, log-quadratic, rational 1-4) "
+                  "describes this sensor")
+    noise_gain = float(np.max(np.abs(rfit.model.correction(np.r_[tf.f_hz, 1e9]))))
+    if reason is None and noise_gain > MAX_NOISE_GAIN:
+        reason = (f"{where}: the inverse of the rational model amplifies up to "
+                  f"{noise_gain:.3g}x (limit {MAX_NOISE_GAIN:g}x): it would amplify noise")
+    if reason and not force:
+        raise ValueError(f"{reason}; expected a model of the sensor (pass force=True, or "
+                         "--force, to write the filter anyway, marked forced)")
+    band = band_hz or (float(log_fit.f_hz.min()), float(log_fit.f_hz.max()))
+    log_fit.excluded["rational"] = rfit.summary()
+    log_fit.excluded["sensor_delay_s"] = rfit.delay_s
+    filt = CorrectionFilter("rational", {"order": rfit.order}, tf.fs_hz, band, outside,
+                            taper_hz or max(5.0, band[1] / 4), n_taps or int(tf.fs_hz) | 1,
+                            fit=log_fit, lag_s=None if lag_s is None else lag_s - rfit.delay_s,
+                            forced=reason, rational=rfit.model)
     return filt
 
 
@@ -215,9 +280,10 @@ def evaluate(filt, sensor, reference, *, lag_s=None, static_cutoff_hz=0.5, npers
     """
     from tactilecal.dynamic._align import estimate_lag, resample_to
 
-    if lag_s is None:
-        lag_s = estimate_lag(sensor, reference)
     corrected_full = apply_filter(sensor, filt, progress=progress)
+    if lag_s is None:  # a causal inverse removes the sensor's delay: align what it gives
+        lag_s = estimate_lag(corrected_full if filt.rational is not None else sensor,
+                             reference)
     ref = resample_to(reference, sensor, lag_s=lag_s)
     dim = sensor.dims[0]
     keep = np.flatnonzero(np.isin(sensor["time"].values, ref["time"].values))

@@ -24,6 +24,7 @@ from scipy import fft, signal
 from tactilecal._jsonutil import read_json_object, write_json
 from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
+from tactilecal.dynamic._rational import RationalModel
 
 __all__ = ["CorrectionFilter", "load_filter", "FORMAT", "zero_phase_fir", "centred_spectrum"]
 
@@ -94,6 +95,9 @@ class CorrectionFilter:
         Lag found between the calibration records (see :func:`estimate_lag`).
     forced : str or None
         Why the fit was refused when the filter was built anyway (``force=True``).
+    rational : RationalModel or None
+        For ``model="rational"``: the sensor response ``H``; the filter applies its causal
+        inverse ``1 / H`` (:meth:`sos`), magnitude and phase, by ``scipy.signal.sosfilt``.
     """
 
     model: str
@@ -108,6 +112,7 @@ class CorrectionFilter:
     fit: TransferFit | None = None
     lag_s: float | None = None
     forced: str | None = None
+    rational: RationalModel | None = None
     _taps: np.ndarray | None = field(default=None, repr=False, compare=False)
     _spectra: dict = field(default_factory=dict, repr=False, compare=False)
 
@@ -210,7 +215,16 @@ class CorrectionFilter:
                    f_hz, gain, lag_s=lag_s)
 
     # -- frequency response -------------------------------------------------------------
+    def sos(self):
+        """Second-order sections of the causal inverse (``model="rational"`` only)."""
+        if self.rational is None:
+            raise ValueError(f"a {self.model!r} filter has no causal (IIR) form; expected a "
+                             "rational model (tactilecal dynamic fit --model rational|auto)")
+        return self.rational.inverse_sos(self.fs_hz)
+
     def _inside(self, f_hz):
+        if self.model == "rational":
+            return np.abs(self.rational.correction(f_hz))
         if self.model == "response":
             f = np.r_[0.0, self.response_f_hz[self.response_f_hz > 0]]
             g = np.r_[1.0, self.response_gain[self.response_f_hz > 0]]
@@ -272,6 +286,7 @@ class CorrectionFilter:
                 "f_hz": self.response_f_hz, "gain": self.response_gain},
             "forced": self.forced is not None,
             "forced_reason": self.forced,
+            "rational": None if self.rational is None else self.rational.to_dict(),
         }
 
     @classmethod
@@ -290,7 +305,8 @@ class CorrectionFilter:
                    None if not response else np.asarray(response["f_hz"], float),
                    None if not response else np.asarray(response["gain"], float),
                    None if d.get("fit") is None else TransferFit.from_dict(d["fit"]),
-                   d.get("lag_s"), d.get("forced_reason"))
+                   d.get("lag_s"), d.get("forced_reason"),
+                   None if d.get("rational") is None else RationalModel.from_dict(d["rational"]))
 
     def save(self, path):
         """Write FILTER.json atomically."""
@@ -317,9 +333,25 @@ def _check_filter_dict(d, where):
                  for v in band)
     if not low < high:
         raise ValueError(f"{key.format('band_hz')} is {band}; expected low < high")
-    if d["model"] not in (*MODELS, "response"):
+    if d["model"] not in (*MODELS, "response", "rational"):
         raise ValueError(f"{key.format('model')} is {d['model']!r}; expected one of "
-                         f"{[*MODELS, 'response']}")
+                         f"{[*MODELS, 'response', 'rational']}")
+    if d["model"] == "rational":
+        rational = check_type(d.get("rational"), dict, key.format("rational"),
+                              expected="the zeros, poles and gain of a rational model")
+        require_keys(rational, ("zeros_rad_s", "poles_rad_s", "gain"), key.format("rational"),
+                     expected="a rational model")
+        for name in ("zeros_rad_s", "poles_rad_s"):
+            for pair in check_type(rational[name], list, key.format(f"rational.{name}"),
+                                   expected="a list of [re, im] pairs"):
+                if not isinstance(pair, list) or len(pair) != 2:
+                    raise ValueError(f"{key.format(f'rational.{name}')} holds {pair!r}; "
+                                     "expected [re, im] pairs")
+                check_number(pair[0], key.format(f"rational.{name}"), maximum=0.0,
+                             max_inclusive=False)
+                check_number(pair[1], key.format(f"rational.{name}"))
+        check_number(rational["gain"], key.format("rational.gain"), minimum=0.0,
+                     min_inclusive=False)
     for name, value in check_type(d["params"], dict, key.format("params"),
                                   expected="an object of numbers").items():
         check_number(value, key.format(f"params.{name}"))

@@ -77,3 +77,38 @@ class RationalModel:
         """Inverse of :meth:`to_dict`."""
         return cls(tuple(complex(re, im) for re, im in d["zeros_rad_s"]),
                    tuple(complex(re, im) for re, im in d["poles_rad_s"]), float(d["gain"]))
+
+    def inverse_sos(self, fs_hz):
+        """Second-order sections of the causal correction ``1 / H`` at ``fs_hz``.
+
+        Bilinear transform with every real corner prewarped (``w -> 2 fs tan(w / 2 fs)``), so
+        the digital corners sit at the analog ones; the DC gain is kept. ``1 / H`` has the
+        poles of ``H`` as zeros and its zeros as poles: stable because ``H`` is
+        minimum-phase.
+
+        Raises
+        ------
+        ValueError
+            If ``H`` is not minimum-phase or a corner lies at or above the Nyquist frequency.
+        """
+        from scipy import signal
+
+        if not self.is_minimum_phase:
+            raise ValueError("the sensor response has zeros or poles in the right half-plane; "
+                             "expected a minimum-phase model (its inverse would be unstable)")
+        nyquist_rad_s = np.pi * fs_hz
+        corners = [-complex(r).real for r in (*self.zeros_rad_s, *self.poles_rad_s)]
+        if max(corners, default=0.0) >= nyquist_rad_s:
+            raise ValueError(f"a corner at {max(corners) / (2 * np.pi):.4g} Hz is at or above "
+                             f"the Nyquist frequency {fs_hz / 2:g} Hz; expected corners below it")
+
+        def warp(roots):
+            return [-2 * fs_hz * np.tan(-complex(r).real / (2 * fs_hz)) for r in roots]
+
+        zeros, poles = warp(self.poles_rad_s), warp(self.zeros_rad_s)  # of 1 / H
+        dc = 1.0 / self.response([0.0])[0].real
+        z, p, k = signal.bilinear_zpk(zeros, poles, 1.0, fs=fs_hz)
+        sos = signal.zpk2sos(z, p, k)
+        _, h0 = signal.sosfreqz(sos, worN=[0.0], fs=fs_hz)
+        sos[0, :3] *= dc / h0[0].real
+        return sos

@@ -1,0 +1,160 @@
+"""Fit rational (pole-zero) sensor responses to a complex transfer function, choose the order.
+
+A linear viscoelastic sensor (creep, compliant foam or mounting) relaxes with real time
+constants, so its response ``H = sensor / reference`` is a ratio of first-order factors,
+``H(f) = g prod(1 + j f / fz_i) / prod(1 + j f / fp_i)`` with real positive corner
+frequencies: minimum-phase and stable by construction, so ``1 / H`` is a stable causal
+correction (METHOD-NOTES D: the standard linear solid is the first-order case). The corners
+are fitted in log-frequency by :func:`scipy.optimize.least_squares` on the real and
+imaginary parts of ``C - 1 / H`` over the coherent bins (``C`` = reference / sensor, the
+measured correction), weighted by ``sqrt(coherence / (1 - coherence))`` (the inverse of the
+bins' random error, Bendat & Piersol). Orders 1-4 are tried; the order is chosen by the
+error on held-out bins (every fourth bin, cross-validation), and a higher order must lower
+it by at least 10 % to be kept.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize
+
+from tactilecal.dynamic._fit import complex_r2
+from tactilecal.dynamic._rational import RationalModel
+
+__all__ = ["RationalFit", "fit_rational", "choose_rational"]
+
+ORDERS = (1, 2, 3, 4)
+HELD_OUT_EVERY = 4
+MIN_IMPROVEMENT = 0.10
+
+
+@dataclass
+class RationalFit:
+    """A rational model fitted to a measured complex correction.
+
+    Attributes
+    ----------
+    model : RationalModel
+        The sensor response ``H`` (its :meth:`~RationalModel.correction` is the fitted ``C``).
+    order : int
+        Number of zeros (= number of poles).
+    r2_complex : float
+        Share of the complex correction explained on all used bins (:func:`complex_r2`).
+    held_out_error : float
+        RMS of ``|C - 1/H|`` on the held-out bins, the model was fitted without them.
+    candidates : dict
+        ``{order: held_out_error}`` of every order tried (``inf`` when its fit failed).
+    delay_s : float
+        The sensor's own delay that the clock alignment had absorbed (fitted jointly).
+    """
+
+    model: RationalModel
+    order: int
+    r2_complex: float
+    held_out_error: float
+    candidates: dict
+    delay_s: float = 0.0
+
+    def summary(self):
+        """Return a one-line description with the corner frequencies."""
+        zeros = ", ".join(f"{-z.real / (2 * np.pi):.4g}" for z in self.model.zeros_rad_s)
+        poles = ", ".join(f"{-p.real / (2 * np.pi):.4g}" for p in self.model.poles_rad_s)
+        return (f"rational order {self.order}: zeros at {zeros} Hz, poles at {poles} Hz, "
+                f"gain {self.model.gain:.4g}, delay {1e3 * self.delay_s:.3g} ms; complex R2 "
+                f"{self.r2_complex:.4f}, held-out error {self.held_out_error:.3g}")
+
+
+def _model(x, order):
+    """RationalModel from parameters ``[delay_ms, log g, log fz_1..n, log fp_1..n]`` (Hz)."""
+    x = x[1:]
+    fz, fp = np.exp(x[1:order + 1]), np.exp(x[order + 1:])
+    base = RationalModel.from_corners_hz(zeros_hz=fz, poles_hz=fp)
+    return RationalModel(base.zeros_rad_s, base.poles_rad_s, base.gain * float(np.exp(x[0])))
+
+
+def _correction(x, order, f_hz):
+    """``1/H`` times the residual clock delay ``exp(-j 2 pi f delay)`` (x[0] in ms)."""
+    return _model(x, order).correction(f_hz) * np.exp(-2j * np.pi * f_hz * x[0] * 1e-3)
+
+
+def _residuals(x, order, f_hz, measured, weight):
+    diff = weight * (measured - _correction(x, order, f_hz))
+    return np.concatenate([diff.real, diff.imag])
+
+
+def fit_rational(f_hz, correction, coherence, order, *, fit_mask=None, max_delay_ms=5.0):
+    """Fit a rational response of ``order`` zeros and poles to a measured correction.
+
+    Parameters
+    ----------
+    f_hz, correction, coherence : array_like
+        Used bins: frequency, measured complex ``C`` = reference / sensor, coherence.
+    order : int
+        Zeros = poles = ``order`` (1-4).
+    fit_mask : array_like of bool, optional
+        Bins to fit (the rest are held out); default all.
+    max_delay_ms : float
+        Bound of the residual delay fitted jointly with the model: the clocks were aligned
+        by cross-correlation, which takes the sensor's own group delay for clock offset.
+
+    Returns
+    -------
+    (RationalModel, float)
+        The sensor response and the residual delay in s (the sensor's group delay that the
+        alignment absorbed: the clock offset is the alignment's lag minus it).
+    """
+    f_hz = np.asarray(f_hz, dtype=float)
+    measured = np.asarray(correction, dtype=complex)
+    coherence = np.clip(np.asarray(coherence, dtype=float), 0.0, 0.999)
+    weight = np.sqrt(coherence / (1 - coherence))
+    mask = np.ones(f_hz.size, bool) if fit_mask is None else np.asarray(fit_mask, bool)
+    lo, hi = np.log(max(f_hz.min(), 1e-3) / 4), np.log(f_hz.max() * 4)
+    best = None
+    for shift in (0.0, 0.5):  # two spreads of starting corners; keep the better fit
+        corners = np.linspace(lo, hi, 2 * order + 2)[1:-1]
+        corners = corners + shift * (corners[1] - corners[0]) if order > 0 else corners
+        zeros, poles = corners[1::2], corners[0::2]  # poles below zeros: a falling gain
+        start = np.concatenate([[0.0, 0.0], zeros, poles])
+        sol = optimize.least_squares(
+            _residuals, start, args=(order, f_hz[mask], measured[mask], weight[mask]),
+            bounds=(np.r_[-max_delay_ms, -np.inf, [lo - 2] * 2 * order],
+                    np.r_[max_delay_ms, np.inf, [hi + 2] * 2 * order]))
+        if best is None or sol.cost < best.cost:
+            best = sol
+    return _model(best.x, order), float(best.x[0]) * 1e-3
+
+
+def choose_rational(f_hz, correction, coherence, *, orders=ORDERS):
+    """Fit every order, choose by held-out bins; return the :class:`RationalFit`.
+
+    Every ``HELD_OUT_EVERY``-th bin is held out; each order is fitted on the others and
+    scored by the RMS of ``|C - 1/H|`` on the held-out ones. The lowest order within
+    ``MIN_IMPROVEMENT`` of the best score wins (a higher order must earn its parameters);
+    it is then refitted on all bins.
+
+    Raises
+    ------
+    ValueError
+        Fewer than ``4 * (max order + 1)`` bins.
+    """
+    f_hz = np.asarray(f_hz, dtype=float)
+    correction = np.asarray(correction, dtype=complex)
+    if f_hz.size < 4 * (max(orders) + 1):
+        raise ValueError(f"{f_hz.size} coherent bins; a rational fit of order up to "
+                         f"{max(orders)} needs at least {4 * (max(orders) + 1)}")
+    held = np.arange(f_hz.size) % HELD_OUT_EVERY == HELD_OUT_EVERY // 2
+    scores = {}
+    for order in orders:
+        try:
+            model, delay_s = fit_rational(f_hz, correction, coherence, order, fit_mask=~held)
+        except (ValueError, np.linalg.LinAlgError):
+            scores[order] = float("inf")
+            continue
+        error = correction[held] - model.correction(f_hz[held]) * np.exp(
+            -2j * np.pi * f_hz[held] * delay_s)
+        scores[order] = float(np.sqrt(np.mean(np.abs(error) ** 2)))
+    best = min(scores.values())
+    order = min(o for o, s in scores.items() if s <= best * (1 + MIN_IMPROVEMENT))
+    model, delay_s = fit_rational(f_hz, correction, coherence, order)
+    r2 = complex_r2(correction, model.correction(f_hz) * np.exp(-2j * np.pi * f_hz * delay_s))
+    return RationalFit(model, order, r2, scores[order], scores, delay_s)
