@@ -98,3 +98,12 @@ def test_rational_filter_json_round_trip_and_cli(sweep, tmp_path, capsys):
     assert "has no causal (IIR) form" in capsys.readouterr().err
     assert main(["-q", "dynamic", "apply", str(path), str(series), "--out",
                  str(tmp_path / "o.csv"), "--causal"]) == 0
+
+
+def test_a_resonant_sensor_no_model_describes_is_refused_with_the_reason(sweep):
+    """A lightly damped resonance at 60 Hz: no real-corner model, no log model fits it."""
+    w0, zeta = 2 * np.pi * 60, 0.1
+    pole = complex(-zeta * w0, w0 * np.sqrt(1 - zeta**2))
+    resonant = RationalModel((), (pole, pole.conjugate()), w0**2)
+    with pytest.raises(ValueError, match="simulated sensor: the (best rational model|inverse)"):
+        fit_filter(through_response(sweep.sensor, resonant), sweep.reference, model="auto")
