@@ -107,3 +107,33 @@ def test_a_resonant_sensor_no_model_describes_is_refused_with_the_reason(sweep):
     resonant = RationalModel((), (pole, pole.conjugate()), w0**2)
     with pytest.raises(ValueError, match="simulated sensor: the (best rational model|inverse)"):
         fit_filter(through_response(sweep.sensor, resonant), sweep.reference, model="auto")
+
+
+def test_gain_error_band_holds_the_expected_gain():
+    """Bendat & Piersol's random error of |H1|: the 95 % band holds the expectation."""
+    import xarray as xr
+
+    from tactilecal.dynamic import transfer_function
+
+    inside = []
+    for seed in range(20):
+        rng = np.random.default_rng(seed)
+        t = np.arange(0, 60, 1 / 400)
+        y = rng.normal(size=t.size)
+        x = y / 2 + rng.normal(scale=0.25, size=t.size)  # sensor: half the load plus noise
+        tf = transfer_function(xr.DataArray(x, dims="time", coords={"time": t}),
+                               xr.DataArray(y, dims="time", coords={"time": t}),
+                               nperseg=200, method="h1", min_coherence=0.5)
+        expected = 0.5 / (0.25 + 0.25**2)  # E[P_xy] / E[P_xx]
+        used = tf.used
+        inside.extend(np.abs(tf.gain[used] - expected) <= 1.96 * tf.gain_error[used] * expected)
+    assert 0.90 <= np.mean(inside) <= 0.99  # measured 0.944
+
+
+def test_evaluation_reports_the_phase_before_and_after(sweep):
+    filt = fit_filter(through_response(sweep.sensor, VISCO1), sweep.reference, model="auto")
+    blind = random_sine_sets(seed=5, A=0.0, **RATES)
+    ev = evaluate(filt, through_response(blind.sensor, VISCO1), blind.reference)
+    assert np.abs(ev.phase_before_deg).max() > 30  # the sensor lags (first-order, 10-40 Hz)
+    assert np.abs(ev.phase_after_deg).max() < 5
+    assert "largest phase error" in ev.summary() and "phase_after_deg" in ev.to_dict()

@@ -205,6 +205,9 @@ class Evaluation:
         RMS of the dynamic part of ``sensor - reference`` before and after correction.
     f_hz, error_before_pct, error_after_pct : numpy.ndarray
         Amplitude error ``100 (|sensor| / |reference| - 1)`` per coherent bin.
+    phase_before_deg, phase_after_deg : numpy.ndarray
+        Phase error of the sensor against the reference (degrees, negative = lag) per bin,
+        before and after correction.
     time_s, sensor, corrected, reference : numpy.ndarray
         The aligned records (statically scaled), for plots.
     """
@@ -221,6 +224,8 @@ class Evaluation:
     sensor: np.ndarray = field(repr=False)
     corrected: np.ndarray = field(repr=False)
     reference: np.ndarray = field(repr=False)
+    phase_before_deg: np.ndarray | None = None
+    phase_after_deg: np.ndarray | None = None
 
     @property
     def improvement(self):
@@ -233,24 +238,33 @@ class Evaluation:
                 "fs_hz": self.fs_hz, "rms_before_N": self.rms_before_N,
                 "rms_after_N": self.rms_after_N, "improvement": self.improvement,
                 "f_hz": self.f_hz, "error_before_pct": self.error_before_pct,
-                "error_after_pct": self.error_after_pct}
+                "error_after_pct": self.error_after_pct,
+                "phase_before_deg": self.phase_before_deg,
+                "phase_after_deg": self.phase_after_deg}
 
     def summary(self):
         """Return a one-line description."""
+        phase = ("" if self.phase_before_deg is None or not len(self.f_hz) else
+                 f"; largest phase error {np.abs(self.phase_before_deg).max():.3g} deg before, "
+                 f"{np.abs(self.phase_after_deg).max():.3g} deg after")
         return (f"dynamic RMS error {self.rms_before_N:.4g} N before, {self.rms_after_N:.4g} N "
                 f"after ({self.improvement:.2f}x smaller); lag {self.lag_s:.6g} s, static "
-                f"factor {self.static_factor:.4g}")
+                f"factor {self.static_factor:.4g}{phase}")
 
 
 def _amplitude_error_pct(x, ref, fs_hz, nperseg, min_coherence):
-    """``100 (|x| / |ref| - 1)`` per coherent Welch bin (H1 with the reference as input)."""
+    """``100 (|x| / |ref| - 1)`` and the phase of ``x`` against ``ref`` (degrees) per bin.
+
+    H1 with the reference as input; the third result says which bins are coherent.
+    """
     f_hz, p_rr = signal.welch(ref, fs=fs_hz, nperseg=nperseg)
     _, p_rx = signal.csd(ref, x, fs=fs_hz, nperseg=nperseg)
     _, p_xx = signal.welch(x, fs=fs_hz, nperseg=nperseg)
     with np.errstate(divide="ignore", invalid="ignore"):
         coherence = np.abs(p_rx) ** 2 / (p_rr * p_xx)
         ratio = np.abs(p_rx) / p_rr
-    return f_hz, 100.0 * (ratio - 1.0), np.nan_to_num(coherence) >= min_coherence
+    return (f_hz, 100.0 * (ratio - 1.0), np.nan_to_num(coherence) >= min_coherence,
+            np.degrees(np.angle(p_rx)))
 
 
 def evaluate(filt, sensor, reference, *, lag_s=None, static_cutoff_hz=0.5, nperseg=None,
@@ -297,11 +311,12 @@ def evaluate(filt, sensor, reference, *, lag_s=None, static_cutoff_hz=0.5, npers
     rms = [float(np.sqrt(np.mean(dynamic_part(x - r, fs_hz,
                                                 static_cutoff_hz=static_cutoff_hz) ** 2)))
            for x in (sens, corr)]
-    f_hz, before, ok_b = _amplitude_error_pct(sens, r, fs_hz, nperseg, min_coherence)
-    _, after, ok_a = _amplitude_error_pct(corr, r, fs_hz, nperseg, min_coherence)
+    f_hz, before, ok_b, phase_b = _amplitude_error_pct(sens, r, fs_hz, nperseg, min_coherence)
+    _, after, ok_a, phase_a = _amplitude_error_pct(corr, r, fs_hz, nperseg, min_coherence)
     ok = ok_b & ok_a & (f_hz > 0)
     return Evaluation(float(lag_s), factor, fs_hz, rms[0], rms[1], f_hz[ok], before[ok],
-                      after[ok], np.asarray(ref["time"].values), sens, corr, r)
+                      after[ok], np.asarray(ref["time"].values), sens, corr, r,
+                      phase_b[ok], phase_a[ok])
 
 
 def compare_filters(filters, sensor, reference, **kwargs):

@@ -49,6 +49,11 @@ class TransferFunction:
         ``h2``: ``P_yy / P_yx``, ``ratio``: the ratio's magnitude with the phase of
         ``P_xy``); its phase is the sensor's lag (after the clocks were aligned). ``gain``
         is its magnitude.
+    gain_error : numpy.ndarray or None
+        Normalised random error of ``gain`` per bin, ``sqrt(1 - coherence) / (|gamma|
+        sqrt(2 n_d))`` with ``n_d`` Welch averages (Bendat & Piersol, Random Data, eq. 9.90):
+        the 95 % band is ``gain (1 +- 1.96 gain_error)``; the phase's standard deviation in
+        radians is the same number (eq. 9.91).
     """
 
     f_hz: np.ndarray
@@ -61,6 +66,7 @@ class TransferFunction:
     min_coherence: float
     excluded: dict = field(default_factory=dict)
     response: np.ndarray | None = None
+    gain_error: np.ndarray | None = None
 
 
 def _check_band(band_hz, fs_hz, where):
@@ -142,10 +148,13 @@ def transfer_function(sensor, reference, *, method="h2", nperseg=None, min_coher
         gain = {"ratio": np.sqrt(pyy / pxx), "h1": np.abs(pxy) / pxx,
                 "h2": pyy / np.abs(pxy)}[method]
         response = gain * np.exp(1j * np.angle(pxy))  # csd(x, y) = E[conj(X) Y]: y/x phase
+        n_averages = max(1, (x.size - nperseg) // (nperseg // 2) + 1)  # Welch, 50 % overlap
+        gain_error = np.sqrt(1 - np.clip(coherence, 0, 1)) / (
+            np.sqrt(np.clip(coherence, 1e-12, 1)) * np.sqrt(2 * n_averages))
     coherent = np.nan_to_num(coherence) >= min_coherence
     in_band = np.ones(f_hz.size, bool) if band is None else (f_hz >= band[0]) & (f_hz <= band[1])
     used = coherent & in_band & (f_hz > 0) & np.isfinite(gain)
     excluded = {"low_coherence": int(np.count_nonzero(~coherent & in_band & (f_hz > 0))),
                 "outside_band": int(np.count_nonzero(~in_band)), "zero_frequency": 1}
     return TransferFunction(f_hz, gain, coherence, used, method, fs_hz, nperseg,
-                            float(min_coherence), excluded, response)
+                            float(min_coherence), excluded, response, gain_error)
