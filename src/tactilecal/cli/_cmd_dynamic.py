@@ -54,8 +54,9 @@ def register(subparsers):
     a.add_argument("--chunk-frames", type=positive_int, default=65536,
                    help="frames per chunk when streaming NetCDF (default 65536)")
     a.add_argument("--causal", action="store_true",
-                   help="require the causal (IIR, streaming) inverse: a rational filter is "
-                        "always applied so; a zero-phase (log) filter has no causal form")
+                   help="apply a rational filter's causal inverse (IIR, second-order "
+                        "sections; streaming) instead of the offline one over the whole "
+                        "record; a zero-phase (log) filter has no causal form")
     a.add_argument("--method", default="auto", choices=["auto", "direct"],
                    help="auto (default): multirate when the correction is band-limited "
                         "well below Nyquist, else direct; direct: the FIR at the full rate")
@@ -122,7 +123,8 @@ def _apply_csv(filt, args):
     data = xr.DataArray(table[value_cols].to_numpy(float), dims=("time", "column"),
                         coords={"time": series["time"].values},
                         attrs={"source": args.input})
-    out = apply_filter(data, filt, progress=_bar(args, "filtering"), method=args.method)
+    out = apply_filter(data, filt, progress=_bar(args, "filtering"), method=args.method,
+                       causal=args.causal)
     table[value_cols] = np.asarray(out.values)
     with atomic_path(args.out) as tmp:
         table.to_csv(tmp, index=False, float_format="%.10g")
@@ -138,7 +140,8 @@ def _apply_recording(filt, args):
     data = read_recording(args.input, chunks={"frame": args.chunk_frames} if lazy else None)
     if lazy and data.dims and data.dims[0] in data.chunksizes:
         data = data.chunk({data.dims[0]: args.chunk_frames})
-    out = apply_filter(data, filt, progress=_bar(args, "filtering"), method=args.method)
+    out = apply_filter(data, filt, progress=_bar(args, "filtering"), method=args.method,
+                       causal=args.causal)
     if out.chunks is not None and not args.quiet:
         from dask.diagnostics import ProgressBar
 
@@ -158,8 +161,6 @@ def run_apply(args):
     from tactilecal.dynamic._io import kind_of
 
     filt = load_filter(args.filter)
-    if args.causal:
-        filt.sos()  # a zero-phase filter has none: the error says so
     if kind_of(args.input) == "timeseries":
         what = _apply_csv(filt, args)
     else:

@@ -268,7 +268,7 @@ def _amplitude_error_pct(x, ref, fs_hz, nperseg, min_coherence):
 
 
 def evaluate(filt, sensor, reference, *, lag_s=None, static_cutoff_hz=0.5, nperseg=None,
-             min_coherence=0.9, progress=None):
+             min_coherence=0.9, progress=None, causal=False):
     """Evaluate a filter on a sweep or a blind test (Gillis 2013, 4.3.3 and 4.4.1).
 
     Parameters
@@ -287,6 +287,8 @@ def evaluate(filt, sensor, reference, *, lag_s=None, static_cutoff_hz=0.5, npers
         out).
     progress : callable, optional
         Passed to :func:`apply_filter`.
+    causal : bool
+        Evaluate a rational filter's causal inverse (see :func:`apply_filter`).
 
     Returns
     -------
@@ -294,7 +296,7 @@ def evaluate(filt, sensor, reference, *, lag_s=None, static_cutoff_hz=0.5, npers
     """
     from tactilecal.dynamic._align import estimate_lag, resample_to
 
-    corrected_full = apply_filter(sensor, filt, progress=progress)
+    corrected_full = apply_filter(sensor, filt, progress=progress, causal=causal)
     if lag_s is None:  # a causal inverse removes the sensor's delay: align what it gives
         lag_s = estimate_lag(corrected_full if filt.rational is not None else sensor,
                              reference)

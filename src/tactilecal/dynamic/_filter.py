@@ -222,6 +222,21 @@ class CorrectionFilter:
                              "rational model (tactilecal dynamic fit --model rational|auto)")
         return self.rational.inverse_sos(self.fs_hz)
 
+    def complex_gain(self, f_hz):
+        """Complex correction of a rational filter: ``1 / H`` in the band, tapered to 1 above.
+
+        Above ``band_hz[1]`` the deviation from 1 falls to 0 over ``taper_hz`` with a cosine
+        (``outside="taper"``) or is held (``"hold"``), as the zero-phase filters' gain does.
+        """
+        f_hz = np.asarray(f_hz, dtype=float)
+        hi = self.band_hz[1]
+        inside = self.rational.correction(np.minimum(f_hz, hi) if self.outside == "hold"
+                                          else f_hz)
+        if self.outside == "hold":
+            return inside
+        x = np.clip((f_hz - hi) / self.taper_hz, 0.0, 1.0)
+        return 1.0 + (inside - 1.0) * 0.5 * (1.0 + np.cos(np.pi * x))
+
     def _inside(self, f_hz):
         if self.model == "rational":
             return np.abs(self.rational.correction(f_hz))
