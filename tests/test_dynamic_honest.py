@@ -71,3 +71,18 @@ def test_complex_r2_counts_a_missing_phase_as_unexplained():
     lagged = gain * np.exp(-1j * 2 * np.pi * f_hz * 0.004)  # a 4 ms lag
     assert complex_r2(lagged, gain) < 0.5
     assert complex_r2(lagged, lagged) == pytest.approx(1.0)
+
+
+def test_no_coherent_band_names_the_records_and_the_time_range():
+    import xarray as xr
+
+    rng = np.random.default_rng(0)
+    t = np.arange(0, 20, 1 / 500)
+    load = np.sin(2 * np.pi * 0.1 * t)  # a slow common load the alignment can lock onto
+    sensor = xr.DataArray(load + rng.normal(scale=0.3, size=t.size), dims="time",
+                          coords={"time": t}, attrs={"source": "s.csv"})
+    reference = xr.DataArray(load + rng.normal(scale=0.3, size=t.size), dims="time",
+                             coords={"time": t}, attrs={"source": "r.csv"})
+    with pytest.raises(ValueError, match=r"s.csv and r.csv \(\d.*-\d.* s after alignment\): "
+                                         r"only \d+ frequency bins have coherence"):
+        fit_filter(sensor, reference, model="log")

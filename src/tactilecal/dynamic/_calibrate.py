@@ -113,7 +113,12 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
     sens = sens.copy(data=sens.values * factor)  # keeps attrs (the file named in errors)
     tf = transfer_function(sens, ref, method=method, nperseg=nperseg,
                            min_coherence=min_coherence, band_hz=band_hz)
-    fit = fit_transfer(tf, model="log" if model in ("auto", "rational") else model)
+    try:
+        fit = fit_transfer(tf, model="log" if model in ("auto", "rational") else model)
+    except ValueError as exc:  # e.g. no coherent band: name the records and their overlap
+        t_s = sens["time"].values
+        raise ValueError(f"{label(sensor, 'sensor')} and {label(reference, 'reference')} "
+                         f"({t_s[0]:.6g}-{t_s[-1]:.6g} s after alignment): {exc}") from None
     fit.excluded["static_factor"] = factor
     rational = _rational_candidate(tf, fit) if model in ("auto", "rational") else None
     if model == "rational" and rational["fit"] is None:
