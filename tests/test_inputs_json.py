@@ -130,3 +130,11 @@ def test_impossible_filter_key_is_an_error_naming_it(tmp_path, key, value, error
     path = _edit(_filter_json(tmp_path), lambda d: d.update({key: value}))
     with pytest.raises(error, match=match):
         load_filter(path)
+
+
+@pytest.mark.parametrize("value", [-3.5, "abc", [1, 2], {"gain": 1}])
+def test_filter_with_a_malformed_rational_model_is_an_error_naming_the_key(tmp_path, value):
+    """Found by the fuzz test: a 'rational' key on a log filter was read without a check."""
+    path = _edit(_filter_json(tmp_path), lambda d: d.update(rational=value))
+    with pytest.raises((TypeError, ValueError), match=r"key 'rational' of .*FILTER.json"):
+        load_filter(path)

@@ -351,7 +351,7 @@ def _check_filter_dict(d, where):
     if d["model"] not in (*MODELS, "response", "rational"):
         raise ValueError(f"{key.format('model')} is {d['model']!r}; expected one of "
                          f"{[*MODELS, 'response', 'rational']}")
-    if d["model"] == "rational":
+    if d["model"] == "rational" or d.get("rational") is not None:
         rational = check_type(d.get("rational"), dict, key.format("rational"),
                               expected="the zeros, poles and gain of a rational model")
         require_keys(rational, ("zeros_rad_s", "poles_rad_s", "gain"), key.format("rational"),
