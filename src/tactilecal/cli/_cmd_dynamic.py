@@ -25,12 +25,13 @@ def register(subparsers):
     f.add_argument("--out", required=True, metavar="FILTER.json")
     f.add_argument("--json", action="store_true", help="print the result as JSON")
     f.add_argument("--model", default="auto",
-                   choices=["auto", "log", "log10", "log-quadratic", "rational"],
-                   help="auto (default): the thesis' log model unless a rational (pole-zero) "
-                        "model of order 1-4 predicts held-out bins 10 %% better; log: natural "
-                        "log (MATLAB's log); log10: decimal log; log-quadratic: Y = A L + B "
-                        "L^2 + 1, L = ln(f + 1); rational: the complex response's poles and "
-                        "zeros, corrected by their causal inverse")
+                   choices=["auto", "log", "log10", "log-quadratic", "rational", "wiener"],
+                   help="auto (default): of log, rational and wiener, the simplest that "
+                        "predicts held-out bins within 10 %% of the best or to 1 %%; log: "
+                        "natural log (MATLAB's log); log10: decimal log; log-quadratic: Y = A "
+                        "L + B L^2 + 1, L = ln(f + 1); rational: the complex response's poles "
+                        "and zeros (orders 1-4), undone with their phase; wiener: the measured "
+                        "complex correction, shrunk where it is within its random error")
     f.add_argument("--band", nargs=2, type=float, metavar=("LO", "HI"),
                    help="fit only LO..HI Hz; also the calibrated band (default: the "
                         "coherent bins)")

@@ -57,8 +57,9 @@ def _filter_lines(block, filt, precision="single"):
     np.subtract(block, start, out=lines, casting="same_kind")
     gain = filt.spectrum(n_fft)
     spectrum = fft.rfft(lines, n=n_fft, axis=0)
-    spectrum *= gain.astype(real).reshape((-1,) + (1,) * (block.ndim - 1))
-    return fft.irfft(spectrum, n=n_fft, axis=0)[:n], start * gain[0]
+    spectrum *= gain.astype(spectrum.dtype if filt.has_phase else real).reshape(
+        (-1,) + (1,) * (block.ndim - 1))
+    return fft.irfft(spectrum, n=n_fft, axis=0)[:n], start * gain[0].real
 
 
 def _plan(filt, n_frames, method):
@@ -185,32 +186,6 @@ def _apply_causal(data, filt):
     return arr.map_blocks(run, dtype=float)
 
 
-def _apply_offline(data, filt):
-    """Filter every sensel with the complex inverse ``1 / H`` in the frequency domain.
-
-    The record (less its first value) is extended by an odd reflection of up to one second
-    at each end, transformed once (:func:`scipy.fft.rfft` along time), multiplied by
-    :meth:`CorrectionFilter.complex_gain` and transformed back. A dask-backed recording is
-    chunked over sensels, time in one chunk.
-    """
-    def run(block):
-        x = np.asarray(block, dtype=float)
-        first = x[:1]
-        x2d = (x - first).reshape(x.shape[0], -1)
-        n = x2d.shape[0]
-        pad = min(n - 1, int(filt.fs_hz))
-        ext = _extended_rows(x2d, 0, n, pad)
-        n_fft = fft.next_fast_len(ext.shape[0], real=True)
-        gain = filt.complex_gain(fft.rfftfreq(n_fft, 1.0 / filt.fs_hz))
-        y = fft.irfft(fft.rfft(ext, n=n_fft, axis=0, workers=-1) * gain[:, None], n=n_fft,
-                      axis=0, workers=-1)
-        return y[pad:pad + n].reshape(x.shape) + first
-
-    if data.chunks is None:
-        return run(data.values)
-    return data.data.astype(float).rechunk({0: -1}).map_blocks(run, dtype=float)
-
-
 def _nan_sensels(sums):
     """Sensels whose sum over time is NaN (NaN propagates): one pass finds the suspects."""
     return np.flatnonzero(np.isnan(sums))
@@ -265,9 +240,10 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
     causal : bool
         For a rational filter (``filt.rational``): apply the causal inverse ``1 / H``
         (second-order sections, :func:`scipy.signal.sosfilt`; for streaming and real time)
-        instead of the offline one (default: ``1 / H`` applied in the frequency domain over
-        the whole record, tapered to 1 above the band like the zero-phase filters, so noise
-        above the band is not amplified). Zero-phase (log) filters have no causal form.
+        instead of the offline one (default: the centred FIR of ``1 / H``, tapered to 1
+        above the band like every filter, so noise above the band is not amplified, through
+        the same multirate and dask paths). Zero-phase (log) and ``wiener`` filters have no
+        causal form.
 
     Returns
     -------
@@ -310,14 +286,14 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
         raise ValueError(f"{where} is sampled at {fs_hz:.6g} Hz; the filter was built for "
                          f"{filt.fs_hz:.6g} Hz (expected the same rate: resample first or "
                          "build a filter for this rate)")
-    if data.shape[0] < filt.n_taps and filt.rational is None:
+    if data.shape[0] < filt.n_taps and not causal:
         raise ValueError(f"{where} has {data.shape[0]} frames ({data.shape[0] / fs_hz:.3g} "
                          f"s); expected at least the filter length {filt.n_taps} frames "
                          f"({filt.length_s:.3g} s)")
     if causal and filt.rational is None:
         filt.sos()  # raises: a zero-phase filter has no causal form
-    if filt.rational is not None:  # the sensor's phase is undone too
-        values = (_apply_causal if causal else _apply_offline)(data, filt)
+    if causal:
+        values = _apply_causal(data, filt)
     elif data.chunks is not None:
         values = _apply_dask(data.data.astype(float), filt, precision, method)
     else:

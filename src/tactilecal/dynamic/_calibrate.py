@@ -13,9 +13,16 @@ from tactilecal.dynamic._align import align
 from tactilecal.dynamic._apply import apply_filter
 from tactilecal.dynamic._filter import CorrectionFilter
 from tactilecal.dynamic._fit import fit_transfer
-from tactilecal.dynamic._ratfit import HELD_OUT_EVERY, MIN_IMPROVEMENT, choose_rational
+from tactilecal.dynamic._ratfit import (
+    MATERIAL_ERROR,
+    MIN_IMPROVEMENT,
+    choose_rational,
+    held_out_bins,
+    held_out_score,
+)
 from tactilecal.dynamic._records import label, sampling_rate_hz, time_and_values
 from tactilecal.dynamic._transfer import _check_band, transfer_function
+from tactilecal.dynamic._wiener import wiener_correction, wiener_held_out
 
 __all__ = ["fit_filter", "evaluate", "Evaluation", "compare_filters", "static_factor",
            "dynamic_part"]
@@ -70,12 +77,15 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
     ----------
     sensor, reference : xarray.DataArray
         1-D records with a ``time`` coordinate (any rates, any start times).
-    model : {"log10", "log", "log-quadratic", "rational", "auto"}
-        Model of the transfer function: the thesis' zero-phase models, a rational (pole-zero)
+    model : {"log10", "log", "log-quadratic", "rational", "wiener", "auto"}
+        Model of the transfer function: the thesis' zero-phase models; a rational (pole-zero)
         response fitted to the complex transfer function with its order chosen on held-out
-        bins (:func:`~tactilecal.dynamic._ratfit.choose_rational`; the filter is then its
-        causal inverse), or ``"auto"``: the log model unless a rational model's held-out
-        error is 10 % lower (the reason is in ``fit.excluded["model_choice"]``).
+        bins (:func:`~tactilecal.dynamic._ratfit.choose_rational`; the filter is its inverse,
+        with a causal form); ``"wiener"``, the measured complex correction regularised by
+        its random error (:mod:`~tactilecal.dynamic._wiener`); or ``"auto"``: of log,
+        rational and wiener (by their number of parameters), the simplest whose error on
+        held-out bins is within 10 % of the best (the scores and the reason are in
+        ``fit.excluded["model_choice"]``).
     band_hz : tuple of float, optional
         Only bins inside are fitted; it is also the filter's calibrated band (default: the
         range of the coherent bins).
@@ -114,77 +124,151 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
     tf = transfer_function(sens, ref, method=method, nperseg=nperseg,
                            min_coherence=min_coherence, band_hz=band_hz)
     try:
-        fit = fit_transfer(tf, model="log" if model in ("auto", "rational") else model)
+        fit = fit_transfer(tf, model="log" if model in CHOSEN_MODELS else model)
     except ValueError as exc:  # e.g. no coherent band: name the records and their overlap
         t_s = sens["time"].values
         raise ValueError(f"{label(sensor, 'sensor')} and {label(reference, 'reference')} "
                          f"({t_s[0]:.6g}-{t_s[-1]:.6g} s after alignment): {exc}") from None
     fit.excluded["static_factor"] = factor
-    rational = _rational_candidate(tf, fit) if model in ("auto", "rational") else None
-    if model == "rational" and rational["fit"] is None:
-        raise ValueError(f"{label(sensor, 'sensor')}: {rational['why']}")
-    if rational is not None and (model == "rational" or rational["chosen"]):
-        fit.excluded["model_choice"] = rational["why"]
-        return _rational_filter(fit, rational["fit"], tf, band_hz, outside, taper_hz, n_taps,
-                                lag_s, min_r2, force, label(sensor, "sensor"))
-    if rational is not None:
-        fit.excluded["model_choice"] = rational["why"]
-    reason = _poor_fit_reason(fit, tf, min_r2, label(sensor, "sensor"))
+    where = label(sensor, "sensor")
+    if model not in CHOSEN_MODELS:
+        return _log_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2, force,
+                           where)
+    choice = _choose_model(tf, fit, model)
+    fit.excluded["model_choice"] = choice["why"]
+    if choice["model"] == "rational":
+        return _rational_filter(fit, choice["rational"], tf, band_hz, outside, taper_hz,
+                                n_taps, lag_s, min_r2, force, where)
+    if choice["model"] == "wiener":
+        return _wiener_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2,
+                              force, where, choice["wiener_r2"])
+    if model != "auto":  # the model asked for could not be fitted
+        raise ValueError(f"{where}: {choice['why']}")
+    return _log_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2, force, where)
+
+
+#: Models :func:`fit_filter` fits beside the thesis' log model, and ``auto``, that chooses.
+CHOSEN_MODELS = ("auto", "rational", "wiener")
+#: Candidates from the fewest parameters to the most: a later one must be 10 % better.
+_BY_COMPLEXITY = ("log", "rational", "wiener")
+
+
+def _refuse_or_mark(reason, force):
+    """Raise ``reason`` unless ``force``; return it (None when the fit is fine)."""
     if reason and not force:
         raise ValueError(f"{reason}; expected a model of the sensor (pass force=True, or "
                          "--force, to write the filter anyway, marked forced)")
+    return reason or None
+
+
+def _log_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2, force, where):
+    """Build the thesis' zero-phase filter of a log-type fit (refused below ``min_r2``)."""
+    reason = _refuse_or_mark(_poor_fit_reason(fit, tf, min_r2, where), force)
     filt = CorrectionFilter.from_model(fit, fs_hz=tf.fs_hz, band_hz=band_hz, outside=outside,
                                        taper_hz=taper_hz, n_taps=n_taps, lag_s=lag_s)
-    filt.forced = reason or None
+    filt.forced = reason
     return filt
 
 
-def _rational_candidate(tf, log_fit):
-    """Fit rational orders 1-4 and say whether they beat the thesis' log model, and why.
+def _choose_model(tf, log_fit, model):
+    """Score the candidates on held-out bins; choose the simplest that is good enough.
 
-    The log model (one parameter) is kept unless the rational model's held-out error is at
-    least 10 % lower than the log model's error on the same bins: parsimony first.
+    Good enough: a held-out error within 10 % of the best candidate's, or under
+    ``MATERIAL_ERROR`` (1 %; a more complex model must fix a material error).
+
+    Blocks of coherent bins are held out (:func:`held_out_bins`): rational orders and the Wiener
+    correction are fitted without them, and each candidate is scored by the RMS of
+    ``|C - model|`` there (the log fit, one parameter, is scored on the same bins). Returns
+    ``{"model", "why", "rational", "wiener_r2"}``; ``model`` is None when the model asked
+    for could not be fitted.
     """
     used = tf.used
-    try:
-        rfit = choose_rational(tf.f_hz[used], tf.response[used], tf.coherence[used])
-    except ValueError as exc:  # e.g. too few coherent bins for order 4
-        return {"fit": None, "chosen": False, "why": f"log (no rational fit: {exc})"}
-    held = np.arange(used.sum()) % HELD_OUT_EVERY == HELD_OUT_EVERY // 2
-    log_error = float(np.sqrt(np.mean(np.abs(tf.response[used][held]
-                                             - log_fit.fitted[held]) ** 2)))
-    chosen = rfit.held_out_error < (1 - MIN_IMPROVEMENT) * log_error
-    why = (f"held-out error: log {log_error:.3g}, rational order {rfit.order} "
-           f"{rfit.held_out_error:.3g} -> {'rational' if chosen else 'log'} "
-           f"(a model with more parameters must be 10 % better); orders tried "
-           f"{ {k: round(v, 4) for k, v in rfit.candidates.items()} }")
-    return {"fit": rfit, "chosen": chosen, "why": why}
+    f_hz, measured = tf.f_hz[used], tf.response[used]
+    held = held_out_bins(f_hz.size)
+    wanted = _BY_COMPLEXITY[1:] if model == "auto" else (model,)
+    error = tf.gain_error[used]
+    scores = {"log": held_out_score(measured[held], log_fit.fitted[held], error[held])}
+    labels, notes, rfit, wiener_r2 = {"log": "log"}, [], None, None
+    if "rational" in wanted:
+        try:
+            rfit = choose_rational(f_hz, measured, tf.coherence[used], error, fs_hz=tf.fs_hz)
+            scores["rational"], labels["rational"] = rfit.held_out_error, \
+                f"rational order {rfit.order}"
+        except ValueError as exc:  # e.g. too few coherent bins for order 4
+            notes.append(f"no rational fit: {exc}")
+    if "wiener" in wanted:
+        if held.sum() >= 2 and (~held).sum() >= 2:
+            scores["wiener"], wiener_r2 = wiener_held_out(f_hz, measured, error, held)
+            labels["wiener"] = "wiener"
+        else:
+            notes.append(f"no wiener fit: {f_hz.size} coherent bins; expected at least 4")
+    enough = max(MATERIAL_ERROR, min(scores.values()) * (1 + MIN_IMPROVEMENT))
+    if model == "auto":
+        chosen = next(m for m in _BY_COMPLEXITY if scores.get(m, np.inf) <= enough)
+    else:
+        chosen = model if model in scores else None
+    why = (f"held-out error: {', '.join(f'{labels[m]} {scores[m]:.2%}' for m in scores)} -> "
+           f"{chosen or 'no ' + model + ' model'} (the simplest within 10 % of the best or "
+           f"under {MATERIAL_ERROR:.0%})" + "".join(f"; {n}" for n in notes))
+    if rfit is not None:
+        why += f"; rational orders tried { {k: round(v, 4) for k, v in rfit.candidates.items()} }"
+    return {"model": chosen, "why": why, "rational": rfit, "wiener_r2": wiener_r2}
 
 
 def _rational_filter(log_fit, rfit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2,
                      force, where):
-    """Return the causal-inverse filter of a rational fit (refused below ``min_r2``)."""
+    """Return the inverse filter of a rational fit (refused below ``min_r2``)."""
     reason = None
     if rfit.r2_complex < min_r2:
         reason = (f"{where}: the best rational model (order {rfit.order}) explains "
                   f"{rfit.r2_complex:.0%} of the complex correction, less than {min_r2:.0%}; "
-                  "no model of the family (log, log10, log-quadratic, rational 1-4) "
+                  "no model of the family (log, log10, log-quadratic, rational 1-4, wiener) "
                   "describes this sensor")
-    noise_gain = float(np.max(np.abs(rfit.model.correction(np.r_[tf.f_hz, 1e9]))))
-    if reason is None and noise_gain > MAX_NOISE_GAIN:
-        reason = (f"{where}: the inverse of the rational model amplifies up to "
-                  f"{noise_gain:.3g}x (limit {MAX_NOISE_GAIN:g}x): it would amplify noise")
-    if reason and not force:
-        raise ValueError(f"{reason}; expected a model of the sensor (pass force=True, or "
-                         "--force, to write the filter anyway, marked forced)")
+    nyquist = np.linspace(0.0, tf.fs_hz / 2, 2049)  # the causal inverse's gain up to Nyquist
+    reason = reason or _noise_reason(rfit.model.correction(nyquist), "rational model", where)
+    reason = _refuse_or_mark(reason, force)
     band = band_hz or (float(log_fit.f_hz.min()), float(log_fit.f_hz.max()))
     log_fit.excluded["rational"] = rfit.summary()
     log_fit.excluded["sensor_delay_s"] = rfit.delay_s
-    filt = CorrectionFilter("rational", {"order": rfit.order}, tf.fs_hz, band, outside,
+    log_fit.excluded["model_r2_complex"] = rfit.r2_complex
+    return CorrectionFilter("rational", {"order": rfit.order}, tf.fs_hz, band, outside,
                             taper_hz or max(5.0, band[1] / 4), n_taps or int(tf.fs_hz) | 1,
                             fit=log_fit, lag_s=None if lag_s is None else lag_s - rfit.delay_s,
                             forced=reason, rational=rfit.model)
-    return filt
+
+
+def _noise_reason(correction, what, where):
+    """Why an inverse would amplify noise (None when its gain stays within the limit)."""
+    noise_gain = float(np.max(np.abs(correction)))
+    if noise_gain <= MAX_NOISE_GAIN:
+        return None
+    return (f"{where}: the inverse of the {what} amplifies up to {noise_gain:.3g}x (limit "
+            f"{MAX_NOISE_GAIN:g}x): it would amplify noise")
+
+
+def _wiener_filter(log_fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2, force,
+                   where, held_out_r2):
+    """Return the Wiener-regularised measured correction as a filter (see ``_wiener``).
+
+    Its R2 is that of the held-out bins (in-sample it would explain every bin by
+    construction); the clock offset keeps the sensor's own delay (no model separates them).
+    """
+    used = tf.used
+    corrected = wiener_correction(tf.response[used], tf.gain_error[used])
+    reason = None
+    if held_out_r2 is None or not held_out_r2 >= min_r2:
+        reason = (f"{where}: the regularised measured correction predicts "
+                  f"{held_out_r2 if held_out_r2 is not None else float('nan'):.0%} of the "
+                  f"held-out bins' complex correction, less than {min_r2:.0%}; the "
+                  "response is too noisy or too ragged between bins for any model of the "
+                  "family")
+    reason = _refuse_or_mark(reason or _noise_reason(corrected, "measured correction", where),
+                             force)
+    band = band_hz or (float(log_fit.f_hz.min()), float(log_fit.f_hz.max()))
+    log_fit.excluded["model_r2_complex"] = held_out_r2  # of the held-out bins
+    return CorrectionFilter("wiener", {"bins": int(used.sum())}, tf.fs_hz, band, outside,
+                            taper_hz or max(5.0, band[1] / 4), n_taps or int(tf.fs_hz) | 1,
+                            tf.f_hz[used], corrected, fit=log_fit, lag_s=lag_s, forced=reason)
 
 
 def _poor_fit_reason(fit, tf, min_r2, where):
@@ -302,8 +386,8 @@ def evaluate(filt, sensor, reference, *, lag_s=None, static_cutoff_hz=0.5, npers
     from tactilecal.dynamic._align import estimate_lag, resample_to
 
     corrected_full = apply_filter(sensor, filt, progress=progress, causal=causal)
-    if lag_s is None:  # a causal inverse removes the sensor's delay: align what it gives
-        lag_s = estimate_lag(corrected_full if filt.rational is not None else sensor,
+    if lag_s is None:  # an inverse with phase removes the sensor's delay: align its output
+        lag_s = estimate_lag(corrected_full if filt.has_phase else sensor,
                              reference)
     ref = resample_to(reference, sensor, lag_s=lag_s)
     dim = sensor.dims[0]

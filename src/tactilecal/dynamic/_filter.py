@@ -1,19 +1,25 @@
 """The dynamic-calibration correction filter (Gillis 2013, section 4.3.3, "digital filter").
 
-The filter multiplies a sensor record's spectrum by the fitted transfer function ``Y(f)``
-with **zero phase**. It is realised as a symmetric (linear-phase, type I) FIR of ``n_taps``
-taps designed by frequency sampling (:func:`scipy.signal.firwin2`, Hamming window) and
-applied centred, so no delay is introduced. Its DC gain is set to exactly 1 (see
-:attr:`CorrectionFilter.taps`).
+The filter multiplies a sensor record's spectrum by the correction ``G(f)`` of the fitted
+model. For the thesis' models (``log``, ``log10``, ``log-quadratic``) and a measured gain
+(``response``) ``G`` is real: the filter has **zero phase**. For the models that carry the
+sensor's phase (``rational``: a pole-zero model; ``wiener``: the measured complex correction,
+regularised by its coherence) ``G`` is complex and undoes the sensor's lag too. Either way it
+is realised as a FIR of ``n_taps`` taps centred on its middle tap (so no delay is
+introduced), designed by frequency sampling with a Hamming window
+(:func:`scipy.signal.firwin2` for a real ``G``, :func:`centred_fir` for a complex one), with
+its DC gain set to exactly 1 (see :attr:`CorrectionFilter.taps`). A rational model also has
+a causal form (:meth:`CorrectionFilter.sos`).
 
-Target gain ``G(f)``:
+Target ``G(f)`` (:meth:`CorrectionFilter.target`):
 
-* from 0 Hz to the top of the calibrated band ``band_hz[1]``: the model ``Y(f)`` (equal to
-  1 at 0 Hz, so static calibrations are untouched) or the measured response;
-* above the band, ``outside="taper"`` (default): a raised-cosine taper from ``Y(hi)`` down to
-  1 over ``taper_hz``, then 1: frequencies the calibration never saw are **not amplified**
-  (left as recorded); ``outside="hold"``: ``Y(hi)`` held to the Nyquist frequency (amplifies
-  noise there by ``Y(hi)``; only for records known to carry signal above the band).
+* from 0 Hz to the top of the calibrated band ``band_hz[1]``: the model (equal to 1 at 0 Hz,
+  so static calibrations are untouched) or the measured response;
+* above the band, ``outside="taper"`` (default): the deviation from 1 at the band's top,
+  ``G(hi) - 1``, falls to 0 with a raised cosine over ``taper_hz``: frequencies the
+  calibration never saw are **not amplified** (left as recorded); ``outside="hold"``:
+  ``G(hi)`` held to the Nyquist frequency (amplifies noise there by ``|G(hi)|``; only for
+  records known to carry signal above the band).
 """
 
 from dataclasses import dataclass, field
@@ -26,13 +32,16 @@ from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
 from tactilecal.dynamic._rational import RationalModel
 
-__all__ = ["CorrectionFilter", "load_filter", "FORMAT", "zero_phase_fir", "centred_spectrum"]
+__all__ = ["CorrectionFilter", "load_filter", "FORMAT", "zero_phase_fir", "centred_fir",
+           "centred_spectrum", "PHASE_MODELS"]
 
 #: Floating-point type of the FFT work for each ``precision`` of ``apply_filter``.
 PRECISIONS = {"single": np.float32, "double": np.float64}
 #: Identifies FILTER.json files.
 FORMAT = "tactilecal-dynamic-filter/1"
 _OUTSIDE = ("taper", "hold")
+#: Models whose correction is complex (they undo the sensor's phase as well as its gain).
+PHASE_MODELS = ("rational", "wiener")
 
 
 def _odd(n):
@@ -54,17 +63,40 @@ def zero_phase_fir(n_taps, grid_hz, gain, fs_hz):
     return taps - (taps.sum() - gain[0]) * bump / bump.sum()
 
 
-def centred_spectrum(taps, n_fft):
-    """Return the real half-spectrum of the symmetric FIR ``taps`` centred on an ``n_fft`` circle.
+def centred_fir(n_taps, grid_hz, gain, fs_hz):
+    """Design a FIR of ``n_taps`` (odd) centred on its middle tap with a real or complex ``gain``.
+
+    A real ``gain`` gives the symmetric, zero-phase FIR of :func:`zero_phase_fir`. A complex
+    one (``grid_hz`` uniform from 0 to ``fs_hz / 2``) is sampled by the inverse real FFT
+    (frequency sampling: the impulse response of ``gain`` on the circle of
+    ``2 (grid_hz.size - 1)`` samples), cut to ``n_taps`` about time 0 with a Hamming window
+    and its DC gain set to ``gain[0]`` (a Hamming-shaped bump, as in :func:`zero_phase_fir`).
+    The FIR is then not symmetric: it applies the phase of ``gain``, with no delay.
+    """
+    gain = np.asarray(gain)
+    if not np.iscomplexobj(gain):
+        return zero_phase_fir(n_taps, grid_hz, gain, fs_hz)
+    impulse = fft.irfft(gain, n=2 * (gain.size - 1))
+    half = n_taps // 2
+    window = signal.get_window("hamming", n_taps, fftbins=False)
+    taps = np.r_[impulse[impulse.size - half:], impulse[:half + 1]] * window
+    return taps - (taps.sum() - gain[0].real) * window / window.sum()
+
+
+def centred_spectrum(taps, n_fft, *, phase=False):
+    """Return the half-spectrum of the FIR ``taps`` centred on an ``n_fft`` circle.
 
     Multiplying a block's ``rfft`` by it convolves the block circularly with the centred
     FIR (no delay); the overlap-save blocks of :mod:`tactilecal.dynamic._apply` use it.
+    Real for a symmetric (zero-phase) FIR; complex with ``phase=True`` (:func:`centred_fir`
+    of a complex gain).
     """
     half = taps.size // 2
     circ = np.zeros(n_fft)
     circ[:half + 1] = taps[half:]
     circ[n_fft - half:] = taps[:half]
-    return fft.rfft(circ).real
+    spectrum = fft.rfft(circ)
+    return spectrum if phase else spectrum.real
 
 
 @dataclass
@@ -222,53 +254,58 @@ class CorrectionFilter:
                              "rational model (tactilecal dynamic fit --model rational|auto)")
         return self.rational.inverse_sos(self.fs_hz)
 
-    def complex_gain(self, f_hz):
-        """Complex correction of a rational filter: ``1 / H`` in the band, tapered to 1 above.
+    @property
+    def has_phase(self):
+        """True when the correction is complex (``model`` in :data:`PHASE_MODELS`)."""
+        return self.model in PHASE_MODELS
 
-        Above ``band_hz[1]`` the deviation from 1 falls to 0 over ``taper_hz`` with a cosine
-        (``outside="taper"``) or is held (``"hold"``), as the zero-phase filters' gain does.
+    def _inside(self, f_hz):
+        """Return the correction inside the band: the model or the measured response."""
+        if self.model == "rational":
+            return self.rational.correction(f_hz)
+        if self.model in ("response", "wiener"):
+            keep = self.response_f_hz > 0
+            f = np.r_[0.0, self.response_f_hz[keep]]
+            g = np.r_[1.0, self.response_gain[keep]]
+            if self.model == "response":
+                return np.interp(f_hz, f, g)
+            return np.interp(f_hz, f, g.real) + 1j * np.interp(f_hz, f, g.imag)
+        return model_gain(self.model, self.params, f_hz)
+
+    def target(self, f_hz):
+        """Return the correction ``G(f)`` the filter applies (see the module notes).
+
+        Real for the zero-phase models, complex for :data:`PHASE_MODELS`.
         """
         f_hz = np.asarray(f_hz, dtype=float)
         hi = self.band_hz[1]
-        inside = self.rational.correction(np.minimum(f_hz, hi) if self.outside == "hold"
-                                          else f_hz)
+        inside = self._inside(np.minimum(f_hz, hi))
         if self.outside == "hold":
             return inside
         x = np.clip((f_hz - hi) / self.taper_hz, 0.0, 1.0)
         return 1.0 + (inside - 1.0) * 0.5 * (1.0 + np.cos(np.pi * x))
 
-    def _inside(self, f_hz):
-        if self.model == "rational":
-            return np.abs(self.rational.correction(f_hz))
-        if self.model == "response":
-            f = np.r_[0.0, self.response_f_hz[self.response_f_hz > 0]]
-            g = np.r_[1.0, self.response_gain[self.response_f_hz > 0]]
-            return np.interp(f_hz, f, g)
-        return model_gain(self.model, self.params, f_hz)
-
     def gain(self, f_hz):
-        """Return the target gain ``G(f)`` (see the module notes)."""
-        f_hz = np.asarray(f_hz, dtype=float)
-        hi = self.band_hz[1]
-        g_hi = self._inside(hi)
-        if self.outside == "hold":
-            return np.where(f_hz <= hi, self._inside(np.minimum(f_hz, hi)), g_hi)
-        x = np.clip((f_hz - hi) / self.taper_hz, 0.0, 1.0)
-        taper = 1.0 + (g_hi - 1.0) * 0.5 * (1.0 + np.cos(np.pi * x))
-        return np.where(f_hz <= hi, self._inside(np.minimum(f_hz, hi)), taper)
+        """Return the magnitude of the correction, ``|G(f)|`` (see :meth:`target`)."""
+        return np.abs(self.target(f_hz))
 
     @property
     def taps(self):
-        """The symmetric FIR (length ``n_taps``) realising :meth:`gain` with zero phase."""
+        """The centred FIR (length ``n_taps``) realising :meth:`target`, with no delay."""
         if self._taps is None:
             grid = np.linspace(0.0, self.fs_hz / 2, 8 * self.n_taps + 1)
-            self._taps = zero_phase_fir(self.n_taps, grid, self.gain(grid), self.fs_hz)
+            self._taps = centred_fir(self.n_taps, grid, self.target(grid), self.fs_hz)
         return self._taps
 
     def realised_gain(self, f_hz):
-        """Return the gain the FIR actually applies at ``f_hz`` (zero phase, real)."""
-        _, h = signal.freqz(self.taps, worN=np.asarray(f_hz, float), fs=self.fs_hz)
-        return np.abs(h)
+        """Return the gain the FIR actually applies at ``f_hz`` (its magnitude)."""
+        return np.abs(self.realised_target(f_hz))
+
+    def realised_target(self, f_hz):
+        """Return the complex response the centred FIR actually applies at ``f_hz``."""
+        f_hz = np.asarray(f_hz, float)
+        _, h = signal.freqz(self.taps, worN=f_hz, fs=self.fs_hz)
+        return h * np.exp(2j * np.pi * f_hz / self.fs_hz * (self.n_taps // 2))  # centred
 
     @property
     def length_s(self):
@@ -278,7 +315,7 @@ class CorrectionFilter:
     def spectrum(self, n_fft):
         """Real half-spectrum of the centred FIR on an ``n_fft``-point grid (overlap-save)."""
         if n_fft not in self._spectra:
-            self._spectra[n_fft] = centred_spectrum(self.taps, n_fft)
+            self._spectra[n_fft] = centred_spectrum(self.taps, n_fft, phase=self.has_phase)
         return self._spectra[n_fft]
 
     # -- JSON ---------------------------------------------------------------------------
@@ -298,11 +335,19 @@ class CorrectionFilter:
             "taper_hz": self.taper_hz,
             "n_taps": self.n_taps,
             "response": None if self.response_f_hz is None else {
-                "f_hz": self.response_f_hz, "gain": self.response_gain},
+                "f_hz": self.response_f_hz, "gain": np.abs(self.response_gain),
+                **({"phase_rad": np.angle(self.response_gain)} if self.has_phase else {})},
             "forced": self.forced is not None,
             "forced_reason": self.forced,
             "rational": None if self.rational is None else self.rational.to_dict(),
+            "correction": self._correction_grid(),
         }
+
+    def _correction_grid(self, n_points=256):
+        """Return the correction on a grid up to the taper's top (FILTER.json ``correction``)."""
+        f_hz = np.linspace(0.0, min(self.fs_hz / 2, self.band_hz[1] + self.taper_hz), n_points)
+        target = self.target(f_hz)
+        return {"f_hz": f_hz, "gain": np.abs(target), "phase_deg": np.degrees(np.angle(target))}
 
     @classmethod
     def from_dict(cls, d, *, where="filter"):
@@ -315,10 +360,12 @@ class CorrectionFilter:
                              f"format {FORMAT!r} as written by 'tactilecal dynamic fit'")
         _check_filter_dict(d, where)
         response = d.get("response") or {}
+        gain = None if not response else np.asarray(response["gain"], float)
+        if "phase_rad" in response:
+            gain = gain * np.exp(1j * np.asarray(response["phase_rad"], float))
         return cls(d["model"], dict(d["params"]), float(d["fs_hz"]), tuple(d["band_hz"]),
                    d["outside"], float(d["taper_hz"]), int(d["n_taps"]),
-                   None if not response else np.asarray(response["f_hz"], float),
-                   None if not response else np.asarray(response["gain"], float),
+                   None if not response else np.asarray(response["f_hz"], float), gain,
                    None if d.get("fit") is None else TransferFit.from_dict(d["fit"]),
                    d.get("lag_s"), d.get("forced_reason"),
                    None if d.get("rational") is None else RationalModel.from_dict(d["rational"]))
@@ -348,9 +395,9 @@ def _check_filter_dict(d, where):
                  for v in band)
     if not low < high:
         raise ValueError(f"{key.format('band_hz')} is {band}; expected low < high")
-    if d["model"] not in (*MODELS, "response", "rational"):
+    if d["model"] not in (*MODELS, "response", *PHASE_MODELS):
         raise ValueError(f"{key.format('model')} is {d['model']!r}; expected one of "
-                         f"{[*MODELS, 'response', 'rational']}")
+                         f"{[*MODELS, 'response', *PHASE_MODELS]}")
     if d["model"] == "rational" or d.get("rational") is not None:
         rational = check_type(d.get("rational"), dict, key.format("rational"),
                               expected="the zeros, poles and gain of a rational model")
@@ -383,13 +430,27 @@ def _check_filter_dict(d, where):
     check_number(d.get("lag_s"), key.format("lag_s"), allow_none=True)
     response = d.get("response") or {}
     check_type(response, dict, key.format("response"), expected="an object")
+    if d["model"] in ("response", "wiener") and not response:
+        raise ValueError(f"{key.format('response')} is missing; a {d['model']!r} filter "
+                         "needs its measured response")
     if response:
         require_keys(response, ("f_hz", "gain"), key.format("response"),
                      expected="a response")
-        for name in ("f_hz", "gain"):
-            for value in check_type(response[name], list, key.format(f"response.{name}"),
-                                    expected="a list of numbers"):
+        lengths = set()
+        for name in ("f_hz", "gain", "phase_rad"):
+            if name == "phase_rad" and name not in response:
+                continue
+            values = check_type(response[name], list, key.format(f"response.{name}"),
+                                expected="a list of numbers")
+            lengths.add(len(values))
+            for value in values:
                 check_number(value, key.format(f"response.{name}"))
+        if len(lengths) > 1 or min(lengths) < 2:
+            raise ValueError(f"{key.format('response')} has lists of lengths {sorted(lengths)}; "
+                             "expected f_hz, gain (and phase_rad) of one length >= 2")
+        if np.any(np.diff(response["f_hz"]) <= 0):
+            raise ValueError(f"{key.format('response.f_hz')} does not increase; expected "
+                             "increasing frequencies")
 
 
 def load_filter(path):

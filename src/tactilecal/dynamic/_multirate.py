@@ -14,6 +14,7 @@ stays short (41 taps for the thesis filter: 4000 Hz, band 1..140 Hz, 35 Hz taper
 1. ``x_d = (h * x)[::P]``: a zero-phase Kaiser low-pass ``h`` (pass band to ``f_c``, stop band
    from ``fs / P - f_c``, ``STOPBAND_DB`` down) and every P-th sample;
 2. ``c_d = D x_d`` at ``fs / P`` by overlap-save FFTs, with ``D(f) = (G(f) - 1) / H(f)^2``
+   (complex for a filter that undoes the sensor's phase)
    for ``f <= f_c`` and 0 above (``H`` the low-pass's gain, so the low-pass and the
    interpolation filter are compensated), designed like the full-rate FIR
    (:func:`~tactilecal.dynamic._filter.zero_phase_fir`) at the same frequency resolution;
@@ -38,7 +39,7 @@ import numba
 import numpy as np
 from scipy import fft, signal
 
-from tactilecal.dynamic._filter import PRECISIONS, centred_spectrum, zero_phase_fir
+from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
 
 __all__ = ["MultiratePlan", "plan_multirate", "apply_multirate", "run_tasks"]
 
@@ -64,12 +65,15 @@ class MultiratePlan:
     lowpass : numpy.ndarray
         Zero-phase low-pass (odd length, unit DC gain) of stages 1 and 3.
     correction : numpy.ndarray
-        Taps of ``D`` at ``fs / P`` (symmetric, zero DC gain).
+        Taps of ``D`` at ``fs / P`` (centred, zero DC gain; symmetric unless ``phase``).
+    phase : bool
+        The correction is complex (a filter of :data:`~tactilecal.dynamic._filter.PHASE_MODELS`).
     """
 
     factor: int
     lowpass: np.ndarray
     correction: np.ndarray
+    phase: bool = False
 
     @property
     def reach(self):
@@ -100,9 +104,10 @@ def plan_multirate(filt):
     grid = np.linspace(0.0, fs_low / 2, 8 * n_taps + 1)
     _, h = signal.freqz(lowpass, worN=grid, fs=fs)
     inside = grid <= f_c
-    gain = np.zeros_like(grid)
-    gain[inside] = (filt.gain(grid[inside]) - 1.0) / np.abs(h[inside]) ** 2
-    return MultiratePlan(factor, lowpass, zero_phase_fir(n_taps, grid, gain, fs_low))
+    gain = np.zeros(grid.size, dtype=complex if filt.has_phase else float)
+    gain[inside] = (filt.target(grid[inside]) - 1.0) / np.abs(h[inside]) ** 2
+    return MultiratePlan(factor, lowpass, centred_fir(n_taps, grid, gain, fs_low),
+                         filt.has_phase)
 
 
 @numba.njit(nogil=True, cache=True, fastmath={"contract"})
@@ -228,7 +233,8 @@ def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings
         check(lines)
     n_fft = fft.next_fast_len(max(min(BLOCK_FFT, n_low), 4 * taps.size), real=True)
     n_fft += n_fft % 2  # even, so that the half-spectrum's length gives it back
-    gain = centred_spectrum(taps, n_fft).astype(lines.dtype)
+    gain = centred_spectrum(taps, n_fft, phase=plan.phase)
+    gain = gain.astype(np.result_type(lines.dtype, np.complex64) if plan.phase else lines.dtype)
     run_tasks([lambda a=a, b=b: _convolve_lines(lines, gain, half, a, b)
           for a, b in _ranges(m, LINES_PER_TASK)], workers)
     lap("correct")

@@ -9,8 +9,8 @@ are fitted in log-frequency by :func:`scipy.optimize.least_squares` on the real 
 imaginary parts of ``C - 1 / H`` over the coherent bins (``C`` = reference / sensor, the
 measured correction), weighted by ``sqrt(coherence / (1 - coherence))`` (the inverse of the
 bins' random error, Bendat & Piersol). Orders 1-4 are tried; the order is chosen by the
-error on held-out bins (every fourth bin, cross-validation), and a higher order must lower
-it by at least 10 % to be kept.
+error on held-out blocks of bins (cross-validation, :func:`held_out_score`), and a higher
+order must lower it by at least 10 % to be kept.
 """
 
 from dataclasses import dataclass
@@ -25,7 +25,36 @@ __all__ = ["RationalFit", "fit_rational", "choose_rational"]
 
 ORDERS = (1, 2, 3, 4)
 HELD_OUT_EVERY = 4
+#: Consecutive bins held out together: Welch's Hann window spreads a tone over about four
+#: bins, so neighbouring bins are correlated and a single held-out bin would be "predicted"
+#: by its own leakage into the bins beside it (which flatters an interpolating model).
+HELD_OUT_BLOCK = 4
+
+
+def held_out_score(measured, predicted, gain_error):
+    """Relative error of a model on held-out bins: RMS of ``|C - model| / |C|``, weighted.
+
+    Each bin is weighted by ``1 / e^2``, ``e`` its gain's normalised random error (Bendat &
+    Piersol eq. 9.90; the phase's error in radians is the same number), so noisy bins at
+    the band's edges do not outweigh clean ones. 0.01 is a 1 % error of the correction.
+    """
+    measured = np.asarray(measured, dtype=complex)
+    weight = 1.0 / np.maximum(np.asarray(gain_error, dtype=float), 1e-9) ** 2
+    relative = np.abs(measured - predicted) ** 2 / np.abs(measured) ** 2
+    return float(np.sqrt(np.sum(weight * relative) / np.sum(weight)))
+
+
+def held_out_bins(n_bins):
+    """Mask of the held-out bins: every ``HELD_OUT_EVERY``-th block of ``HELD_OUT_BLOCK``."""
+    block = np.arange(n_bins) // HELD_OUT_BLOCK
+    return block % HELD_OUT_EVERY == HELD_OUT_EVERY // 2
 MIN_IMPROVEMENT = 0.10
+#: Highest corner frequency, as a share of the Nyquist frequency (see :func:`fit_rational`).
+MAX_CORNER_NYQUIST = 0.8
+#: A held-out error below this (1 % of the correction, about the resolution of an 8-bit
+#: sensel at mid-range) is immaterial: a model this good is not replaced by one with more
+#: parameters, however much better that one fits a long, clean sweep (which resolves 0.1 %).
+MATERIAL_ERROR = 0.01
 
 
 @dataclass
@@ -41,7 +70,7 @@ class RationalFit:
     r2_complex : float
         Share of the complex correction explained on all used bins (:func:`complex_r2`).
     held_out_error : float
-        RMS of ``|C - 1/H|`` on the held-out bins, the model was fitted without them.
+        :func:`held_out_score` of the held-out bins (the model was fitted without them).
     candidates : dict
         ``{order: held_out_error}`` of every order tried (``inf`` when its fit failed).
     delay_s : float
@@ -82,7 +111,8 @@ def _residuals(x, order, f_hz, measured, weight):
     return np.concatenate([diff.real, diff.imag])
 
 
-def fit_rational(f_hz, correction, coherence, order, *, fit_mask=None, max_delay_ms=5.0):
+def fit_rational(f_hz, correction, coherence, order, *, fit_mask=None, max_delay_ms=5.0,
+                 fs_hz=None):
     """Fit a rational response of ``order`` zeros and poles to a measured correction.
 
     Parameters
@@ -96,6 +126,11 @@ def fit_rational(f_hz, correction, coherence, order, *, fit_mask=None, max_delay
     max_delay_ms : float
         Bound of the residual delay fitted jointly with the model: the clocks were aligned
         by cross-correlation, which takes the sensor's own group delay for clock offset.
+    fs_hz : float, optional
+        Sampling rate: corners are kept below ``MAX_CORNER_NYQUIST`` of its Nyquist
+        frequency, where a causal (bilinear) inverse can still place them; a corner beyond
+        would only mimic a gain that keeps rising, and its inverse would amplify the noise
+        far above the band.
 
     Returns
     -------
@@ -109,6 +144,8 @@ def fit_rational(f_hz, correction, coherence, order, *, fit_mask=None, max_delay
     weight = np.sqrt(coherence / (1 - coherence))
     mask = np.ones(f_hz.size, bool) if fit_mask is None else np.asarray(fit_mask, bool)
     lo, hi = np.log(max(f_hz.min(), 1e-3) / 4), np.log(f_hz.max() * 4)
+    top = hi + 2 if fs_hz is None else min(hi + 2, np.log(MAX_CORNER_NYQUIST * fs_hz / 2))
+    hi = min(hi, top)
     best = None
     for shift in (0.0, 0.5):  # two spreads of starting corners; keep the better fit
         corners = np.linspace(lo, hi, 2 * order + 2)[1:-1]
@@ -118,19 +155,22 @@ def fit_rational(f_hz, correction, coherence, order, *, fit_mask=None, max_delay
         sol = optimize.least_squares(
             _residuals, start, args=(order, f_hz[mask], measured[mask], weight[mask]),
             bounds=(np.r_[-max_delay_ms, -np.inf, [lo - 2] * 2 * order],
-                    np.r_[max_delay_ms, np.inf, [hi + 2] * 2 * order]))
+                    np.r_[max_delay_ms, np.inf, [top] * 2 * order]))
         if best is None or sol.cost < best.cost:
             best = sol
     return _model(best.x, order), float(best.x[0]) * 1e-3
 
 
-def choose_rational(f_hz, correction, coherence, *, orders=ORDERS):
+def choose_rational(f_hz, correction, coherence, gain_error, *, orders=ORDERS, fs_hz=None):
     """Fit every order, choose by held-out bins; return the :class:`RationalFit`.
 
-    Every ``HELD_OUT_EVERY``-th bin is held out; each order is fitted on the others and
-    scored by the RMS of ``|C - 1/H|`` on the held-out ones. The lowest order within
+    Every ``HELD_OUT_EVERY``-th block of bins is held out (:func:`held_out_bins`); each
+    order is fitted on the others and scored on the held-out ones by
+    :func:`held_out_score` (``gain_error``: each bin's). The lowest order within
     ``MIN_IMPROVEMENT`` of the best score wins (a higher order must earn its parameters);
     it is then refitted on all bins.
+
+    ``fs_hz`` bounds the corners (see :func:`fit_rational`).
 
     Raises
     ------
@@ -139,22 +179,24 @@ def choose_rational(f_hz, correction, coherence, *, orders=ORDERS):
     """
     f_hz = np.asarray(f_hz, dtype=float)
     correction = np.asarray(correction, dtype=complex)
-    if f_hz.size < 4 * (max(orders) + 1):
+    gain_error = np.asarray(gain_error, dtype=float)
+    need = max(4 * (max(orders) + 1), HELD_OUT_EVERY * HELD_OUT_BLOCK)
+    if f_hz.size < need:
         raise ValueError(f"{f_hz.size} coherent bins; a rational fit of order up to "
-                         f"{max(orders)} needs at least {4 * (max(orders) + 1)}")
-    held = np.arange(f_hz.size) % HELD_OUT_EVERY == HELD_OUT_EVERY // 2
+                         f"{max(orders)} needs at least {need}")
+    held = held_out_bins(f_hz.size)
     scores = {}
     for order in orders:
         try:
-            model, delay_s = fit_rational(f_hz, correction, coherence, order, fit_mask=~held)
+            model, delay_s = fit_rational(f_hz, correction, coherence, order, fit_mask=~held,
+                                           fs_hz=fs_hz)
         except (ValueError, np.linalg.LinAlgError):
             scores[order] = float("inf")
             continue
-        error = correction[held] - model.correction(f_hz[held]) * np.exp(
-            -2j * np.pi * f_hz[held] * delay_s)
-        scores[order] = float(np.sqrt(np.mean(np.abs(error) ** 2)))
+        predicted = model.correction(f_hz[held]) * np.exp(-2j * np.pi * f_hz[held] * delay_s)
+        scores[order] = held_out_score(correction[held], predicted, gain_error[held])
     best = min(scores.values())
     order = min(o for o, s in scores.items() if s <= best * (1 + MIN_IMPROVEMENT))
-    model, delay_s = fit_rational(f_hz, correction, coherence, order)
+    model, delay_s = fit_rational(f_hz, correction, coherence, order, fs_hz=fs_hz)
     r2 = complex_r2(correction, model.correction(f_hz) * np.exp(-2j * np.pi * f_hz * delay_s))
     return RationalFit(model, order, r2, scores[order], scores, delay_s)
