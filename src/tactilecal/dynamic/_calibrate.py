@@ -136,15 +136,33 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
                            where)
     choice = _choose_model(tf, fit, model)
     fit.excluded["model_choice"] = choice["why"]
-    if choice["model"] == "rational":
-        return _rational_filter(fit, choice["rational"], tf, band_hz, outside, taper_hz,
-                                n_taps, lag_s, min_r2, force, where)
-    if choice["model"] == "wiener":
-        return _wiener_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2,
-                              force, where, choice["wiener_r2"])
-    if model != "auto":  # the model asked for could not be fitted
+    if not choice["order"]:  # the model asked for could not be fitted
         raise ValueError(f"{where}: {choice['why']}")
-    return _log_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2, force, where)
+
+    def build(name, force):
+        if name == "rational":
+            return _rational_filter(fit, choice["rational"], tf, band_hz, outside, taper_hz,
+                                    n_taps, lag_s, min_r2, force, where)
+        if name == "wiener":
+            return _wiener_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2,
+                                  force, where, choice["wiener_r2"])
+        return _log_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2, force,
+                           where)
+
+    refusals = []
+    for name in choice["order"]:  # the chosen model first, then the others by their score
+        try:
+            filt = build(name, force=False)
+        except ValueError as exc:
+            refusals.append(str(exc).split("; expected a model")[0].removeprefix(f"{where}: "))
+            continue
+        if refusals:
+            fit.excluded["model_choice"] += f"; refused before {name}: {'; '.join(refusals)}"
+        return filt
+    if force:
+        return build(choice["order"][0], force=True)
+    raise ValueError(f"{where}: {'; '.join(refusals)}; expected a model of the sensor (pass "
+                     "force=True, or --force, to write the filter anyway, marked forced)")
 
 
 #: Models :func:`fit_filter` fits beside the thesis' log model, and ``auto``, that chooses.
@@ -176,11 +194,13 @@ def _choose_model(tf, log_fit, model):
     Good enough: a held-out error within 10 % of the best candidate's, or under
     ``MATERIAL_ERROR`` (1 %; a more complex model must fix a material error).
 
-    Blocks of coherent bins are held out (:func:`held_out_bins`): rational orders and the Wiener
-    correction are fitted without them, and each candidate is scored by the RMS of
-    ``|C - model|`` there (the log fit, one parameter, is scored on the same bins). Returns
-    ``{"model", "why", "rational", "wiener_r2"}``; ``model`` is None when the model asked
-    for could not be fitted.
+    Blocks of coherent bins are held out (:func:`held_out_bins`): rational orders and the
+    Wiener correction are fitted without them, and each candidate is scored there by
+    :func:`~tactilecal.dynamic._ratfit.held_out_score` (weighted RMS of ``|C - model| /
+    |C|``; the log fit, one parameter, is scored on the same bins). Returns ``{"order",
+    "why", "rational", "wiener_r2"}``: ``order`` lists the models to try, the chosen one
+    first, then (for ``auto``) the others by score, in case the chosen one is refused; it
+    is empty when the model asked for could not be fitted.
     """
     used = tf.used
     f_hz, measured = tf.f_hz[used], tf.response[used]
@@ -204,15 +224,17 @@ def _choose_model(tf, log_fit, model):
             notes.append(f"no wiener fit: {f_hz.size} coherent bins; expected at least 4")
     enough = max(MATERIAL_ERROR, min(scores.values()) * (1 + MIN_IMPROVEMENT))
     if model == "auto":
-        chosen = next(m for m in _BY_COMPLEXITY if scores.get(m, np.inf) <= enough)
+        good = [m for m in _BY_COMPLEXITY if scores.get(m, np.inf) <= enough]
+        order = good + sorted((m for m in scores if m not in good), key=scores.get)
     else:
-        chosen = model if model in scores else None
+        order = [model] if model in scores else []
+    chosen = order[0] if order else None
     why = (f"held-out error: {', '.join(f'{labels[m]} {scores[m]:.2%}' for m in scores)} -> "
            f"{chosen or 'no ' + model + ' model'} (the simplest within 10 % of the best or "
            f"under {MATERIAL_ERROR:.0%})" + "".join(f"; {n}" for n in notes))
     if rfit is not None:
         why += f"; rational orders tried { {k: round(v, 4) for k, v in rfit.candidates.items()} }"
-    return {"model": chosen, "why": why, "rational": rfit, "wiener_r2": wiener_r2}
+    return {"order": order, "why": why, "rational": rfit, "wiener_r2": wiener_r2}
 
 
 def _rational_filter(log_fit, rfit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2,

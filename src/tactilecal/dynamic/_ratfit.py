@@ -94,11 +94,13 @@ class RationalFit:
 
 
 def _model(x, order):
-    """RationalModel from parameters ``[delay_ms, log g, log fz_1..n, log fp_1..n]`` (Hz)."""
-    x = x[1:]
+    """RationalModel from parameters ``[delay_ms, log fz_1..n, log fp_1..n]`` (Hz).
+
+    Unit gain at 0 Hz: the sweep was scaled statically (mean reference / mean sensor), so
+    ``H(0) = 1``, and a correction must leave a static calibration untouched.
+    """
     fz, fp = np.exp(x[1:order + 1]), np.exp(x[order + 1:])
-    base = RationalModel.from_corners_hz(zeros_hz=fz, poles_hz=fp)
-    return RationalModel(base.zeros_rad_s, base.poles_rad_s, base.gain * float(np.exp(x[0])))
+    return RationalModel.from_corners_hz(zeros_hz=fz, poles_hz=fp)
 
 
 def _correction(x, order, f_hz):
@@ -151,11 +153,11 @@ def fit_rational(f_hz, correction, coherence, order, *, fit_mask=None, max_delay
         corners = np.linspace(lo, hi, 2 * order + 2)[1:-1]
         corners = corners + shift * (corners[1] - corners[0]) if order > 0 else corners
         zeros, poles = corners[1::2], corners[0::2]  # poles below zeros: a falling gain
-        start = np.concatenate([[0.0, 0.0], zeros, poles])
+        start = np.concatenate([[0.0], zeros, poles])
         sol = optimize.least_squares(
             _residuals, start, args=(order, f_hz[mask], measured[mask], weight[mask]),
-            bounds=(np.r_[-max_delay_ms, -np.inf, [lo - 2] * 2 * order],
-                    np.r_[max_delay_ms, np.inf, [top] * 2 * order]))
+            bounds=(np.r_[-max_delay_ms, [lo - 2] * 2 * order],
+                    np.r_[max_delay_ms, [top] * 2 * order]))
         if best is None or sol.cost < best.cost:
             best = sol
     return _model(best.x, order), float(best.x[0]) * 1e-3
