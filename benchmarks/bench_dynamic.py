@@ -14,10 +14,10 @@ Throughput: every sensel of a 1936-sensel (44 x 44) recording at 4000 Hz correct
 ``apply_filter`` (multirate, direct, and dask-backed) against ``scipy.signal.filtfilt`` per
 channel in the same run; a rational (phase) filter offline and causal, the causal one against
 a bare ``scipy.signal.sosfilt`` of the same sections on the same array. filtfilt is timed
-on a subset of channels and scaled to all of them (said in the output). Two baselines: filtfilt with an FIR of the same length designed for
-sqrt(G) (filtfilt applies it twice, so the same gain: the like-for-like per-channel approach)
-and filtfilt with a 4th-order IIR (a cheap per-channel filter of another, lower quality: a
-floor for per-channel work). Times are best and median of ``--repeat`` runs.
+on a subset of channels and scaled to all of them (said in the output). Two baselines:
+filtfilt with an FIR of the same length designed for sqrt(G) (filtfilt applies it twice, so
+the same gain: the like-for-like per-channel approach) and filtfilt with a 4th-order IIR (a
+cheap per-channel filter of another, lower quality: a floor for per-channel work). Times are best and median of ``--repeat`` runs.
 """
 
 import argparse
