@@ -17,7 +17,8 @@ a bare ``scipy.signal.sosfilt`` of the same sections on the same array. filtfilt
 on a subset of channels and scaled to all of them (said in the output). Two baselines:
 filtfilt with an FIR of the same length designed for sqrt(G) (filtfilt applies it twice, so
 the same gain: the like-for-like per-channel approach) and filtfilt with a 4th-order IIR (a
-cheap per-channel filter of another, lower quality: a floor for per-channel work). Times are best and median of ``--repeat`` runs.
+cheap per-channel filter of another, lower quality: a floor for per-channel work). Times are
+best and median of ``--repeat`` runs.
 """
 
 import argparse
