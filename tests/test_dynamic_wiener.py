@@ -113,3 +113,39 @@ def test_the_offline_inverse_restores_amplitude_and_phase_of_a_tone(visco_filter
     seen = through_response(xr.DataArray(50 + tone, dims="time", coords={"time": t}), VISCO)
     out = apply_filter(seen, visco_filter).values - 50
     np.testing.assert_allclose(out[4000:-4000], tone[4000:-4000], atol=0.01)
+
+
+def test_figures_show_the_phase_of_the_correction_and_of_the_errors(creep_sweep, tmp_path):
+    from tactilecal.dynamic import plot_error, plot_transfer
+    from tactilecal.report import write_report
+
+    filt = fit_filter(*creep_sweep, model="wiener")
+    fig = plot_transfer(filt)
+    assert len(fig.axes) == 2 and "phase" in fig.axes[1].get_ylabel()
+    line = next(ln for ln in fig.axes[1].lines if ln.get_label() == "correction")
+    f_hz, phase = line.get_data()
+    np.testing.assert_allclose(phase, np.degrees(np.angle(filt.target(f_hz))))
+    assert len(plot_transfer(CorrectionFilter.from_model(
+        ("log10", {"A": 0.11}), fs_hz=1000, band_hz=(1, 100))).axes) == 1  # zero phase
+    ev = evaluate(filt, *creep_sweep)
+    error_fig = plot_error(ev)
+    assert [ax.get_ylabel() for ax in error_fig.axes] == ["amplitude error (%)",
+                                                           "phase error (deg)"]
+    filt.save(tmp_path / "FILTER.json")
+    html = write_report([tmp_path / "FILTER.json"], tmp_path / "r.html").read_text()
+    assert "transfer function, fitted model and filter gain" in html and "<img" in html
+
+
+def test_the_report_says_a_filter_was_forced_and_how_its_model_was_chosen(tmp_path):
+    from tactilecal.report import write_report
+
+    sweep = sine_sweep(seed=0, A=0.0, step_hz=2, cycles_high=10, **RATES)
+    forced = fit_filter(through_response(sweep.sensor, VISCO), sweep.reference, model="log",
+                        force=True)
+    forced.save(tmp_path / "FILTER.json")
+    html = write_report([tmp_path / "FILTER.json"], tmp_path / "r.html").read_text()
+    assert "written with --force although its model was refused" in html
+    auto = fit_filter(through_response(sweep.sensor, VISCO), sweep.reference, model="auto")
+    auto.save(tmp_path / "AUTO.json")
+    html = write_report([tmp_path / "AUTO.json"], tmp_path / "a.html").read_text()
+    assert "model_choice" in html and "-&gt; rational" in html and "forced" not in html

@@ -9,15 +9,19 @@ import numpy as np
 __all__ = ["plot_transfer", "plot_time", "plot_spectra", "plot_error"]
 
 
-def _axes(figsize):
+def _axes(figsize, rows=1):
+    """A figure and its axes (``rows`` stacked, sharing x, when more than one)."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=figsize, layout="constrained")
-    return fig, fig.subplots()
+    return fig, fig.subplots(rows, 1, sharex=True) if rows > 1 else fig.subplots()
 
 
 def plot_transfer(filt, *, figsize=(6.0, 4.0)):
     """Measured transfer function, fitted model and filter gain (thesis Figure 4.9).
+
+    A filter that undoes the sensor's phase (rational, wiener) gets a second panel: the
+    correction's phase, targeted and realised by the FIR (and the measured bins, wiener).
 
     Parameters
     ----------
@@ -35,7 +39,9 @@ def plot_transfer(filt, *, figsize=(6.0, 4.0)):
     >>> plot_transfer(f).axes[0].get_xlabel()
     'frequency (Hz)'
     """
-    fig, ax = _axes(figsize)
+    fig, axes = _axes((figsize[0], figsize[1] * 1.6), rows=2) if filt.has_phase else \
+        _axes(figsize)
+    ax = axes[0] if filt.has_phase else axes
     top = min(filt.fs_hz / 2, filt.band_hz[1] + 2 * filt.taper_hz)
     f = np.linspace(0.0, top, 800)
     if filt.fit is not None:
@@ -49,7 +55,22 @@ def plot_transfer(filt, *, figsize=(6.0, 4.0)):
     ax.set(xlabel="frequency (Hz)", ylabel="|reference| / |sensor|",
            title=f"transfer function: {filt.model} ({pars})")
     ax.legend(fontsize="small")
+    if filt.has_phase:
+        _phase_panel(axes[1], filt, f)
     return fig
+
+
+def _phase_panel(ax, filt, f):
+    """The correction's phase (degrees; positive = the filter advances) against frequency."""
+    if filt.model == "wiener":
+        ax.plot(filt.response_f_hz, np.degrees(np.angle(filt.response_gain)), ".", ms=3,
+                color="0.5", label="measured (coherent bins, regularised)")
+    ax.plot(f, np.degrees(np.angle(filt.target(f))), "-", color="C3", label="correction")
+    ax.plot(f, np.degrees(np.angle(filt.realised_target(f))), "--", color="C0", lw=1,
+            label=f"FIR, {filt.n_taps} taps")
+    ax.axhline(0.0, color="0.8", lw=0.8)
+    ax.set(xlabel="frequency (Hz)", ylabel="phase of the correction (deg)")
+    ax.legend(fontsize="small")
 
 
 def plot_time(ev, *, window_s=None, figsize=(8.0, 4.0)):
@@ -109,11 +130,22 @@ def plot_spectra(ev, *, f_max_hz=None, figsize=(8.0, 4.0)):
 def plot_error(ev, *, figsize=(6.0, 4.0)):
     """Percent amplitude error against frequency before/after correction (Figure 4.12).
 
+    With the evaluation's phase errors (``ev.phase_before_deg``), a second panel shows the
+    phase error against frequency before and after.
+
     Returns
     -------
     matplotlib.figure.Figure
     """
-    fig, ax = _axes(figsize)
+    phase = ev.phase_before_deg is not None
+    fig, axes = _axes((figsize[0], figsize[1] * 1.6), rows=2) if phase else _axes(figsize)
+    ax = axes[0] if phase else axes
+    if phase:
+        axes[1].axhline(0.0, color="0.7", lw=0.8)
+        axes[1].plot(ev.f_hz, ev.phase_before_deg, ".", ms=3, color="C1", label="static only")
+        axes[1].plot(ev.f_hz, ev.phase_after_deg, ".", ms=3, color="C0",
+                     label="static + dynamic")
+        axes[1].set(xlabel="frequency (Hz)", ylabel="phase error (deg)")
     ax.axhline(0.0, color="0.7", lw=0.8)
     ax.plot(ev.f_hz, ev.error_before_pct, ".", ms=3, color="C1", label="static only")
     ax.plot(ev.f_hz, ev.error_after_pct, ".", ms=3, color="C0", label="static + dynamic")

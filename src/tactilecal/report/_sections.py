@@ -138,12 +138,18 @@ def filter_blocks(data, label):
     keys = ("model", "A", "log_base", "lag_s", "fs_hz", "band_hz", "outside", "n_taps")
     blocks = [table_html([(k, data.get(k)) for k in keys if k in data],
                          header=("key", "value"))]
+    if data.get("forced"):
+        blocks.append(note_html(f"{label} was written with --force although its model was "
+                                f"refused: {data.get('forced_reason')}"))
     fit = data.get("fit")
     if not fit:
         return blocks + [note_html(f"{label}: no fitted transfer function stored (fit is "
                                    "empty), so no fit figure")]
-    blocks.append(table_html([(k, fit.get(k)) for k in ("r2", "rmse", "method")],
-                             header=("fit", "value")))
+    excluded = fit.get("excluded") or {}
+    rows = [(k, fit.get(k)) for k in ("r2", "rmse", "method", "r2_complex")]
+    rows += [(k, excluded[k]) for k in ("model_choice", "model_r2_complex", "rational",
+                                        "sensor_delay_s") if k in excluded]
+    blocks.append(table_html(rows, header=("fit", "value")))
     try:
         from tactilecal.dynamic._plots import plot_transfer
     except ImportError:
