@@ -10,7 +10,7 @@ __all__ = ["plot_transfer", "plot_time", "plot_spectra", "plot_error"]
 
 
 def _axes(figsize, rows=1):
-    """A figure and its axes (``rows`` stacked, sharing x, when more than one)."""
+    """Return a figure and its axes (``rows`` stacked, sharing x, when more than one)."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=figsize, layout="constrained")
@@ -61,7 +61,7 @@ def plot_transfer(filt, *, figsize=(6.0, 4.0)):
 
 
 def _phase_panel(ax, filt, f):
-    """The correction's phase (degrees; positive = the filter advances) against frequency."""
+    """Plot the correction's phase (degrees; positive = the filter advances) on ``ax``."""
     if filt.model == "wiener":
         ax.plot(filt.response_f_hz, np.degrees(np.angle(filt.response_gain)), ".", ms=3,
                 color="0.5", label="measured (coherent bins, regularised)")
