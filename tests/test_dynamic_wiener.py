@@ -149,3 +149,11 @@ def test_the_report_says_a_filter_was_forced_and_how_its_model_was_chosen(tmp_pa
     auto.save(tmp_path / "AUTO.json")
     html = write_report([tmp_path / "AUTO.json"], tmp_path / "a.html").read_text()
     assert "model_choice" in html and "-&gt; rational" in html and "forced" not in html
+
+
+def test_a_sweep_shorter_than_a_few_cycles_of_its_lowest_frequency_is_refused():
+    sweep = sine_sweep(seed=0, A=0.11, step_hz=2, cycles_high=10, **RATES)
+    with pytest.raises(ValueError, match=r"simulated sensor and simulated load cell \(.* s after "
+                       r"alignment\): .* holds .* cycles of the lowest fitted frequency"):
+        fit_filter(sweep.sensor.isel(time=slice(0, 2500)),
+                   sweep.reference.isel(time=slice(0, 3200)), model="auto")

@@ -123,12 +123,14 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
     sens = sens.copy(data=sens.values * factor)  # keeps attrs (the file named in errors)
     tf = transfer_function(sens, ref, method=method, nperseg=nperseg,
                            min_coherence=min_coherence, band_hz=band_hz)
+    t_s = sens["time"].values
+    records = (f"{label(sensor, 'sensor')} and {label(reference, 'reference')} "
+               f"({t_s[0]:.6g}-{t_s[-1]:.6g} s after alignment)")
     try:
         fit = fit_transfer(tf, model="log" if model in CHOSEN_MODELS else model)
     except ValueError as exc:  # e.g. no coherent band: name the records and their overlap
-        t_s = sens["time"].values
-        raise ValueError(f"{label(sensor, 'sensor')} and {label(reference, 'reference')} "
-                         f"({t_s[0]:.6g}-{t_s[-1]:.6g} s after alignment): {exc}") from None
+        raise ValueError(f"{records}: {exc}") from None
+    _check_cycles(tf, t_s[-1] - t_s[0], records)
     fit.excluded["static_factor"] = factor
     where = label(sensor, "sensor")
     if model not in CHOSEN_MODELS:
@@ -163,6 +165,20 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
         return build(choice["order"][0], force=True)
     raise ValueError(f"{where}: {'; '.join(refusals)}; expected a model of the sensor (pass "
                      "force=True, or --force, to write the filter anyway, marked forced)")
+
+
+MIN_CYCLES = 3
+"""Cycles of its lowest fitted frequency a sweep must hold (a few: Welch needs them)."""
+
+
+def _check_cycles(tf, duration_s, records):
+    """Refuse a sweep shorter than ``MIN_CYCLES`` cycles of its lowest fitted frequency."""
+    f_low = float(tf.f_hz[tf.used].min())
+    if duration_s * f_low < MIN_CYCLES:
+        raise ValueError(f"{records}: {duration_s:.3g} s holds {duration_s * f_low:.2g} cycles "
+                         f"of the lowest fitted frequency {f_low:g} Hz; expected at least "
+                         f"{MIN_CYCLES} (a longer sweep, or --band from "
+                         f"{MIN_CYCLES / duration_s:.2g} Hz)")
 
 
 #: Models :func:`fit_filter` fits beside the thesis' log model, and ``auto``, that chooses.
