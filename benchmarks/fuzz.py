@@ -44,7 +44,7 @@ from tactilecal.calibration import (
     load_points,
     points_from_frames,
 )
-from tactilecal.dynamic import CorrectionFilter, load_filter
+from tactilecal.dynamic import CorrectionFilter, RationalModel, load_filter
 from tactilecal.io import read_tekscan, read_timeseries
 from tactilecal.simulate import deadweight_session, make_sensor
 
@@ -110,6 +110,15 @@ def make_seeds(folder):
     filt = folder / "FILTER.json"
     CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000, band_hz=(1, 140)).save(filt)
     seeds.append(("filter", filt))
+    for name, phase_filter in (  # the filters with phase: a rational model, a measured one
+            ("RATIONAL.json", CorrectionFilter("rational", {"order": 1}, 1000.0, (1.0, 100.0),
+                                               rational=RationalModel.from_corners_hz(
+                                                   zeros_hz=[40.0], poles_hz=[10.0]))),
+            ("WIENER.json", CorrectionFilter("wiener", {"bins": 3}, 1000.0, (1.0, 100.0),
+                                             response_f_hz=np.array([10.0, 50.0, 100.0]),
+                                             response_gain=np.array([1.1, 1.5 + 0.3j, 2j])))):
+        phase_filter.save(folder / name)
+        seeds.append(("filter", folder / name))
     return seeds
 
 
@@ -278,8 +287,10 @@ def _check_equilibration(eq):
 
 
 def _check_filter(filt):
+    grid = np.linspace(0.0, filt.fs_hz / 2, 64)
     ok = (filt.fs_hz > 0 and 0 <= filt.band_hz[0] < filt.band_hz[1] <= filt.fs_hz / 2
-          and filt.n_taps >= 1 and all(math.isfinite(v) for v in filt.params.values()))
+          and filt.n_taps >= 1 and all(math.isfinite(v) for v in filt.params.values())
+          and np.all(np.isfinite(filt.target(grid))))
     return None if ok else "filter rate, band, taps or parameters out of range"
 
 

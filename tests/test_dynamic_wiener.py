@@ -157,3 +157,19 @@ def test_a_sweep_shorter_than_a_few_cycles_of_its_lowest_frequency_is_refused():
                        r"alignment\): .* holds .* cycles of the lowest fitted frequency"):
         fit_filter(sweep.sensor.isel(time=slice(0, 2500)),
                    sweep.reference.isel(time=slice(0, 3200)), model="auto")
+
+
+@pytest.mark.parametrize(("params", "match"), [
+    ({}, "key 'params' of .* lacks the keys \\['A'\\]"),
+    ({"A": 1e308}, "the correction its parameters give is inf"),
+    ({"A": -5.0}, "expected a finite, positive gain in the band"),
+])
+def test_a_filter_file_whose_parameters_give_no_usable_correction_is_refused(
+        tmp_path, params, match):
+    path = tmp_path / "FILTER.json"
+    CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=1000, band_hz=(1, 100)).save(path)
+    stored = json.loads(path.read_text())
+    stored["params"] = params
+    path.write_text(json.dumps(stored))
+    with pytest.raises(ValueError, match=match):
+        load_filter(path)

@@ -363,12 +363,14 @@ class CorrectionFilter:
         gain = None if not response else np.asarray(response["gain"], float)
         if "phase_rad" in response:
             gain = gain * np.exp(1j * np.asarray(response["phase_rad"], float))
-        return cls(d["model"], dict(d["params"]), float(d["fs_hz"]), tuple(d["band_hz"]),
+        filt = cls(d["model"], dict(d["params"]), float(d["fs_hz"]), tuple(d["band_hz"]),
                    d["outside"], float(d["taper_hz"]), int(d["n_taps"]),
                    None if not response else np.asarray(response["f_hz"], float), gain,
                    None if d.get("fit") is None else TransferFit.from_dict(d["fit"]),
                    d.get("lag_s"), d.get("forced_reason"),
                    None if d.get("rational") is None else RationalModel.from_dict(d["rational"]))
+        _check_correction(filt, where)
+        return filt
 
     def save(self, path):
         """Write FILTER.json atomically."""
@@ -417,6 +419,9 @@ def _check_filter_dict(d, where):
     for name, value in check_type(d["params"], dict, key.format("params"),
                                   expected="an object of numbers").items():
         check_number(value, key.format(f"params.{name}"))
+    if d["model"] in MODELS:
+        require_keys(d["params"], MODELS[d["model"]][1], key.format("params"),
+                     expected=f"the parameters of the {d['model']} model")
     if d["outside"] not in ("taper", "hold"):
         raise ValueError(f"{key.format('outside')} is {d['outside']!r}; expected 'taper' or "
                          "'hold'")
@@ -451,6 +456,18 @@ def _check_filter_dict(d, where):
         if np.any(np.diff(response["f_hz"]) <= 0):
             raise ValueError(f"{key.format('response.f_hz')} does not increase; expected "
                              "increasing frequencies")
+
+
+def _check_correction(filt, where):
+    """Refuse parameters whose correction is not finite, or not positive, inside the band."""
+    grid = np.linspace(0.0, filt.band_hz[1], 65)
+    with np.errstate(all="ignore"):
+        target = filt.target(grid)
+    bad = ~np.isfinite(target) | (np.abs(target) <= 0 if filt.has_phase else target <= 0)
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"{where}: the correction its parameters give is {target[k]:.3g} at "
+                         f"{grid[k]:.3g} Hz; expected a finite, positive gain in the band")
 
 
 def load_filter(path):
