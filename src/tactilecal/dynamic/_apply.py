@@ -290,9 +290,7 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
         raise ValueError(f"{where} has {data.shape[0]} frames ({data.shape[0] / fs_hz:.3g} "
                          f"s); expected at least the filter length {filt.n_taps} frames "
                          f"({filt.length_s:.3g} s)")
-    if causal and filt.rational is None:
-        filt.sos()  # raises: a zero-phase filter has no causal form
-    if causal:
+    if causal:  # filt.sos() raises first for a filter with no causal form
         values = _apply_causal(data, filt)
     elif data.chunks is not None:
         values = _apply_dask(data.data.astype(float), filt, precision, method)

@@ -60,7 +60,7 @@ MIN_R2_COMPLEX = 0.9
 """A model must explain at least this share of the complex correction (issue 13)."""
 
 MAX_NOISE_GAIN = 10.0
-"""The largest gain a rational inverse may apply at any frequency (noise amplification)."""
+"""The largest gain an inverse with phase may apply at any frequency (noise amplification)."""
 
 
 def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
@@ -84,8 +84,8 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
         with a causal form); ``"wiener"``, the measured complex correction regularised by
         its random error (:mod:`~tactilecal.dynamic._wiener`); or ``"auto"``: of log,
         rational and wiener (by their number of parameters), the simplest whose error on
-        held-out bins is within 10 % of the best (the scores and the reason are in
-        ``fit.excluded["model_choice"]``).
+        held-out bins is within 10 % of the best or under 1 %; if it is refused, the next
+        (the scores, the choice and any refusal are in ``fit.excluded["model_choice"]``).
     band_hz : tuple of float, optional
         Only bins inside are fitted; it is also the filter's calibrated band (default: the
         range of the coherent bins).
@@ -133,38 +133,29 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
     _check_cycles(tf, t_s[-1] - t_s[0], records)
     fit.excluded["static_factor"] = factor
     where = label(sensor, "sensor")
-    if model not in CHOSEN_MODELS:
-        return _log_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2, force,
-                           where)
-    choice = _choose_model(tf, fit, model)
-    fit.excluded["model_choice"] = choice["why"]
-    if not choice["order"]:  # the model asked for could not be fitted
-        raise ValueError(f"{where}: {choice['why']}")
-
-    def build(name, force):
-        if name == "rational":
-            return _rational_filter(fit, choice["rational"], tf, band_hz, outside, taper_hz,
-                                    n_taps, lag_s, min_r2, force, where)
-        if name == "wiener":
-            return _wiener_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2,
-                                  force, where, choice["wiener_r2"])
-        return _log_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2, force,
-                           where)
-
+    choice = {"order": [model]}
+    if model in CHOSEN_MODELS:
+        choice = _choose_model(tf, fit, model)
+        fit.excluded["model_choice"] = choice["why"]
+        if not choice["order"]:  # the model asked for could not be fitted
+            raise ValueError(f"{where}: {choice['why']}")
+    design = {"band_hz": band_hz or (float(fit.f_hz.min()), float(fit.f_hz.max())),
+              "outside": outside, "taper_hz": taper_hz, "n_taps": n_taps}
     refusals = []
-    for name in choice["order"]:  # the chosen model first, then the others by their score
-        try:
-            filt = build(name, force=False)
-        except ValueError as exc:
-            refusals.append(str(exc).split("; expected a model")[0].removeprefix(f"{where}: "))
-            continue
-        if refusals:
-            fit.excluded["model_choice"] += f"; refused before {name}: {'; '.join(refusals)}"
-        return filt
-    if force:
-        return build(choice["order"][0], force=True)
-    raise ValueError(f"{where}: {'; '.join(refusals)}; expected a model of the sensor (pass "
-                     "force=True, or --force, to write the filter anyway, marked forced)")
+    for name in choice["order"]:  # the chosen model first, then (auto) the others by score
+        reason = _refusal(name, fit, tf, choice, min_r2)
+        if reason is None:
+            if refusals:
+                fit.excluded["model_choice"] += (f"; refused before {name}: "
+                                                 f"{'; '.join(refusals)}")
+            return _build(name, fit, tf, choice, design, lag_s, None)
+        refusals.append(reason)
+    if not force:
+        raise ValueError(f"{where}: {'; '.join(refusals)}; expected a model of the sensor "
+                         "(pass force=True, or --force, to write the filter anyway, marked "
+                         "forced)")
+    return _build(choice["order"][0], fit, tf, choice, design, lag_s,
+                  f"{where}: {refusals[0]}")
 
 
 MIN_CYCLES = 3
@@ -187,23 +178,6 @@ CHOSEN_MODELS = ("auto", "rational", "wiener")
 _BY_COMPLEXITY = ("log", "rational", "wiener")
 
 
-def _refuse_or_mark(reason, force):
-    """Raise ``reason`` unless ``force``; return it (None when the fit is fine)."""
-    if reason and not force:
-        raise ValueError(f"{reason}; expected a model of the sensor (pass force=True, or "
-                         "--force, to write the filter anyway, marked forced)")
-    return reason or None
-
-
-def _log_filter(fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2, force, where):
-    """Build the thesis' zero-phase filter of a log-type fit (refused below ``min_r2``)."""
-    reason = _refuse_or_mark(_poor_fit_reason(fit, tf, min_r2, where), force)
-    filt = CorrectionFilter.from_model(fit, fs_hz=tf.fs_hz, band_hz=band_hz, outside=outside,
-                                       taper_hz=taper_hz, n_taps=n_taps, lag_s=lag_s)
-    filt.forced = reason
-    return filt
-
-
 def _choose_model(tf, log_fit, model):
     """Score the candidates on held-out bins; choose the simplest that is good enough.
 
@@ -214,9 +188,10 @@ def _choose_model(tf, log_fit, model):
     Wiener correction are fitted without them, and each candidate is scored there by
     :func:`~tactilecal.dynamic._ratfit.held_out_score` (weighted RMS of ``|C - model| /
     |C|``; the log fit, one parameter, is scored on the same bins). Returns ``{"order",
-    "why", "rational", "wiener_r2"}``: ``order`` lists the models to try, the chosen one
-    first, then (for ``auto``) the others by score, in case the chosen one is refused; it
-    is empty when the model asked for could not be fitted.
+    "why", "rational", "wiener", "wiener_r2"}``: ``order`` lists the models to try, the
+    chosen one first, then (for ``auto``) the others by score, in case the chosen one is
+    refused; it is empty when the model asked for could not be fitted. ``wiener`` is the
+    regularised correction of the used bins (None when not a candidate).
     """
     used = tf.used
     f_hz, measured = tf.f_hz[used], tf.response[used]
@@ -224,7 +199,7 @@ def _choose_model(tf, log_fit, model):
     wanted = _BY_COMPLEXITY[1:] if model == "auto" else (model,)
     error = tf.gain_error[used]
     scores = {"log": held_out_score(measured[held], log_fit.fitted[held], error[held])}
-    labels, notes, rfit, wiener_r2 = {"log": "log"}, [], None, None
+    labels, notes, rfit, wiener, wiener_r2 = {"log": "log"}, [], None, None, None
     if "rational" in wanted:
         try:
             rfit = choose_rational(f_hz, measured, tf.coherence[used], error, fs_hz=tf.fs_hz)
@@ -235,7 +210,7 @@ def _choose_model(tf, log_fit, model):
     if "wiener" in wanted:
         if held.sum() >= 2 and (~held).sum() >= 2:
             scores["wiener"], wiener_r2 = wiener_held_out(f_hz, measured, error, held)
-            labels["wiener"] = "wiener"
+            labels["wiener"], wiener = "wiener", wiener_correction(measured, error)
         else:
             notes.append(f"no wiener fit: {f_hz.size} coherent bins; expected at least 4")
     enough = max(MATERIAL_ERROR, min(scores.values()) * (1 + MIN_IMPROVEMENT))
@@ -250,71 +225,78 @@ def _choose_model(tf, log_fit, model):
            f"under {MATERIAL_ERROR:.0%})" + "".join(f"; {n}" for n in notes))
     if rfit is not None:
         why += f"; rational orders tried { {k: round(v, 4) for k, v in rfit.candidates.items()} }"
-    return {"order": order, "why": why, "rational": rfit, "wiener_r2": wiener_r2}
+    return {"order": order, "why": why, "rational": rfit, "wiener": wiener,
+            "wiener_r2": wiener_r2}
 
 
-def _rational_filter(log_fit, rfit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2,
-                     force, where):
-    """Return the inverse filter of a rational fit (refused below ``min_r2``)."""
-    reason = None
-    if rfit.r2_complex < min_r2:
-        reason = (f"{where}: the best rational model (order {rfit.order}) explains "
-                  f"{rfit.r2_complex:.0%} of the complex correction, less than {min_r2:.0%}; "
-                  "no model of the family (log, log10, log-quadratic, rational 1-4, wiener) "
-                  "describes this sensor")
-    nyquist = np.linspace(0.0, tf.fs_hz / 2, 2049)  # the causal inverse's gain up to Nyquist
-    reason = reason or _noise_reason(rfit.model.correction(nyquist), "rational model", where)
-    reason = _refuse_or_mark(reason, force)
-    band = band_hz or (float(log_fit.f_hz.min()), float(log_fit.f_hz.max()))
-    log_fit.excluded["rational"] = rfit.summary()
-    log_fit.excluded["sensor_delay_s"] = rfit.delay_s
-    log_fit.excluded["model_r2_complex"] = rfit.r2_complex
-    return CorrectionFilter("rational", {"order": rfit.order}, tf.fs_hz, band, outside,
-                            taper_hz or max(5.0, band[1] / 4), n_taps or int(tf.fs_hz) | 1,
-                            fit=log_fit, lag_s=None if lag_s is None else lag_s - rfit.delay_s,
-                            forced=reason, rational=rfit.model)
+def _refusal(name, fit, tf, choice, min_r2):
+    """Why model ``name`` does not describe the sensor, or its inverse would amplify noise.
+
+    None when it is fine. ``fit`` is the log-type fit, ``choice`` what :func:`_choose_model`
+    returned (or ``{"order": [name]}`` for the thesis' models).
+    """
+    if name == "rational":
+        rfit = choice["rational"]
+        if rfit.r2_complex < min_r2:
+            return (f"the best rational model (order {rfit.order}) explains "
+                    f"{rfit.r2_complex:.0%} of the complex correction, less than "
+                    f"{min_r2:.0%}; no model of the family (log, log10, log-quadratic, "
+                    "rational 1-4, wiener) describes this sensor")
+        nyquist = np.linspace(0.0, tf.fs_hz / 2, 2049)  # the causal inverse's gain to Nyquist
+        return _noise_reason(rfit.model.correction(nyquist), "rational model")
+    if name == "wiener":
+        r2 = choice["wiener_r2"]
+        if not r2 >= min_r2:
+            return (f"the regularised measured correction predicts {r2:.0%} of the held-out "
+                    f"bins' complex correction, less than {min_r2:.0%}; the response is too "
+                    "noisy or too ragged between bins for any model of the family")
+        return _noise_reason(choice["wiener"], "measured correction")
+    return _poor_fit_reason(fit, tf, min_r2)
 
 
-def _noise_reason(correction, what, where):
+def _noise_reason(correction, what):
     """Why an inverse would amplify noise (None when its gain stays within the limit)."""
     noise_gain = float(np.max(np.abs(correction)))
     if noise_gain <= MAX_NOISE_GAIN:
         return None
-    return (f"{where}: the inverse of the {what} amplifies up to {noise_gain:.3g}x (limit "
+    return (f"the inverse of the {what} amplifies up to {noise_gain:.3g}x (limit "
             f"{MAX_NOISE_GAIN:g}x): it would amplify noise")
 
 
-def _wiener_filter(log_fit, tf, band_hz, outside, taper_hz, n_taps, lag_s, min_r2, force,
-                   where, held_out_r2):
-    """Return the Wiener-regularised measured correction as a filter (see ``_wiener``).
+def _build(name, fit, tf, choice, design, lag_s, forced):
+    """Build the filter of model ``name`` (``forced``: why it was refused, or None).
 
-    Its R2 is that of the held-out bins (in-sample it would explain every bin by
-    construction); the clock offset keeps the sensor's own delay (no model separates them).
+    A rational filter's ``lag_s`` is the clock offset alone (the sensor's delay, fitted
+    jointly, is in ``fit.excluded``). A wiener filter's R2 is that of the held-out bins (in
+    sample it explains every bin by construction); its lag keeps the sensor's own delay
+    (no model separates them).
     """
-    used = tf.used
-    corrected = wiener_correction(tf.response[used], tf.gain_error[used])
-    reason = None
-    if held_out_r2 is None or not held_out_r2 >= min_r2:
-        reason = (f"{where}: the regularised measured correction predicts "
-                  f"{held_out_r2 if held_out_r2 is not None else float('nan'):.0%} of the "
-                  f"held-out bins' complex correction, less than {min_r2:.0%}; the "
-                  "response is too noisy or too ragged between bins for any model of the "
-                  "family")
-    reason = _refuse_or_mark(reason or _noise_reason(corrected, "measured correction", where),
-                             force)
-    band = band_hz or (float(log_fit.f_hz.min()), float(log_fit.f_hz.max()))
-    log_fit.excluded["model_r2_complex"] = held_out_r2  # of the held-out bins
-    return CorrectionFilter("wiener", {"bins": int(used.sum())}, tf.fs_hz, band, outside,
-                            taper_hz or max(5.0, band[1] / 4), n_taps or int(tf.fs_hz) | 1,
-                            tf.f_hz[used], corrected, fit=log_fit, lag_s=lag_s, forced=reason)
+    if name == "rational":
+        rfit = choice["rational"]
+        fit.excluded.update(rational=rfit.summary(), sensor_delay_s=rfit.delay_s,
+                            model_r2_complex=rfit.r2_complex)
+        return CorrectionFilter.design(
+            "rational", {"order": rfit.order}, fs_hz=tf.fs_hz, **design, fit=fit,
+            lag_s=None if lag_s is None else lag_s - rfit.delay_s, forced=forced,
+            rational=rfit.model)
+    if name == "wiener":
+        used = tf.used
+        fit.excluded["model_r2_complex"] = choice["wiener_r2"]  # of the held-out bins
+        return CorrectionFilter.design(
+            "wiener", {"bins": int(used.sum())}, fs_hz=tf.fs_hz, **design,
+            response_f_hz=tf.f_hz[used], response_gain=choice["wiener"], fit=fit,
+            lag_s=lag_s, forced=forced)
+    filt = CorrectionFilter.from_model(fit, fs_hz=tf.fs_hz, lag_s=lag_s, **design)
+    filt.forced = forced
+    return filt
 
 
-def _poor_fit_reason(fit, tf, min_r2, where):
-    """Why the fitted model does not describe the sensor (None when it does)."""
+def _poor_fit_reason(fit, tf, min_r2):
+    """Why the fitted log-type model does not describe the sensor (None when it does)."""
     if fit.r2_complex is None or fit.r2_complex >= min_r2:
         return None
     lag_deg = float(np.degrees(np.abs(np.angle(tf.response[tf.used]))).max())
-    return (f"{where}: the {fit.model} model explains {fit.r2_complex:.0%} of the complex "
+    return (f"the {fit.model} model explains {fit.r2_complex:.0%} of the complex "
             f"correction (magnitude R2 {fit.r2:.2f}), less than {min_r2:.0%}; the measured "
             f"response has a phase of up to {lag_deg:.0f} degrees, which a zero-phase model "
             "cannot express")

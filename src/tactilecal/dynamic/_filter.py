@@ -128,8 +128,8 @@ class CorrectionFilter:
     forced : str or None
         Why the fit was refused when the filter was built anyway (``force=True``).
     rational : RationalModel or None
-        For ``model="rational"``: the sensor response ``H``; the filter applies its causal
-        inverse ``1 / H`` (:meth:`sos`), magnitude and phase, by ``scipy.signal.sosfilt``.
+        For ``model="rational"``: the sensor response ``H``; the filter applies ``1 / H``,
+        magnitude and phase (offline by the centred FIR, or causally by :meth:`sos`).
     """
 
     model: str
@@ -208,9 +208,20 @@ class CorrectionFilter:
                 raise ValueError("band_hz is required when building from (model, params)")
         if model not in MODELS:
             raise ValueError(f"model={model!r}; expected one of {', '.join(MODELS)}")
-        return cls(model, params, float(fs_hz), tuple(band_hz), outside,
-                   taper_hz or max(5.0, band_hz[1] / 4), n_taps or _odd(fs_hz), fit=fit,
-                   lag_s=lag_s)
+        return cls.design(model, params, fs_hz=fs_hz, band_hz=band_hz, outside=outside,
+                          taper_hz=taper_hz, n_taps=n_taps, fit=fit, lag_s=lag_s)
+
+    @classmethod
+    def design(cls, model, params, *, fs_hz, band_hz, outside="taper", taper_hz=None,
+               n_taps=None, **fields):
+        """Build a filter with the default design choices where none are given.
+
+        ``taper_hz``: a quarter of the band's top, at least 5 Hz; ``n_taps``: one second of
+        samples, made odd (1 Hz resolution). ``fields`` are the other attributes
+        (``fit``, ``lag_s``, ``rational``, ``response_f_hz``, ...).
+        """
+        return cls(model, dict(params), float(fs_hz), tuple(band_hz), outside,
+                   taper_hz or max(5.0, band_hz[1] / 4), n_taps or _odd(fs_hz), **fields)
 
     @classmethod
     def from_response(cls, f_hz, gain, *, fs_hz, band_hz=None, outside="taper",
@@ -242,9 +253,9 @@ class CorrectionFilter:
                              "expected equal lengths >= 2 and increasing frequencies")
         if band_hz is None:
             band_hz = (float(f_hz[0]), float(f_hz[-1]))
-        return cls("response", {}, float(fs_hz), tuple(band_hz), outside,
-                   taper_hz or max(5.0, band_hz[1] / 4), n_taps or _odd(fs_hz),
-                   f_hz, gain, lag_s=lag_s)
+        return cls.design("response", {}, fs_hz=fs_hz, band_hz=band_hz, outside=outside,
+                          taper_hz=taper_hz, n_taps=n_taps, response_f_hz=f_hz,
+                          response_gain=gain, lag_s=lag_s)
 
     # -- frequency response -------------------------------------------------------------
     def sos(self):
