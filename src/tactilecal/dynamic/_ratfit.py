@@ -2,8 +2,9 @@
 
 A linear viscoelastic sensor (creep, compliant foam or mounting) relaxes with real time
 constants, so its response ``H = sensor / reference`` is a ratio of first-order factors,
-``H(f) = g prod(1 + j f / fz_i) / prod(1 + j f / fp_i)`` with real positive corner
-frequencies: minimum-phase and stable by construction, so ``1 / H`` is a stable causal
+``H(f) = prod(1 + j f / fz_i) / prod(1 + j f / fp_i)`` with real positive corner
+frequencies and unit gain at 0 Hz (the sweep was scaled statically): minimum-phase and
+stable by construction, so ``1 / H`` is a stable causal
 correction (METHOD-NOTES D: the standard linear solid is the first-order case). The corners
 are fitted in log-frequency by :func:`scipy.optimize.least_squares` on the real and
 imaginary parts of ``C - 1 / H`` over the coherent bins (``C`` = reference / sensor, the
@@ -103,9 +104,14 @@ def _model(x, order):
     return RationalModel.from_corners_hz(zeros_hz=fz, poles_hz=fp)
 
 
+def _delayed_correction(model, delay_s, f_hz):
+    """``1/H`` times the residual clock delay ``exp(-j 2 pi f delay)``: the fitted ``C``."""
+    return model.correction(f_hz) * np.exp(-2j * np.pi * f_hz * delay_s)
+
+
 def _correction(x, order, f_hz):
-    """``1/H`` times the residual clock delay ``exp(-j 2 pi f delay)`` (x[0] in ms)."""
-    return _model(x, order).correction(f_hz) * np.exp(-2j * np.pi * f_hz * x[0] * 1e-3)
+    """:func:`_delayed_correction` of the parameters ``x`` (``x[0]``: the delay in ms)."""
+    return _delayed_correction(_model(x, order), x[0] * 1e-3, f_hz)
 
 
 def _residuals(x, order, f_hz, measured, weight):
@@ -195,10 +201,10 @@ def choose_rational(f_hz, correction, coherence, gain_error, *, orders=ORDERS, f
         except (ValueError, np.linalg.LinAlgError):
             scores[order] = float("inf")
             continue
-        predicted = model.correction(f_hz[held]) * np.exp(-2j * np.pi * f_hz[held] * delay_s)
+        predicted = _delayed_correction(model, delay_s, f_hz[held])
         scores[order] = held_out_score(correction[held], predicted, gain_error[held])
     best = min(scores.values())
     order = min(o for o, s in scores.items() if s <= best * (1 + MIN_IMPROVEMENT))
     model, delay_s = fit_rational(f_hz, correction, coherence, order, fs_hz=fs_hz)
-    r2 = complex_r2(correction, model.correction(f_hz) * np.exp(-2j * np.pi * f_hz * delay_s))
+    r2 = complex_r2(correction, _delayed_correction(model, delay_s, f_hz))
     return RationalFit(model, order, r2, scores[order], scores, delay_s)
