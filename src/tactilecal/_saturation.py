@@ -21,7 +21,7 @@ dropping raised Zvyagin's worst-session share of held-out patches within 5 % fro
 
 
 def resolve_saturated(saturated=None, keep_saturated=None):
-    """Return ``"drop"`` or ``"keep"`` from the option or its older spelling.
+    """Return the saturation treatment (of ``SATURATED_CHOICES``) from the option or its alias.
 
     ``keep_saturated`` (True/False, the static methods' earlier option) is an alias; given
     both, they must agree.
