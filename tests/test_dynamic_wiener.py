@@ -173,3 +173,12 @@ def test_a_filter_file_whose_parameters_give_no_usable_correction_is_refused(
     path.write_text(json.dumps(stored))
     with pytest.raises(ValueError, match=match):
         load_filter(path)
+
+
+def test_auto_takes_the_next_candidate_when_the_chosen_one_is_refused():
+    """The thesis sensor: log chosen (R2 0.9898) but refused at min_r2 0.9905; wiener (0.9912)."""
+    sweep = sine_sweep(seed=0, A=0.11, step_hz=2, cycles_high=10, **RATES)
+    assert fit_filter(sweep.sensor, sweep.reference, model="auto").model == "log"
+    filt = fit_filter(sweep.sensor, sweep.reference, model="auto", min_r2=0.9905)
+    assert filt.model == "wiener" and filt.forced is None
+    assert "refused before wiener: the log model explains" in filt.fit.excluded["model_choice"]
