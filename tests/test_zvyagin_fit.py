@@ -78,7 +78,7 @@ def test_share_table_and_groups():
 
 def test_modes_differ_only_where_documented():
     h, load, _ = _synthetic(seed=6)
-    faithful = zvyagin_fit(h, load)
+    faithful = zvyagin_fit(h, load, mode="faithful")
     robust = zvyagin_fit(h, load, mode="robust")
     assert faithful.separation == robust.separation
     assert faithful.options["outliers"] == "none" and robust.options["outliers"] == "trim"
@@ -164,7 +164,9 @@ def test_no_root_above_three():
     h = np.zeros((3, 256), dtype=np.int64)
     h[:, 50] = [10, 20, 40]           # more sensels ...
     load = np.array([100.0, 50.0, 25.0])   # ... carry less load: no root Y > 3
-    with pytest.raises(ValueError, match=r"no pair of the 3 usable patches has a root Y > 3"):
+    with pytest.raises(ValueError, match=r"no pair of the 3 usable patches has a root Y > 3 "):
+        zvyagin_fit(h, load, mode="faithful")
+    with pytest.raises(ValueError, match=r"has a root Y > 1.732 of eq"):  # robust: b > 0.5
         zvyagin_fit(h, load)
 
 
@@ -198,7 +200,7 @@ def test_bad_loads_labels_and_options():
 def test_energy_minimum_at_range_end_warns():
     h, load, _ = _synthetic(n=30, seed=14)
     with pytest.warns(UserWarning, match=r"E\(b0\) is smallest at the end of the b range"):
-        res = zvyagin_fit(h, load, b_range=(1.3, 1.5))
+        res = zvyagin_fit(h, load, b_range=(1.3, 1.5), mode="faithful")
     assert res.final["at_bound"] and res.b0 == pytest.approx(1.3)
 
 
@@ -230,4 +232,4 @@ def test_mislabelled_heavy_load_drives_faithful_E_to_the_range_end():
     load = load.copy()
     load[7] *= 50.0
     with pytest.warns(UserWarning, match=r"E\(b0\) is smallest at the end of the b range"):
-        zvyagin_fit(h, load)
+        zvyagin_fit(h, load, mode="faithful")

@@ -27,7 +27,7 @@ def register(subparsers):
     p.add_argument("--objective", help="power: l2, l1 or relative; others: l2 or relative")
     p.add_argument("--mode", choices=("faithful", "robust"),
                    help="zvyagin: follow the paper as written or the robust variant "
-                        "(docs/zvyagin.md; default faithful)")
+                        "(docs/zvyagin.md; default robust, as in the Python API)")
     p.add_argument("--degree", type=positive_int, help="polynomial degree (default 3)")
     p.add_argument("--knots", help="piecewise/lut knots, comma-separated raw values")
     p.add_argument("--point", type=non_negative_int,

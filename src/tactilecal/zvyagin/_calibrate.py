@@ -13,11 +13,16 @@ from tactilecal.zvyagin._approx import (
     search_separation,
     separation_domain,
 )
-from tactilecal.zvyagin._fit import fit_power_law, minimise_energy, patch_power_sums
+from tactilecal.zvyagin._fit import (
+    fit_power_law,
+    minimise_energy,
+    minimise_energy_free,
+    patch_power_sums,
+)
 from tactilecal.zvyagin._pairs import solve_pairs
 from tactilecal.zvyagin._result import ZvyaginResult
 
-__all__ = ["zvyagin_fit", "load_groups", "MODES", "SENSEL_AREA_5051_MM2"]
+__all__ = ["zvyagin_fit", "load_groups", "MODES", "DEFAULT_MODE", "SENSEL_AREA_5051_MM2"]
 
 G_STANDARD = 9.80665
 #: 5051 sensel: 1.27 mm x 1.27 mm
@@ -26,12 +31,19 @@ SENSEL_AREA_5051_MM2 = 1.27 * 1.27
 #: Defaults of the two modes; any option passed explicitly overrides them.
 MODES = {
     "faithful": {"root_choice": "smallest", "outliers": "none", "b_range": "pairs",
-                 "saturated": "keep"},
+                 "saturated": "keep", "final": "curve", "pair_b_min": 1.0,
+                 "objective": "l2"},
     "robust": {"root_choice": "best-fit", "outliers": "trim", "b_range": "inliers",
-               "saturated": "keep"},
+               "saturated": "keep", "final": "free", "pair_b_min": 0.5,
+               "objective": "l1"},
 }
+DEFAULT_MODE = "robust"
+"""The mode with the best worst case on the simulated family (benchmarks/
+bench_static_family.py): faithful fell to 0.64-0.70 of the true law's worst-session share
+on 5101-b1.0 (b = 1, whose pairs the paper's Y > 3 cuts); robust never fell below it."""
 _CHOICES = {"root_choice": ("smallest", "best-fit"), "outliers": ("none", "trim", "mad"),
-            "saturated": ("keep", "drop")}
+            "saturated": ("keep", "drop", "censored"), "final": ("curve", "free"),
+            "objective": ("l2", "l1", "relative")}
 
 
 def _resolve_options(mode, options):
@@ -54,6 +66,8 @@ def _resolve_options(mode, options):
         if not 0 < lo < hi:
             raise ValueError(f"b_range = {b_range!r}; expected 0 < b_min < b_max")
         resolved["b_range"] = (lo, hi)
+    if not 0 < float(resolved["pair_b_min"]) < 4:
+        raise ValueError(f"pair_b_min = {resolved['pair_b_min']!r}; expected 0 < b < 4")
     return resolved
 
 
@@ -97,6 +111,16 @@ def load_groups(load_N, *, tolerance=0.05):
     return group, names
 
 
+def _check_pair_patches(in_pairs, usable, labels):
+    """Censored fits need unsaturated patches for I* and the pairs: say which are missing."""
+    if in_pairs.sum() >= 2 or usable.sum() < 2:
+        return
+    sat = [labels[k] for k in np.nonzero(usable & ~in_pairs)[0]]
+    raise ValueError(f"{int(in_pairs.sum())} patch(es) without a saturated sensel; the pair "
+                     f"equations need at least 2 (saturated: {', '.join(sat[:8])}"
+                     f"{' ...' if len(sat) > 8 else ''})")
+
+
 def _pair_share_table(group, names, pairs, usable):
     """Share of pairs that gave (A, b) per load combination (paper: 2-5 kg 34% ...)."""
     i, j = pairs["i"], pairs["j"]
@@ -123,8 +147,9 @@ def _pair_matrix(n, pairs):
     return chart
 
 
-def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_choice=None,
-                outliers=None, b_range=None, saturated=None, trim=0.05, max_relerr=0.10,
+def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=None,
+                outliers=None, b_range=None, saturated=None, final=None, pair_b_min=None,
+                objective=None, trim=0.05, max_relerr=0.10,
                 grey_share=0.05, group_tolerance=0.05, sensel_area_mm2=SENSEL_AREA_5051_MM2,
                 labels=None):
     """Run Zvyagin's four steps on calibration patches given as raw-value histograms.
@@ -141,18 +166,28 @@ def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_ch
         Counts of raw values 0..255 over the working sensels of each calibration frame.
     load_N : array_like, shape (n_patches,)
         Applied load of each patch in newtons.
-    mode : {"faithful", "robust"}
-        ``"faithful"``: the paper as written (smallest root > 3, plain log-log least squares
-        on every valid pair, E over the full b range of the pairs, saturated patches kept).
-        ``"robust"``: best-fitting root, power law fitted to the pairs between the 5% and
-        95% quantiles of b, E over that b range; saturated patches kept (leaving them out
-        moved b0 away from the truth on simulated sessions). See ``docs/zvyagin.md``.
+    mode : {"robust", "faithful"}, optional
+        Default :data:`DEFAULT_MODE` ("robust").
+        ``"faithful"``: the paper as written (smallest root Y > 3, plain log-log least squares
+        on every valid pair, E along the curve over the full b range of the pairs, saturated
+        patches kept unless ``saturated`` says otherwise). ``"robust"``: roots Y > 3**0.5
+        (b > 0.5, so that a sensor with b near 1 keeps both halves of its pair cloud), the
+        best-fitting root, the power law fitted to the pairs between the 5% and 95% quantiles
+        of b; then the law minimising the patches' misfit over A and b together, as the power
+        method fits it (``final="free"``, ``objective="l1"``), with the curve's optimum kept
+        as ``details["final"]["curve_A0"/"curve_b0"]``. See ``docs/zvyagin.md``.
     domain : {"strict", "closed"}
         Search domain of I (see :func:`separation_domain`).
-    root_choice, outliers, b_range, saturated : optional
+    root_choice, outliers, b_range, saturated, final, pair_b_min, objective : optional
         Override one choice of the mode: ``root_choice`` in {"smallest", "best-fit"},
         ``outliers`` in {"none", "trim", "mad"} (see :func:`fit_power_law`), ``b_range``
-        in {"pairs", "inliers"} or ``(b_min, b_max)``, ``saturated`` in {"keep", "drop"}.
+        in {"pairs", "inliers"} or ``(b_min, b_max)``, ``saturated`` in {"keep", "drop",
+        "censored"} (censored: patches with a sensel at 255 stay out of I* and the pairs,
+        whose equations need the true load of both patches, and enter E one-sided as lower
+        bounds), ``final`` in {"curve", "free"} (eq. 15 along the curve, or E over A and b
+        together, :func:`minimise_energy_free`), ``pair_b_min`` (pairs keep roots
+        Y > 3**pair_b_min; the paper: 1), ``objective`` of the free step in {"l1", "l2",
+        "relative"} (the curve step always minimises E as eq. 15 writes it).
     trim : float
         Share of pairs cut at each end of the b range when ``outliers="trim"``.
     max_relerr : float
@@ -197,8 +232,11 @@ def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_ch
     if len(labels) != n:
         raise ValueError(f"labels has {len(labels)} names; expected one per patch ({n})")
     f = _check_loads(load_N, n, labels)
+    mode = DEFAULT_MODE if mode is None else mode
     opts = _resolve_options(mode, {"root_choice": root_choice, "outliers": outliers,
-                                   "b_range": b_range, "saturated": saturated})
+                                   "b_range": b_range, "saturated": saturated,
+                                   "final": final, "pair_b_min": pair_b_min,
+                                   "objective": objective})
     cells = loaded_cells(h)
     sat_cells = h[:, 255].copy()
     excluded = {}
@@ -212,6 +250,9 @@ def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_ch
                          for k in np.nonzero((sat_cells > 0) & (cells > 0))[0]})
     usable = np.ones(n, dtype=bool)
     usable[list(excluded)] = False
+    censored = usable & (sat_cells > 0) if opts["saturated"] == "censored" else None
+    in_pairs = usable if censored is None else usable & ~censored
+    _check_pair_patches(in_pairs, usable, labels)
     if usable.sum() < 2:
         why = "; ".join(f"{labels[k]}: {r}" for k, r in excluded.items()) or "none excluded"
         raise ValueError(f"{int(usable.sum())} usable patch(es) of {n}; expected at least 2 "
@@ -222,7 +263,7 @@ def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_ch
                       f"({group_names[group[usable][0]]}); b then rests only on how the load "
                       "spreads over sensels: add patches of another weight", UserWarning,
                       stacklevel=2)
-    sep, d_min, d_map = search_separation(h[usable], domain=domain)
+    sep, d_min, d_map = search_separation(h[in_pairs], domain=domain)
     counts = class_counts(h, sep)
     r_sum = raw_sums(h)
     q_sum = counts @ CLASS_VALUES
@@ -230,11 +271,13 @@ def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_ch
         relerr = np.where(r_sum > 0, np.abs(r_sum - q_sum) / np.where(r_sum > 0, r_sum, 1),
                           np.inf)
     pairs = solve_pairs(counts, f, relerr, histograms=h, root_choice=opts["root_choice"],
-                        max_relerr=max_relerr, usable=usable)
+                        max_relerr=max_relerr, usable=in_pairs,
+                        b_min=opts["pair_b_min"])
     cat = pairs["category"]
     if not np.any(pairs["n_roots"][cat != "X"] > 0):
-        raise ValueError(f"no pair of the {int(usable.sum())} usable patches has a root "
-                         "Y > 3 of eq. (12); expected at least one (are the loads and "
+        raise ValueError(f"no pair of the {int(in_pairs.sum())} usable patches has a root "
+                         f"Y > {3.0 ** opts['pair_b_min']:.4g} of eq. (12); expected at least "
+                         "one (are the loads and "
                          "readings of the patches consistent?)")
     valid = np.nonzero(cat == "V")[0]
     if valid.size < 3:
@@ -253,7 +296,11 @@ def zvyagin_fit(histograms, load_N, *, mode="faithful", domain="strict", root_ch
         rng = (b_valid[fit["inlier"]].min(), b_valid[fit["inlier"]].max())
     else:
         rng = (b_valid.min(), b_valid.max())
-    final = minimise_energy(h[usable], f[usable], fit["alpha"], fit["beta"], rng)
+    cens = None if censored is None else censored[usable]
+    final = minimise_energy(h[usable], f[usable], fit["alpha"], fit["beta"], rng, censored=cens)
+    if opts["final"] == "free":
+        final = minimise_energy_free(h[usable], f[usable], final, censored=cens,
+                                     objective=opts["objective"])
     if final["at_bound"]:
         warnings.warn(f"E(b0) is smallest at the end of the b range {np.round(rng, 4)} "
                       f"(b0 = {final['b0']:.4f}); the estimate is limited by the range",

@@ -4,7 +4,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 __all__ = ["fit_power_law", "patch_power_sums", "energy", "minimise_energy",
-           "saturation_pressure_MPa"]
+           "minimise_energy_free", "saturation_pressure_MPa"]
 
 _RAW = np.arange(256, dtype=np.float64)
 #: MAD -> standard deviation for normal residuals
@@ -28,7 +28,7 @@ def fit_power_law(a_N, b, *, outliers="none", trim=0.05, clip=3.5, max_iter=50):
     Parameters
     ----------
     a_N, b : numpy.ndarray
-        The pair estimates (A in newtons per sensel, b dimensionless, b > 1).
+        The pair estimates (A in newtons per sensel, b dimensionless, b > 0).
     outliers : {"none", "trim", "mad"}
         ``"none"`` (paper as written): one least-squares fit of log A on log b over all
         pairs. ``"trim"``: the same fit over the pairs whose b lies between the ``trim`` and
@@ -93,8 +93,23 @@ def patch_power_sums(histograms, b):
     return np.asarray(histograms, dtype=np.float64) @ (_RAW[:, None] ** b[None, :])
 
 
-def energy(b0, histograms, load_N, alpha, beta):
+def _misfit_N(predicted_N, load_N, censored):
+    """Return load minus prediction, shape (n_patches, n_b), one-sided where censored.
+
+    A censored patch (a sensel at 255) only counts when the law predicts more than its
+    load, which the prediction (255 read as 255) only bounds from below.
+    """
+    misfit = np.asarray(load_N, dtype=np.float64)[:, None] - predicted_N
+    if censored is None:
+        return misfit
+    return np.where(np.asarray(censored, dtype=bool)[:, None], np.minimum(misfit, 0.0), misfit)
+
+
+def energy(b0, histograms, load_N, alpha, beta, censored=None):
     """E(b0) = sum_T (F_T - A0 sum_k X_k**b0)**2 with A0 = alpha * b0**beta (eq. 15), in N^2.
+
+    ``censored`` (bool per patch, optional): patches with a sensel at 255 add to E only
+    where the law predicts more than their load (a Tobit-style one-sided term).
 
     Examples
     --------
@@ -104,10 +119,11 @@ def energy(b0, histograms, load_N, alpha, beta):
     """
     b0 = np.atleast_1d(np.asarray(b0, dtype=np.float64))
     predicted = alpha * b0 ** beta * patch_power_sums(histograms, b0)
-    return np.sum((np.asarray(load_N)[:, None] - predicted) ** 2, axis=0)
+    return np.sum(_misfit_N(predicted, load_N, censored) ** 2, axis=0)
 
 
-def minimise_energy(histograms, load_N, alpha, beta, b_range, *, n_grid=201, max_step=0.005):
+def minimise_energy(histograms, load_N, alpha, beta, b_range, *, censored=None, n_grid=201,
+                    max_step=0.005):
     """Find b0 minimising E on the power-law curve within ``b_range`` (eq. 15).
 
     A grid of at least ``n_grid`` exponents, at most ``max_step`` apart, locates the global
@@ -123,20 +139,63 @@ def minimise_energy(histograms, load_N, alpha, beta, b_range, *, n_grid=201, max
     lo, hi = float(b_range[0]), float(b_range[1])
     n_grid = max(n_grid, int(np.ceil((hi - lo) / max_step)) + 1)
     grid = np.linspace(lo, hi, n_grid) if hi > lo else np.array([lo])
-    e_grid = energy(grid, histograms, load_N, alpha, beta)
+    e_grid = energy(grid, histograms, load_N, alpha, beta, censored)
     k = int(np.argmin(e_grid))
     if grid.size > 1:
         bracket = (grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)])
-        opt = minimize_scalar(lambda x: energy(x, histograms, load_N, alpha, beta)[0],
+        opt = minimize_scalar(lambda x: energy(x, histograms, load_N, alpha, beta, censored)[0],
                               bounds=bracket, method="bounded",
                               options={"xatol": 1e-7})
         b0 = float(opt.x) if opt.fun <= e_grid[k] else float(grid[k])
     else:
         b0 = float(grid[0])
-    e0 = float(energy(b0, histograms, load_N, alpha, beta)[0])
+    e0 = float(energy(b0, histograms, load_N, alpha, beta, censored)[0])
     at_bound = grid.size > 1 and k in (0, grid.size - 1)
     return {"b0": b0, "A0": float(alpha * b0 ** beta), "E": e0, "b_range": (lo, hi),
             "at_bound": bool(at_bound), "b_grid": grid, "E_grid": e_grid}
+
+
+def minimise_energy_free(histograms, load_N, start, *, censored=None, objective="l1"):
+    """Minimise the patch misfit over A and b together, from the curve's optimum (robust step 4).
+
+    The misfit is eq. 15's without the constraint A = alpha b**beta, i.e. eq. 3 over every
+    patch: the power method's fit (:func:`tactilecal.calibration._methods.fit_power`, or
+    ``fit_power_censored`` when ``censored`` is given) with its ``objective`` ("l2" is E
+    itself; "l1" and "relative" weigh each patch's error as the power method does) and its
+    b bounds. The curve of eq. 14 keeps its optimum as a diagnostic: where the pair cloud
+    is biased (e.g. b near 1, where roots Y <= 3 are cut, issue 12) the constrained minimum
+    is biased with it.
+
+    Parameters
+    ----------
+    histograms, load_N : numpy.ndarray
+        The usable patches.
+    start : dict
+        ``minimise_energy``'s result (the curve's optimum).
+    censored : numpy.ndarray of bool, optional
+        Patches with a sensel at 255 (lower bounds of their load).
+    objective : {"l1", "l2", "relative"}
+        The power method's objective.
+
+    Returns
+    -------
+    dict
+        ``start`` with ``A0``, ``b0`` and ``E`` (the objective's cost) of the free fit, plus
+        ``curve_A0``, ``curve_b0`` (the constrained optimum), ``free`` = True and
+        ``objective``.
+    """
+    from tactilecal.calibration._methods import fit_power, fit_power_censored
+
+    h = np.asarray(histograms, dtype=np.float64)
+    f = np.asarray(load_N, dtype=np.float64)
+    if censored is not None and np.any(censored):
+        fit = fit_power_censored(h, f, censored, objective=objective)
+    else:
+        fit = fit_power(h, f, objective=objective)
+    return {**start, "A0": fit.params["A"], "b0": fit.params["b"],
+            "E": float(fit.details["cost"]), "at_bound": False,
+            "curve_A0": start["A0"], "curve_b0": start["b0"], "free": True,
+            "objective": objective}
 
 
 def saturation_pressure_MPa(a_N, b, sensel_area_mm2):

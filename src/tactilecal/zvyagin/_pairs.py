@@ -92,7 +92,7 @@ def _patch_power_sums(histograms, b):
 
 
 def solve_pairs(counts, load_N, raw_relerr, *, histograms=None, root_choice="smallest",
-                max_relerr=0.10, usable=None):
+                max_relerr=0.10, usable=None, b_min=1.0):
     """Solve eq. (12) for every pair of patches and apply the 10% raw-sum rule.
 
     Parameters
@@ -112,11 +112,13 @@ def solve_pairs(counts, load_N, raw_relerr, *, histograms=None, root_choice="sma
         Pairs where either patch has ``raw_relerr >= max_relerr`` are rejected (paper: 10%).
     usable : numpy.ndarray of bool, optional
         Patches allowed into pairs (others are marked excluded).
+    b_min : float
+        Roots Y > 3**b_min count (the paper: Y > 3, i.e. b > 1).
 
     Returns
     -------
     dict
-        ``i``, ``j`` (pair indices, i < j), ``n_roots`` (number of roots Y > 3), ``Y``,
+        ``i``, ``j`` (pair indices, i < j), ``n_roots`` (number of roots Y > 3**b_min), ``Y``,
         ``b`` = log3 Y, ``A`` = F_i / Q_i(Y) (NaN without root), ``category`` (str codes:
         ``"V"`` valid, ``"R"`` root but rejected by the raw-sum rule, ``"N"`` no root > 3,
         ``"X"`` a patch excluded from pairing).
@@ -125,7 +127,8 @@ def solve_pairs(counts, load_N, raw_relerr, *, histograms=None, root_choice="sma
         raise ValueError(f"root_choice = {root_choice!r}; expected one of {_ROOT_CHOICES}")
     n = counts.shape[0]
     i, j = pair_indices(n)
-    cand = roots_above(polynomial_roots(quartic_coefficients(counts, load_N, i, j)))
+    cand = roots_above(polynomial_roots(quartic_coefficients(counts, load_N, i, j)),
+                       threshold=3.0 ** b_min)
     n_roots = np.sum(~np.isnan(cand), axis=1)
     y = cand[:, 0].copy()
     if root_choice == "best-fit":

@@ -12,9 +12,9 @@ from tactilecal.zvyagin._fit import energy
 __all__ = ["calibrate_zvyagin", "OPTIONS"]
 
 #: Options accepted by :func:`calibrate_zvyagin` (see :func:`zvyagin_fit`).
-OPTIONS = ("mode", "domain", "root_choice", "outliers", "b_range", "saturated",
-           "keep_saturated", "trim", "max_relerr", "grey_share", "group_tolerance",
-           "sensel_area_mm2")
+OPTIONS = ("mode", "domain", "root_choice", "outliers", "b_range", "saturated", "final",
+           "pair_b_min", "objective", "keep_saturated", "trim", "max_relerr", "grey_share",
+           "group_tolerance", "sensel_area_mm2")
 
 
 def _point_labels(points):
@@ -42,11 +42,12 @@ def conditional_stderr(res):
     """Estimate standard errors of (A0, b0) from the curvature of E along the power-law curve.
 
     var(b0) = 2 s^2 / E''(b0) with s^2 = E(b0) / (n - 1), and se(A0) = |dA0/db0| se(b0):
-    conditional on alpha and beta (their own uncertainty is not propagated).
+    conditional on alpha and beta (their own uncertainty is not propagated). With
+    ``final="free"`` it is taken at the curve's own optimum (``curve_b0``).
     """
     h = res._histograms_used
     f = res.load_N[res.usable]
-    b0, step = res.b0, 1e-4
+    b0, step = res.final.get("curve_b0", res.b0), 1e-4
     e = energy(np.array([b0 - step, b0, b0 + step]), h, f, res.alpha, res.beta)
     curvature = (e[0] - 2 * e[1] + e[2]) / step ** 2
     n = f.size
@@ -67,10 +68,11 @@ def calibrate_zvyagin(points, **options):
     points : sequence of tactilecal.calibration.CalibrationPoint
         One per loaded patch (histogram of raw values and applied load).
     **options
-        ``mode`` ("faithful" or "robust"), ``domain``, ``root_choice``, ``outliers``,
-        ``b_range``, ``saturated``, ``trim``, ``max_relerr``, ``grey_share``, ``group_tolerance``,
-        ``sensel_area_mm2``: see :func:`zvyagin_fit`. ``keep_saturated`` (the static
-        methods' spelling) sets ``saturated`` to "keep" (True) or "drop" (False); without
+        ``mode`` ("robust", the default, or "faithful"), ``domain``, ``root_choice``,
+        ``outliers``, ``b_range``, ``saturated``, ``final``, ``pair_b_min``, ``objective``,
+        ``trim``, ``max_relerr``, ``grey_share``, ``group_tolerance``, ``sensel_area_mm2``:
+        see :func:`zvyagin_fit`. ``keep_saturated`` (the static methods' spelling) sets
+        ``saturated`` to "keep" (True) or "drop" (False); without
         either, ``saturated`` is the one default of every static method,
         :data:`tactilecal._saturation.SATURATED_DEFAULT` ("drop").
 
@@ -103,10 +105,6 @@ def calibrate_zvyagin(points, **options):
                          f"{list(OPTIONS)}")
     opts = dict(options)
     opts["saturated"] = resolve_saturated(opts.get("saturated"), opts.pop("keep_saturated", None))
-    if opts["saturated"] == "censored":
-        raise ValueError("saturated='censored' is implemented for ['power']; method 'zvyagin' "
-                         "takes 'drop' or 'keep' (its E and pair equations have no censored "
-                         "form yet)")
     points = list(points)
     if len(points) < 2:
         raise ValueError(f"{len(points)} calibration point(s); expected at least 2 patches")

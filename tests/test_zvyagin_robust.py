@@ -1,0 +1,56 @@
+"""Zvyagin's robust mode on sensors the paper did not describe (issue 12)."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from tactilecal import calibrate
+from tactilecal.calibration import points_from_frames
+from tactilecal.simulate import family_sessions
+from tactilecal.zvyagin._fit import energy
+
+
+def _calibrate(member, seed, **options):
+    train, _ = family_sessions(member, seed)
+    points = points_from_frames(train.raw.values, train.load_N)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # E at the end of the b range, for faithful
+        return calibrate(points, method="zvyagin", sensel_area_mm2=6.4516, **options), train
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_robust_recovers_a_linear_sensor_whose_pairs_the_paper_cuts(seed):
+    """b = 1: the paper keeps roots Y > 3 (b > 1) only, so its curve misses the truth."""
+    faithful, train = _calibrate("5101-b1.0", seed, mode="faithful")
+    robust, _ = _calibrate("5101-b1.0", seed, mode="robust")
+    assert train.sensor.b == 1.0
+    assert faithful.params["b"] > 1.1  # measured 1.15-1.19 on seeds 0-3
+    assert robust.params["b"] == pytest.approx(1.0, abs=0.03)  # measured 0.98-0.99
+    final = robust.details["final"]
+    # the constrained optimum stays on record next to the free one
+    assert final["free"] and final["curve_b0"] != pytest.approx(final["b0"], abs=1e-3)
+
+
+def test_robust_takes_roots_below_three_and_faithful_does_not():
+    faithful, _ = _calibrate("5101-b1.0", 0, mode="faithful")
+    robust, _ = _calibrate("5101-b1.0", 0, mode="robust")
+
+    def pair_b(cal):
+        valid = np.array(list(cal.details["pairs"]["category"])) == "V"
+        return np.array(cal.details["pairs"]["b"], dtype=float)[valid]
+
+    assert pair_b(faithful).min() > 1.0
+    assert pair_b(robust).min() < 1.0 < np.median(pair_b(robust)) + 0.05
+
+
+def test_censored_patches_add_to_E_only_when_over_predicted():
+    h = np.zeros((3, 256))
+    h[:, 100] = 10
+    h[2, 255] = 1
+    predicted = 0.01 * (10 * 100 + np.array([0, 0, 255]))  # A = 0.01, b = 1
+    load = np.array([predicted[0] + 1.0, predicted[1] - 2.0, predicted[2] + 5.0])
+    censored = np.array([False, False, True])
+    assert energy(1.0, h, load, 0.01, 0.0, censored)[0] == pytest.approx(1.0 + 4.0)
+    load[2] = predicted[2] - 3.0  # the law now says more than the lower bound allows
+    assert energy(1.0, h, load, 0.01, 0.0, censored)[0] == pytest.approx(1.0 + 4.0 + 9.0)
