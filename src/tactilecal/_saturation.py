@@ -12,12 +12,14 @@ __all__ = ["SATURATED_CHOICES", "SATURATED_DEFAULT", "resolve_saturated"]
 SATURATED_CHOICES = ("drop", "keep", "censored")
 """``"drop"``: leave patches with a sensel at 255 out of the fit (reported per point);
 ``"keep"``: fit them as if 255 were their true reading (Zvyagin's paper as written);
-``"censored"``: fit them as lower bounds of their load (the power method only, so far)."""
+``"censored"``: fit them as lower bounds of their load (every method,
+:func:`tactilecal.calibration._methods.fit_censored`; Zvyagin keeps them out of its pairs)."""
 
 SATURATED_DEFAULT = "drop"
 """The default: on the independent simulator of issue 12 (8 sessions, Sensor2 parameters),
 dropping raised Zvyagin's worst-session share of held-out patches within 5 % from 61 % to
-78-83 %; the power method dropped them already."""
+78-83 %. On the simulated family (benchmarks/bench_static_family.py) ``censored`` reached the
+same worst cases as ``drop`` for every method benchmarked, so the simpler one stays."""
 
 
 def resolve_saturated(saturated=None, keep_saturated=None):

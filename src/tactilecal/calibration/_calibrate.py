@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 
 from tactilecal._saturation import resolve_saturated
-from tactilecal.calibration._methods import CENSORED_FITTERS, FITTERS
+from tactilecal.calibration._methods import FITTERS, fit_censored
 from tactilecal.calibration._models import force_table
 from tactilecal.calibration._points import points_to_arrays, take_rows
 from tactilecal.calibration._result import CalibrationResult
@@ -136,9 +136,6 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
     _check_options(method, options)
     if scale_by_working and method not in SCALABLE:
         raise ValueError(f"scale_by_working is offered for {SCALABLE}; method={method!r}")
-    if saturated == "censored" and method not in CENSORED_FITTERS:
-        raise ValueError(f"saturated='censored' is implemented for {sorted(CENSORED_FITTERS)}; "
-                         f"method={method!r} takes 'drop' or 'keep'")
     used, reasons = _select(load, meta, keep_saturated or saturated == "censored")
     if not used.any():
         kinds = sorted({str(r).split(":")[0] for r in reasons})
@@ -146,13 +143,10 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
                          "expected at least one unsaturated point with a positive load")
     fraction = _working_fraction(meta)
     fit_load = load * fraction if scale_by_working else load
-    if saturated == "censored":
-        fit = CENSORED_FITTERS[method](take_rows(hist, used), fit_load[used],
-                                       meta["saturated_cells"][used] > 0, **options)
-    else:
-        fit = FITTERS[method](take_rows(hist, used), fit_load[used], **options)
+    censored = (meta["saturated_cells"][used] > 0) if saturated == "censored" else None
+    fit = _fit(method, take_rows(hist, used), fit_load[used], censored, options)
     if n_bootstrap:
-        fit.params_stderr = _bootstrap(method, hist[used], fit_load[used], options,
+        fit.params_stderr = _bootstrap(method, hist[used], fit_load[used], censored, options,
                                        n_bootstrap, seed)
         fit.details["stderr_method"] = f"bootstrap over points ({n_bootstrap} resamples)"
     if method == "linear" and "point" in fit.details:
@@ -174,6 +168,13 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
                               sensel_area_mm2=area)
 
 
+def _fit(method, hist, load, censored, options):
+    """One fit: censored patches (bool mask or None) as lower bounds, else all as equal."""
+    if censored is None:
+        return FITTERS[method](hist, load, **options)
+    return fit_censored(method, hist, load, censored, **options)
+
+
 def _check_options(method, options):
     import inspect
 
@@ -192,14 +193,15 @@ def _working_fraction(meta):
     return np.where(total > 0, meta["working_cells"] / np.where(total > 0, total, 1.0), 1.0)
 
 
-def _bootstrap(method, hist, load, options, n_bootstrap, seed):
+def _bootstrap(method, hist, load, censored, options, n_bootstrap, seed):
     """Return the std of each parameter over fits to points resampled with replacement."""
     rng = np.random.default_rng(seed)
     draws = []
     for _ in range(n_bootstrap):
         idx = rng.integers(0, len(load), len(load))
         try:
-            params = FITTERS[method](hist[idx], load[idx], **options).params
+            params = _fit(method, hist[idx], load[idx],
+                          None if censored is None else censored[idx], options).params
         except (ValueError, np.linalg.LinAlgError, ZeroDivisionError):
             continue  # a degenerate resample (e.g. one distinct load); counted below
         draws.append({k: np.asarray(v, dtype=float) for k, v in params.items()})
@@ -231,6 +233,9 @@ def result_from_arrays(hist, load, meta, *, method, model, params, params_stderr
     area = _sensel_area(meta["sensel_area_mm2"], sensel_area_mm2)
     saturation = table_N[255] / area * 1000.0 if np.isfinite(area) else float("nan")
     used = np.asarray(used, dtype=bool)
+    # a saturated point's load is only a lower bound of the law's prediction: not scored
+    scored = used & ((meta["saturated_cells"] == 0) | ((options or {}).get("saturated")
+                                                        != "censored"))
     with np.errstate(divide="ignore", invalid="ignore"):
         error_pct = 100.0 * (predicted - load) / load
     table = pd.DataFrame({
@@ -243,7 +248,7 @@ def result_from_arrays(hist, load, meta, *, method, model, params, params_stderr
     return CalibrationResult(
         method=method, model=model, params=params, params_stderr=params_stderr,
         sensel_area_mm2=area, saturation_pressure_kPa=float(saturation), points=table,
-        metrics=_metrics(load[used], predicted[used], len(load)), details=details or {},
+        metrics=_metrics(load[scored], predicted[scored], len(load)), details=details or {},
         options=options or {},
     )
 
