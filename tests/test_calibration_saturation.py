@@ -92,7 +92,8 @@ def test_censored_fit_needs_two_unsaturated_patches():
 
     frames = np.zeros((4, 3, 3))
     frames[:, 1, 1] = [100, 255, 255, 255]
-    with pytest.raises(ValueError, match="1 patch\\(es\\) without a saturated sensel"):
+    with pytest.raises(ValueError, match=r"1 usable point\(s\) without a saturated sensel.*"
+                                         r"saturated: frame 2, frame 3, frame 4\)"):
         calibrate(points_from_frames(frames, [1.0, 3.0, 4.0, 5.0]), method="power",
                   saturated="censored")
 
@@ -105,3 +106,19 @@ def test_censored_zvyagin_keeps_saturated_patches_out_of_the_pairs(saturated_ses
     assert saturated and len(pairs["i"]) > 100
     # a lower bound cannot enter an equation (eq. 12): no stored pair holds a saturated patch
     assert not saturated & (set(pairs["i"]) | set(pairs["j"]))
+
+
+@pytest.mark.parametrize(("saturated", "message"), [
+    ("drop", r"no usable calibration points among 6 \(saturated: "),
+    ("censored", r"0 usable point\(s\) without a saturated sensel"),
+])
+def test_a_session_where_every_patch_saturates_names_manifest_and_patches(
+        tmp_path, capsys, saturated, message):
+    folder = tmp_path / "allsat"
+    assert main(["-q", "simulate", "deadweight", str(folder), "--patches", "6",
+                 "--saturated-share", "1.0", "--seed", "1"]) == 0
+    assert main(["-q", "calibrate", str(folder / "manifest.csv"), "--saturated",
+                 saturated]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "manifest.csv: " in err[0]
+    assert __import__("re").search(message, err[0])

@@ -168,7 +168,7 @@ def test_library_warnings_are_one_line_naming_the_command(tmp_path, capsys):
     manifest.write_text("\n".join([lines[0], *same]) + "\n")  # every patch one weight
     main(["-q", "calibrate", str(manifest), "--method", "zvyagin"])
     err = capsys.readouterr().err
-    warning_lines = [line for line in err.splitlines() if "warning" in line]
+    warning_lines = [line for line in err.splitlines() if ": warning: " in line]
     assert warning_lines and all(line.startswith("tactilecal calibrate: warning: ")
                                  for line in warning_lines)
     assert "zvyagin_fit(" not in err  # no source line of the library

@@ -139,8 +139,12 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
     used, reasons = _select(load, meta, keep_saturated or saturated == "censored")
     if not used.any():
         kinds = sorted({str(r).split(":")[0] for r in reasons})
-        raise ValueError(f"no usable calibration points among {len(load)} ({', '.join(kinds)}); "
-                         "expected at least one unsaturated point with a positive load")
+        names = [_point_name(meta, k) for k in range(min(len(load), 8))]
+        raise ValueError(f"no usable calibration points among {len(load)} ({', '.join(kinds)}: "
+                         f"{', '.join(names)}{' ...' if len(load) > 8 else ''}); expected at "
+                         "least one unsaturated point with a positive load")
+    if saturated == "censored":
+        _check_censorable(meta, used)
     fraction = _working_fraction(meta)
     fit_load = load * fraction if scale_by_working else load
     censored = (meta["saturated_cells"][used] > 0) if saturated == "censored" else None
@@ -166,6 +170,26 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
                               params=fit.params, params_stderr=fit.params_stderr, used=used,
                               reasons=reasons, details=fit.details, options=all_options,
                               sensel_area_mm2=area)
+
+
+def _point_name(meta, k):
+    """Return a point's name for messages: its label, else file#frame, else frame N."""
+    if meta["label"][k]:
+        return str(meta["label"][k])
+    return f"{meta['file'][k]}#{meta['frame'][k]}" if meta["file"][k] else \
+        f"frame {meta['frame'][k]}"
+
+
+def _check_censorable(meta, used):
+    """Check that a censored fit has 2 unsaturated points to start from; name the others."""
+    clean = used & (meta["saturated_cells"] == 0)
+    if clean.sum() >= 2:
+        return
+    names = [_point_name(meta, k) for k in np.flatnonzero(used & ~clean)[:8]]
+    raise ValueError(f"{int(clean.sum())} usable point(s) without a saturated sensel; a "
+                     "censored fit needs at least 2 to start from (every other point is only "
+                     f"a lower bound; saturated: {', '.join(names)}"
+                     f"{' ...' if (used & ~clean).sum() > 8 else ''})")
 
 
 def _fit(method, hist, load, censored, options):

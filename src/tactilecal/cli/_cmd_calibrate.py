@@ -133,7 +133,10 @@ def run(args):
                              "or '--movie REC --loads LOADCELL.csv'")
         points, dead = _manifest_points(args, equilibration)
         info_grouped(args, [f"{p.source}: {p.note}" for p in points if p.note])
-        result = calibrate(points, method=args.method, **_options(args))
+        try:
+            result = calibrate(points, method=args.method, **_options(args))
+        except ValueError as err:  # name the manifest: the points' names are in the text
+            raise ValueError(f"{args.manifest}: {err}") from None
         if dead is not None:
             result.details["non_working_sensels"] = dead.to_dict()
             info(args, dead.report())
