@@ -262,6 +262,13 @@ def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS, *
     return Fit("power", {"A": A, "b": b}, stderr, details)
 
 
+def _check_uncensored(censored):
+    if (~censored).sum() < 2:
+        raise ValueError(f"{(~censored).sum()} patch(es) without a saturated sensel; a "
+                         "censored fit needs at least 2 to start from (every other patch "
+                         "is only a lower bound)")
+
+
 def fit_power_censored(hist, load_N, censored, *, objective=DEFAULT_OBJECTIVE,
                        b_bounds=B_BOUNDS):
     """Power law f = A * raw**b where a patch with a sensel at 255 is a lower bound.
@@ -284,10 +291,7 @@ def fit_power_censored(hist, load_N, censored, *, objective=DEFAULT_OBJECTIVE,
     _check_objective(objective)
     hist = np.asarray(hist, dtype=float)
     censored = np.asarray(censored, dtype=bool)
-    if (~censored).sum() < 2:
-        raise ValueError(f"{(~censored).sum()} patch(es) without a saturated sensel; a "
-                         "censored fit needs at least 2 to start from (every other patch "
-                         "is only a lower bound)")
+    _check_uncensored(censored)
     if objective == "l1":
         b, A, cost, _ = _minimise_b(hist, load_N, objective, b_bounds, censored=censored)
     else:
@@ -451,10 +455,7 @@ def fit_censored(method, hist, load_N, censored, **options):
         Fewer than 2 unsaturated patches, or no stable set within 50 refits.
     """
     censored = np.asarray(censored, dtype=bool)
-    if (~censored).sum() < 2:
-        raise ValueError(f"{(~censored).sum()} patch(es) without a saturated sensel; a "
-                         "censored fit needs at least 2 to start from (every other patch "
-                         "is only a lower bound)")
+    _check_uncensored(censored)
     if method == "power":
         return fit_power_censored(hist, load_N, censored, **options)
     exact = method in EXACT_METHODS or options.get("point") is not None
