@@ -155,8 +155,8 @@ def minimise_energy(histograms, load_N, alpha, beta, b_range, *, censored=None, 
             "at_bound": bool(at_bound), "b_grid": grid, "E_grid": e_grid}
 
 
-def minimise_energy_free(histograms, load_N, start, *, censored=None, objective="l1"):
-    """Minimise the patch misfit over A and b together, from the curve's optimum (robust step 4).
+def minimise_energy_free(histograms, load_N, curve, *, censored=None, objective="l1"):
+    """Minimise the patch misfit over A and b together (robust mode's step 4).
 
     The misfit is eq. 15's without the constraint A = alpha b**beta, i.e. eq. 3 over every
     patch: the power method's fit (:func:`tactilecal.calibration._methods.fit_power`, or
@@ -170,8 +170,8 @@ def minimise_energy_free(histograms, load_N, start, *, censored=None, objective=
     ----------
     histograms, load_N : numpy.ndarray
         The usable patches.
-    start : dict
-        ``minimise_energy``'s result (the curve's optimum).
+    curve : dict
+        ``minimise_energy``'s result (the curve's optimum), kept as a diagnostic.
     censored : numpy.ndarray of bool, optional
         Patches with a sensel at 255 (lower bounds of their load).
     objective : {"l1", "l2", "relative"}
@@ -180,7 +180,7 @@ def minimise_energy_free(histograms, load_N, start, *, censored=None, objective=
     Returns
     -------
     dict
-        ``start`` with ``A0``, ``b0`` and ``E`` (the objective's cost) of the free fit, plus
+        ``curve`` with ``A0``, ``b0`` and ``E`` (the objective's cost) of the free fit, plus
         ``curve_A0``, ``curve_b0`` (the constrained optimum), ``free`` = True and
         ``objective``.
     """
@@ -192,9 +192,9 @@ def minimise_energy_free(histograms, load_N, start, *, censored=None, objective=
         fit = fit_power_censored(h, f, censored, objective=objective)
     else:
         fit = fit_power(h, f, objective=objective)
-    return {**start, "A0": fit.params["A"], "b0": fit.params["b"],
+    return {**curve, "A0": fit.params["A"], "b0": fit.params["b"],
             "E": float(fit.details["cost"]), "at_bound": False,
-            "curve_A0": start["A0"], "curve_b0": start["b0"], "free": True,
+            "curve_A0": curve["A0"], "curve_b0": curve["b0"], "free": True,
             "objective": objective}
 
 
