@@ -85,3 +85,22 @@ def test_censored_fits_predict_held_out_patches_as_well_as_the_truth(method):
                                **options).force_table())
     assert truth > 0.9
     assert censored >= 0.95 * truth  # measured 1.00 of 1.00 for each method
+
+
+def test_a_censored_refit_that_never_settles_says_so(monkeypatch):
+    """A law that over-predicts the saturated patch exactly when it is left out cycles."""
+    from tactilecal.calibration import _methods
+
+    hist = np.zeros((3, 256))
+    hist[:, 10] = 1
+    hist[2, 255] = 1
+    load = np.array([1.0, 1.0, 5.0])
+
+    def flip_flop(hist, load_N, **_):  # in the set: predicts 4 < 5; out of it: 6 > 5
+        A = 4.0 / 265 if len(load_N) == 3 else 6.0 / 265
+        return _methods.Fit("power", {"A": A, "b": 1.0}, {"A": None, "b": None}, {})
+
+    monkeypatch.setitem(_methods.FITTERS, "flip-flop", flip_flop)
+    with pytest.raises(ValueError, match=r"censored flip-flop fit: the set of over-predicted "
+                                         r"saturated patches did not settle in 50 refits"):
+        fit_censored("flip-flop", hist, load, np.array([False, False, True]))

@@ -8,6 +8,7 @@ import pytest
 from tactilecal import calibrate
 from tactilecal.calibration import points_from_frames
 from tactilecal.simulate import family_sessions
+from tactilecal.zvyagin._calibrate import zvyagin_fit
 from tactilecal.zvyagin._fit import energy
 
 
@@ -54,3 +55,21 @@ def test_censored_patches_add_to_E_only_when_over_predicted():
     assert energy(1.0, h, load, 0.01, 0.0, censored)[0] == pytest.approx(1.0 + 4.0)
     load[2] = predicted[2] - 3.0  # the law now says more than the lower bound allows
     assert energy(1.0, h, load, 0.01, 0.0, censored)[0] == pytest.approx(1.0 + 4.0 + 9.0)
+
+
+@pytest.mark.parametrize("value", [0.0, -1.0, 4.0])
+def test_pair_b_min_outside_its_range_is_refused(value):
+    h = np.zeros((3, 256), dtype=np.int64)
+    h[:, 50] = 10
+    with pytest.raises(ValueError, match=rf"pair_b_min = {value!r}; expected 0 < b < 4"):
+        zvyagin_fit(h, np.array([1.0, 2.0, 3.0]), pair_b_min=value)
+
+
+def test_censored_zvyagin_needs_two_unsaturated_patches_and_names_the_others():
+    h = np.zeros((4, 256), dtype=np.int64)
+    h[:, 50] = 10
+    h[1:, 255] = 1
+    with pytest.raises(ValueError, match=r"1 patch\(es\) without a saturated sensel; the pair "
+                                         r"equations need at least 2 \(saturated: b, c, d\)"):
+        zvyagin_fit(h, np.array([1.0, 2.0, 3.0, 4.0]), saturated="censored",
+                    labels=["a", "b", "c", "d"])
