@@ -10,7 +10,7 @@ from tactilecal.calibration._methods import FITTERS, fit_censored
 from tactilecal.calibration._models import force_table
 from tactilecal.calibration._points import points_to_arrays, take_rows
 from tactilecal.calibration._result import CalibrationResult
-from tactilecal.calibration._uncertainty import PredictionInterval, prediction_interval
+from tactilecal.calibration._uncertainty import PredictionInterval, bootstrap_refits
 
 __all__ = ["METHODS", "META_COLUMNS", "calibrate", "calibrate_arrays", "make_result",
            "point_meta", "result_from_arrays", "select_points", "validate"]
@@ -78,11 +78,12 @@ def calibrate(points, method="power", **options):
         with sensels at 255 are left out and reported; ``"keep"``; ``keep_saturated`` is
         the older spelling), ``scale_by_working`` (``linear``/``power-2pt``: multiply each load by
         working / all sensels, thesis sec. 3.5), ``sensel_area_mm2`` (default: from the
-        points), ``n_bootstrap`` and ``seed`` (bootstrap the parameter errors over points),
-        ``n_interval_resamples`` (default 0: none; else the bootstrap refits of the 95 %
-        prediction interval of a new patch's load, :func:`prediction_interval`, stored in
-        ``details["prediction_interval"]`` and used by :func:`validate`), and the
-        method's own options.
+        points), ``n_bootstrap`` (default 0: none; else refits of the whole method on
+        resampled patches giving ``params_stderr`` and the 95 % intervals
+        ``details["params_interval"]``, :func:`add_uncertainty`), ``n_interval_resamples``
+        (default 0: none; else the 95 % prediction interval of a new patch's load from the
+        same refits, ``details["prediction_interval"]``, used by :func:`validate`), ``seed``
+        (of the resampling), and the method's own options.
 
     Returns
     -------
@@ -103,17 +104,57 @@ def calibrate(points, method="power", **options):
     >>> round(res.params["b"], 6), round(res.params["A"], 6)
     (1.2, 0.004)
     """
-    n_interval = options.pop("n_interval_resamples", 0)
-    if method == "zvyagin":
-        result = import_module("tactilecal.zvyagin").calibrate_zvyagin(points, **options)
-    elif method not in FITTERS:
-        raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
-    else:
+    points = list(points)
+    n_params, n_interval, seed = _pop_uncertainty(options)
+    result = _calibrate_points(points, method, options)
+    if n_params or n_interval:
         hist, load = points_to_arrays(points)
-        result = calibrate_arrays(hist, load, point_meta(points), method=method, **options)
+        add_uncertainty(result, lambda idx: _calibrate_points([points[k] for k in idx], method,
+                                                              options),
+                        hist, load, n_params=n_params, n_interval=n_interval, seed=seed)
+    return result
+
+
+def _calibrate_points(points, method, options):
+    """One fit of ``method`` to ``points`` (no resampling)."""
+    if method == "zvyagin":
+        return import_module("tactilecal.zvyagin").calibrate_zvyagin(points, **options)
+    if method not in FITTERS:
+        raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
+    hist, load = points_to_arrays(points)
+    return calibrate_arrays(hist, load, point_meta(points), method=method, **options)
+
+
+def _pop_uncertainty(options):
+    """Take ``n_bootstrap``, ``n_interval_resamples`` and ``seed`` out of ``options``."""
+    counts = [options.pop(k, 0) for k in ("n_bootstrap", "n_interval_resamples")]
+    for key, count in zip(("n_bootstrap", "n_interval_resamples"), counts, strict=True):
+        if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0:
+            raise ValueError(f"{key}={count!r}; expected a whole number >= 0")
+    return int(counts[0]), int(counts[1]), options.pop("seed", 0)
+
+
+def add_uncertainty(result, refit, hist, load, *, n_params, n_interval, seed, level=0.95):
+    """Store bootstrap parameter and prediction intervals on ``result`` (in place).
+
+    One set of ``max(n_params, n_interval)`` refits (:func:`bootstrap_refits`) gives
+    ``params_stderr`` and ``details["params_interval"]`` (if ``n_params``) and
+    ``details["prediction_interval"]`` (if ``n_interval``).
+    """
+    boot = bootstrap_refits(refit, hist, load, n_resamples=max(n_params, n_interval),
+                            seed=seed)
+    if n_params:
+        if boot.n_resamples - boot.n_failed < 2:
+            raise ValueError(f"bootstrap: only {boot.n_resamples - boot.n_failed} of "
+                             f"{boot.n_resamples} resamples could be fitted; expected at "
+                             "least 2 (too few distinct points)")
+        result.params_stderr = boot.stderr()
+        result.details["params_interval"] = boot.parameter_intervals(result.params, level)
+        result.details["stderr_method"] = result.details["params_interval"]["method"]
+        result.options["n_bootstrap"] = n_params
     if n_interval:
-        interval = prediction_interval(points, method, n_resamples=n_interval, **options)
-        result.details["prediction_interval"] = interval.to_dict()
+        result.details["prediction_interval"] = boot.prediction_interval(level).to_dict()
+        result.options["n_interval_resamples"] = n_interval
     return result
 
 
@@ -131,8 +172,7 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
     keep_saturated = saturated == "keep"
     scale_by_working = bool(options.pop("scale_by_working", False))
     area = options.pop("sensel_area_mm2", None)
-    n_bootstrap = int(options.pop("n_bootstrap", 0))
-    seed = options.pop("seed", 0)
+    n_params, n_interval, seed = _pop_uncertainty(options)
     _check_options(method, options)
     if scale_by_working and method not in SCALABLE:
         raise ValueError(f"scale_by_working is offered for {SCALABLE}; method={method!r}")
@@ -149,10 +189,6 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
     fit_load = load * fraction if scale_by_working else load
     censored = (meta["saturated_cells"][used] > 0) if saturated == "censored" else None
     fit = _fit(method, take_rows(hist, used), fit_load[used], censored, options)
-    if n_bootstrap:
-        fit.params_stderr = _bootstrap(method, hist[used], fit_load[used], censored, options,
-                                       n_bootstrap, seed)
-        fit.details["stderr_method"] = f"bootstrap over points ({n_bootstrap} resamples)"
     if method == "linear" and "point" in fit.details:
         others = used.copy()
         others[np.flatnonzero(used)[fit.details["point"]]] = False
@@ -165,11 +201,19 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
     if scale_by_working:
         fit.details["working_fraction"] = fraction[used].tolist()
     all_options = {**options, "saturated": saturated, "keep_saturated": keep_saturated,
-                   "scale_by_working": scale_by_working, "n_bootstrap": n_bootstrap}
-    return result_from_arrays(hist, load, meta, method=method, model=fit.model,
-                              params=fit.params, params_stderr=fit.params_stderr, used=used,
-                              reasons=reasons, details=fit.details, options=all_options,
-                              sensel_area_mm2=area)
+                   "scale_by_working": scale_by_working, "n_bootstrap": n_params}
+    result = result_from_arrays(hist, load, meta, method=method, model=fit.model,
+                                params=fit.params, params_stderr=fit.params_stderr, used=used,
+                                reasons=reasons, details=fit.details, options=all_options,
+                                sensel_area_mm2=area)
+    if n_params or n_interval:
+        refit_options = {**options, "saturated": saturated,
+                         "scale_by_working": scale_by_working, "sensel_area_mm2": area}
+        add_uncertainty(result, lambda idx: calibrate_arrays(
+            hist[idx], load[idx], {k: np.asarray(v)[idx] for k, v in meta.items()},
+            method=method, **refit_options), hist, load, n_params=n_params,
+            n_interval=n_interval, seed=seed)
+    return result
 
 
 def _point_name(meta, k):
@@ -206,7 +250,8 @@ def _check_options(method, options):
                 if p.kind is p.KEYWORD_ONLY]
     unknown = sorted(set(options) - set(accepted))
     if unknown:
-        generic = ["saturated", "keep_saturated", "sensel_area_mm2", "n_bootstrap"]
+        generic = ["saturated", "keep_saturated", "sensel_area_mm2", "scale_by_working",
+                   "n_bootstrap", "n_interval_resamples", "seed"]
         raise ValueError(f"method={method!r} does not take the options {unknown}; expected "
                          f"{accepted + generic}")
 
@@ -215,24 +260,6 @@ def _working_fraction(meta):
     """Working / all sensels per point (1 where the total is unknown)."""
     total = meta["total_cells"].astype(float)
     return np.where(total > 0, meta["working_cells"] / np.where(total > 0, total, 1.0), 1.0)
-
-
-def _bootstrap(method, hist, load, censored, options, n_bootstrap, seed):
-    """Return the std of each parameter over fits to points resampled with replacement."""
-    rng = np.random.default_rng(seed)
-    draws = []
-    for _ in range(n_bootstrap):
-        idx = rng.integers(0, len(load), len(load))
-        try:
-            params = _fit(method, hist[idx], load[idx],
-                          None if censored is None else censored[idx], options).params
-        except (ValueError, np.linalg.LinAlgError, ZeroDivisionError):
-            continue  # a degenerate resample (e.g. one distinct load); counted below
-        draws.append({k: np.asarray(v, dtype=float) for k, v in params.items()})
-    if len(draws) < 2:
-        raise ValueError(f"bootstrap: only {len(draws)} of {n_bootstrap} resamples could be "
-                         "fitted; expected at least 2 (too few distinct points)")
-    return {k: np.std([d[k] for d in draws], axis=0, ddof=1).tolist() for k in draws[0]}
 
 
 def make_result(points, *, method, model, params, params_stderr, used, reasons, details=None,

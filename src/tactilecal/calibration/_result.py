@@ -194,11 +194,7 @@ class CalibrationResult:
     def summary(self):
         """Human-readable summary: parameters with errors, points used and metrics."""
         lines = [f"Calibration method {self.method!r}, model {self.model!r}"]
-        for name, value in self.params.items():
-            err = self.params_stderr.get(name)
-            err_txt = "" if err is None or np.ndim(err) else f" +/- {err:.4g}"
-            val_txt = f"{value:.6g}" if np.ndim(value) == 0 else str(np.round(value, 6).tolist())
-            lines.append(f"  {name} = {val_txt}{err_txt}")
+        lines.extend(self._param_lines())
         used = self.points["used"].to_numpy(bool)
         lines.append(f"  points used: {used.sum()} of {len(used)}")
         reasons = self.points.loc[~used, "reason"].astype(str)
@@ -217,6 +213,23 @@ class CalibrationResult:
         lines.extend(f"  {k}: {v:.4g}" if isinstance(v, float) else f"  {k}: {v}"
                      for k, v in self.metrics.items())
         return "\n".join(lines)
+
+    def _param_lines(self):
+        """One line per parameter, with its bootstrap interval or why it has none."""
+        intervals = self.details.get("params_interval") or {}
+        lines = []
+        for name, value in self.params.items():
+            val_txt = f"{value:.6g}" if np.ndim(value) == 0 else str(np.round(value, 6).tolist())
+            bounds = intervals.get(name)
+            if bounds is not None and np.ndim(value) == 0:
+                val_txt += (f"  ({intervals['level']:.0%} interval {bounds[0]:.6g} .. "
+                            f"{bounds[1]:.6g})")
+            lines.append(f"  {name} = {val_txt}")
+        if "unbounded" in intervals:
+            lines.append(f"  parameter intervals: unbounded ({intervals['unbounded']})")
+        elif intervals:
+            lines.append(f"  parameter intervals: {intervals['method']}")
+        return lines
 
     def __repr__(self):
         return f"<CalibrationResult {self.method} {self.model} {self.params}>"

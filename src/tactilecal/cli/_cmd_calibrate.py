@@ -46,7 +46,8 @@ def register(subparsers):
     p.add_argument("--equilibration", metavar="EQ.json",
                    help="per-sensel gains from 'tactilecal equilibrate', applied first")
     p.add_argument("--n-bootstrap", type=non_negative_int, default=0,
-                   help="bootstrap resamples for the parameter errors (default: Jacobian)")
+                   help="bootstrap refits for the parameters' 95 %% intervals and standard "
+                        "errors (default 0: none)")
     p.add_argument("--intervals", type=non_negative_int, default=0, metavar="N",
                    help="bootstrap refits for the 95 %% prediction interval of a new patch's "
                         "load (stored in the JSON, used by validate; default 0: none)")

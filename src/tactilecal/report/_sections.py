@@ -95,11 +95,15 @@ def calibration_blocks(result, label):
         plot_points,
     )
 
-    params = [(k, v, result.params_stderr.get(k)) for k, v in result.params.items()
-              if np.ndim(v) == 0]
+    intervals = result.details.get("params_interval") or {}
+    params = [(k, v, result.params_stderr.get(k),
+               " .. ".join(f"{x:.6g}" for x in intervals[k]) if k in intervals
+               else intervals.get("unbounded", "none (no n_bootstrap)"))
+              for k, v in result.params.items() if np.ndim(v) == 0]
     blocks = [
         f"<pre>{_esc(result.summary())}</pre>",
-        table_html(params, header=("parameter", "value", "standard error")),
+        table_html(params, header=("parameter", "value", "bootstrap standard error",
+                                   "95 % interval")),
         table_html(sorted(result.metrics.items()), header=("metric", "value")),
         table_html([("created", getattr(result, "created", "")),
                     ("tactilecal version", getattr(result, "version", "")),
