@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 
 from tactilecal._saturation import resolve_saturated
-from tactilecal.calibration._methods import FITTERS, fit_censored
+from tactilecal.calibration._methods import FITTERS, check_unsaturated, fit_censored
 from tactilecal.calibration._models import force_table
 from tactilecal.calibration._points import points_to_arrays, take_rows
 from tactilecal.calibration._result import CalibrationResult
@@ -184,7 +184,9 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
                          f"{', '.join(names)}{' ...' if len(load) > 8 else ''}); expected at "
                          "least one unsaturated point with a positive load")
     if saturated == "censored":
-        _check_censorable(meta, used)
+        check_unsaturated(meta["saturated_cells"][used] > 0,
+                          lambda k: _point_name(meta, np.flatnonzero(used)[k]),
+                          kind="usable point(s)")
     fraction = _working_fraction(meta)
     fit_load = load * fraction if scale_by_working else load
     censored = (meta["saturated_cells"][used] > 0) if saturated == "censored" else None
@@ -222,18 +224,6 @@ def _point_name(meta, k):
         return str(meta["label"][k])
     return f"{meta['file'][k]}#{meta['frame'][k]}" if meta["file"][k] else \
         f"frame {meta['frame'][k]}"
-
-
-def _check_censorable(meta, used):
-    """Check that a censored fit has 2 unsaturated points to start from; name the others."""
-    clean = used & (meta["saturated_cells"] == 0)
-    if clean.sum() >= 2:
-        return
-    names = [_point_name(meta, k) for k in np.flatnonzero(used & ~clean)[:8]]
-    raise ValueError(f"{int(clean.sum())} usable point(s) without a saturated sensel; a "
-                     "censored fit needs at least 2 to start from (every other point is only "
-                     f"a lower bound; saturated: {', '.join(names)}"
-                     f"{' ...' if (used & ~clean).sum() > 8 else ''})")
 
 
 def _fit(method, hist, load, censored, options):

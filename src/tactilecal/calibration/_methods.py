@@ -245,11 +245,22 @@ def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS, *
     return Fit("power", {"A": A, "b": b}, {"A": None, "b": None}, details)
 
 
-def _check_uncensored(censored):
-    if (~censored).sum() < 2:
-        raise ValueError(f"{(~censored).sum()} patch(es) without a saturated sensel; a "
-                         "censored fit needs at least 2 to start from (every other patch "
-                         "is only a lower bound)")
+def check_unsaturated(censored, name_of=None, kind="patch(es)"):
+    """Raise unless 2 patches are unsaturated: a censored fit starts from them.
+
+    ``name_of(k)`` names the ``k``-th patch in the message (the first 8 saturated ones).
+    """
+    censored = np.asarray(censored, dtype=bool)
+    n_clean = int((~censored).sum())
+    if n_clean >= 2:
+        return
+    listed = ""
+    if name_of is not None:
+        saturated = np.flatnonzero(censored)
+        listed = (f"; saturated: {', '.join(name_of(k) for k in saturated[:8])}"
+                  f"{' ...' if len(saturated) > 8 else ''}")
+    raise ValueError(f"{n_clean} {kind} without a saturated sensel; a censored fit needs at "
+                     f"least 2 to start from (every other one is only a lower bound{listed})")
 
 
 def fit_power_censored(hist, load_N, censored, *, objective=DEFAULT_OBJECTIVE,
@@ -274,7 +285,7 @@ def fit_power_censored(hist, load_N, censored, *, objective=DEFAULT_OBJECTIVE,
     _check_objective(objective)
     hist = np.asarray(hist, dtype=float)
     censored = np.asarray(censored, dtype=bool)
-    _check_uncensored(censored)
+    check_unsaturated(censored)
     if objective == "l1":
         b, A, cost, _ = _minimise_b(hist, load_N, objective, b_bounds, censored=censored)
     else:
@@ -430,7 +441,7 @@ def fit_censored(method, hist, load_N, censored, **options):
     if method == "power":  # its own fit, which checks the unsaturated patches itself
         return fit_power_censored(hist, load_N, censored, **options)
     censored = np.asarray(censored, dtype=bool)
-    _check_uncensored(censored)
+    check_unsaturated(censored)
     exact = method in EXACT_METHODS or options.get("point") is not None
     active = np.zeros_like(censored)
     for _ in range(1 if exact else 50):
