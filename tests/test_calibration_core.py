@@ -362,3 +362,11 @@ def test_piecewise_beats_power_on_a_kinked_law():
     np.testing.assert_allclose(piece.force_table()[3:], law[3:], rtol=1e-6)
     np.testing.assert_allclose(piece.details["segments_b"], [1.05, 1.35], atol=1e-6)
     assert power.metrics["max_abs_error_pct"] > 1.0 > 1e3 * piece.metrics["max_abs_error_pct"]
+
+
+def test_power_table_with_negative_exponent_has_no_force_at_zero_and_no_warning():
+    # a 2-point fit to unlucky points can give b < 0; raw 0 must stay 0 N, not 0 ** b = inf
+    from tactilecal.calibration import force_table
+
+    table = force_table("power", {"A": 2.0, "b": -0.5})
+    assert table[0] == 0.0 and table[4] == pytest.approx(1.0)

@@ -14,8 +14,9 @@ LEVELS = np.arange(256, dtype=float)
 
 def _power(raw, params):
     """Manufacturer's law f = A * raw**b (Zvyagin 2022, eq. 1; thesis sec. 3.5)."""
-    with np.errstate(invalid="ignore"):
-        return np.where(raw > 0, params["A"] * np.abs(raw) ** params["b"], 0.0)
+    positive = raw > 0
+    # zero and negative readings carry no force; they are not raised to b (which may be < 0)
+    return np.where(positive, params["A"] * np.where(positive, raw, 1.0) ** params["b"], 0.0)
 
 
 def _linear_offset(raw, params):
@@ -88,7 +89,6 @@ def sensel_force(model, params, raw):
     """
     if model not in MODELS:
         raise ValueError(f"model {model!r} is unknown; expected one of {sorted(MODELS)}")
-    raw = np.asarray(raw, dtype=float)
     out = MODELS[model](np.nan_to_num(raw, nan=0.0), params)
     return np.where(np.isnan(raw), np.nan, out)
 
