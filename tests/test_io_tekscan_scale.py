@@ -140,7 +140,7 @@ def test_bad_value_in_a_block_raises_when_that_block_is_computed(tmp_path, value
     lazy = read_tekscan(path, chunks=2)  # frame 5 is in the third block
     assert lazy.isel(frame=slice(0, 4)).values.shape == (4, 5, 7)
     with pytest.raises(ValueError, match=rf"line {line} of {re.escape(str(path))}, {message}"):
-        lazy.values
+        lazy.compute()
     with pytest.raises(ValueError, match=rf"line {line} of .*m.csv, {message}"):
         read_tekscan(path)
 
@@ -160,7 +160,7 @@ def test_file_changed_after_indexing_raises_when_computed(tmp_path):
     lazy = read_tekscan(path, chunks=2)
     path.write_bytes(path.read_bytes().replace(b"Frame 3", b"Frame 3\n0,0,0,0,0,0,0"))
     with pytest.raises(ValueError, match=r"m.csv changed since it was indexed"):
-        lazy.values
+        lazy.compute()
 
 
 @pytest.mark.parametrize("chunks, error, message", [
