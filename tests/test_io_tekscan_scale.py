@@ -178,3 +178,39 @@ def test_lazy_read_writes_to_netcdf_like_the_eager_read(tmp_path):
     read_tekscan(path, chunks=2).to_netcdf(tmp_path / "lazy.nc", engine="h5netcdf")
     back = xr.load_dataarray(tmp_path / "lazy.nc", engine="h5netcdf")
     assert back.identical(read_tekscan(path))
+
+
+@pytest.mark.parametrize("frame_line, time_s", [
+    ("Frame 1, 0.5,, 12 févr. 2019 18:21,,,Raw Sum=,,8", 0.5),  # not ASCII: parsed by regex
+    ("Frame 1,0.5", 0.5), ("Frame\t1 , 1_5 ,x", 15.0), ("Frame 1, nan", 0.0),
+    ("Frame 1,, 5", 0.0), ("Frame 1x, 2", 0.0), ("Frame 01, 5e-1,,,Raw Sum = ,, 8.", 0.5),
+])
+def test_frame_line_forms_give_number_time_and_raw_sum(tmp_path, frame_line, time_s):
+    text = f"ROWS 1\nCOLS 3\nUNITS raw\nASCII_DATA @@\n{frame_line}\n1,2,5\n@@\n"
+    (tmp_path / "f.csv").write_bytes(text.encode())
+    data = read_tekscan(tmp_path / "f.csv")
+    assert data.frame.values.tolist() == [1] and data.time.values.tolist() == [time_s]
+
+
+def test_raw_sum_of_a_frame_line_outside_ascii_is_checked(tmp_path):
+    text = "ROWS 1\nCOLS 2\nUNITS raw\nASCII_DATA @@\nFrame 1, 0,, févr.,,,Raw Sum=,,4\n1,2\n@@\n"
+    (tmp_path / "f.csv").write_bytes(text.encode())
+    with pytest.raises(ValueError, match=r"frame 1 of .*f.csv \(line 5\): Raw Sum in the frame "
+                                         r"line is 4; expected 3"):
+        read_tekscan(tmp_path / "f.csv")
+
+
+def test_frame_number_beyond_int64_is_an_error(tmp_path):
+    text = f"ROWS 1\nCOLS 1\nASCII_DATA @@\nFrame {2**64}\n1\n@@\n"
+    (tmp_path / "f.csv").write_text(text)
+    with pytest.raises(ValueError, match=rf"line 4 of .*f.csv: frame number {2**64}; "
+                                         r"expected at most 2\*\*63 - 1"):
+        read_tekscan(tmp_path / "f.csv")
+
+
+def test_f_inside_a_row_is_reported_before_an_earlier_bad_value(tmp_path):
+    """As before issue 16 (pandas read the F as a comment): the row holding F is named."""
+    text = "ROWS 2\nCOLS 3\nUNITS raw\nASCII_DATA @@\nFrame 1\n1,x,3\n1,F,3\n@@\n"
+    (tmp_path / "f.csv").write_text(text)
+    with pytest.raises(ValueError, match=r"line 7 of .*f.csv, value 2: 'F' is not a finite"):
+        read_tekscan(tmp_path / "f.csv")

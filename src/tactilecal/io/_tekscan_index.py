@@ -19,7 +19,7 @@ from tactilecal._validate import check_size
 from tactilecal.io import _tekscan_kernels as kernels
 from tactilecal.io._header import header_attrs, integer, parse_header_lines
 
-__all__ = ["BLOCK_BYTES", "Index", "index_export", "line_text", "frame_where"]
+__all__ = ["BLOCK_BYTES", "Index", "index_export", "line_text"]
 
 BLOCK_BYTES = 16 * 2**20
 """Bytes read at a time while indexing, and bytes of frames parsed at a time when eager."""
@@ -288,7 +288,3 @@ def _raise_row_length(found, rows, cols, lines, scan, name):
                  f"(line {line})")
     raise ValueError(f"{where} has {n_values} values; expected {cols} (COLS)")
 
-
-def frame_where(index, k):
-    """``"frame N of FILE (line L)"`` for frame ``k`` of ``index``."""
-    return f"frame {index.numbers[k]} of {index.name} (line {index.lines[k]})"
