@@ -2,11 +2,11 @@
 
 from tactilecal.cli._common import info, positive_int
 
+DEFAULT_CHUNK_FRAMES = 1000  # tactilecal.io.convert's default (not imported: keeps --help fast)
+
 
 def register(subparsers):
     """Add the ``convert`` command."""
-    from tactilecal.io._convert import DEFAULT_CHUNK_FRAMES
-
     p = subparsers.add_parser(
         "convert", help="a Tekscan export to Zarr (.zarr) or NetCDF (.nc), block by block",
         description="Write a Tekscan ASCII export as a Zarr store (OUT.zarr) or a NetCDF file "

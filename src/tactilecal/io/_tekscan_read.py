@@ -19,17 +19,6 @@ plus one block of bytes; with ``chunks`` the second pass is left to dask, block 
 import numpy as np
 import xarray as xr
 
-from tactilecal.io import _tekscan_index
-from tactilecal.io._tekscan_blocks import (
-    blocks,
-    check_block_sums,
-    check_stray_f,
-    parse_block,
-    raise_range,
-    read_block,
-)
-from tactilecal.io._tekscan_index import index_export
-
 __all__ = ["read_tekscan"]
 
 
@@ -85,6 +74,10 @@ def read_tekscan(path, *, chunks=None):
     """
     from pathlib import Path
 
+    # numba is imported with the kernels, on the first read (not on ``import tactilecal.io``)
+    from tactilecal.io._tekscan_blocks import check_block_sums, check_stray_f, raise_range
+    from tactilecal.io._tekscan_index import index_export
+
     name = str(path)
     chunks = _check_chunks(chunks)
     with open(Path(path), "rb") as f:
@@ -119,6 +112,9 @@ def _parse_all(f, index, values):
     Returns ``(block, frame sums)`` per block and the first value that is no raw reading
     (or None).
     """
+    from tactilecal.io import _tekscan_index
+    from tactilecal.io._tekscan_blocks import blocks, parse_block
+
     sums, bad = [], None
     parts = blocks(index, max_bytes=_tekscan_index.BLOCK_BYTES)
     buf = np.empty(max(block.n_bytes for block in parts), dtype=np.uint8)
@@ -136,6 +132,8 @@ def _lazy_values(path, index, chunks):
     """Return a dask array over blocks of ``chunks`` frames; each block parses its byte range."""
     import dask
     import dask.array as da
+
+    from tactilecal.io._tekscan_blocks import blocks, read_block
 
     parts = []
     for block in blocks(index, chunks):
