@@ -214,3 +214,17 @@ def test_f_inside_a_row_is_reported_before_an_earlier_bad_value(tmp_path):
     (tmp_path / "f.csv").write_text(text)
     with pytest.raises(ValueError, match=r"line 7 of .*f.csv, value 2: 'F' is not a finite"):
         read_tekscan(tmp_path / "f.csv")
+
+
+def test_lazy_read_limits_the_block_not_the_file(tmp_path, monkeypatch):
+    """The eager read refuses more than MAX_VALUES values; the lazy one only a bigger block."""
+    import tactilecal._validate as validate
+
+    path = _movie(tmp_path, _raw_values(n=6))  # 6 frames of 35 values
+    monkeypatch.setattr(validate.check_size, "__kwdefaults__", {"limit": 100})
+    with pytest.raises(ValueError, match=r"m.csv: 210 values; expected at most 100"):
+        read_tekscan(path)
+    assert read_tekscan(path, chunks=2).shape == (6, 5, 7)
+    with pytest.raises(ValueError, match=r"m.csv: a block of 3 frames \(chunks\): 105 values; "
+                                         r"expected at most 100"):
+        read_tekscan(path, chunks=3)

@@ -61,8 +61,11 @@ class Index:
         return self.attrs.get("units") in (None, "raw")
 
 
-def index_export(f, name):
+def index_export(f, name, *, whole=True):
     """Index the open export ``f`` (binary); raise the first structural fault found.
+
+    ``whole`` (the values will be read into one array) also checks their number against
+    :data:`tactilecal._validate.MAX_VALUES`; a lazy read checks each block instead.
 
     Returns
     -------
@@ -83,7 +86,7 @@ def index_export(f, name):
     scan = _scan(f, marker.end(), first_line, cols, name)
     numbers, times, raw_sums, lines = _check_structure(f, scan, first_line, rows, header,
                                                        name)
-    _check_lines(f, scan, rows, cols, lines, name)
+    _check_lines(f, scan, rows, cols, lines, name, whole)
     body = marker.end()
     starts = scan["frames"][:, 0] if len(scan["frames"]) else np.array([body])
     stat = os.fstat(f.fileno())
@@ -257,7 +260,7 @@ def _frame_lines(scan, first_line, rows, header, name):
     return numbers, values[:, 0].copy(), values[:, 1].copy(), lines.copy()
 
 
-def _check_lines(f, scan, rows, cols, lines, name):
+def _check_lines(f, scan, rows, cols, lines, name, whole):
     """``_`` inside a value, lone CR, row lengths and the size, in the order of main."""
     state, info = scan["state"], scan["info"]
     found = _slot(info, "underscore")
@@ -274,7 +277,8 @@ def _check_lines(f, scan, rows, cols, lines, name):
     row_length = _slot(info, "row_length")
     if row_length and cols > (widest + 1) // 2:
         _raise_row_length(row_length, rows, cols, lines, scan, name)
-    check_size(n_data * cols, name)
+    if whole:
+        check_size(n_data * cols, name)
     if row_length:
         _raise_row_length(row_length, rows, cols, lines, scan, name)
 

@@ -19,6 +19,8 @@ plus one block of bytes; with ``chunks`` the second pass is left to dask, block 
 import numpy as np
 import xarray as xr
 
+from tactilecal._validate import check_size
+
 __all__ = ["read_tekscan"]
 
 
@@ -81,9 +83,11 @@ def read_tekscan(path, *, chunks=None):
     name = str(path)
     chunks = _check_chunks(chunks)
     with open(Path(path), "rb") as f:
-        index = index_export(f, name)
+        index = index_export(f, name, whole=chunks is None)
         check_stray_f(f, index)
         if chunks is not None:
+            check_size(min(chunks, len(index.numbers)) * index.rows * index.cols,
+                       f"{name}: a block of {chunks} frames (chunks)")
             _check_frames(index.numbers, index.times, index.lines, index.header, name)
             return _recording(_lazy_values(Path(path), index, chunks), index)
         values = np.empty((len(index.numbers), index.rows, index.cols))
