@@ -228,3 +228,12 @@ def test_lazy_read_limits_the_block_not_the_file(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match=r"m.csv: a block of 3 frames \(chunks\): 105 values; "
                                          r"expected at most 100"):
         read_tekscan(path, chunks=3)
+
+
+def test_rows_wider_than_the_slow_number_buffer_read_exactly(tmp_path):
+    """5000 values of 20 significant digits in one row: all converted by Python's float."""
+    tokens = [f"{1 + i / 7:.19f}" for i in range(5000)]
+    text = f"ROWS 1\nCOLS 5000\nUNITS kPa\nASCII_DATA @@\nFrame 1\n{','.join(tokens)}\n@@\n"
+    (tmp_path / "wide.csv").write_text(text)
+    values = read_tekscan(tmp_path / "wide.csv").values.ravel()
+    assert values.tolist() == [float(t) for t in tokens]

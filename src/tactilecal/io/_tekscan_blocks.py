@@ -114,7 +114,7 @@ def parse_block(f, block, out, buf=None):
     flat = out.reshape(-1)
     per_frame = block.rows * block.cols
     sums, bad = np.zeros(block.n_frames), np.full(2, -1, dtype=np.int64)
-    slow = np.empty((_SLOW, 3), dtype=np.int64)
+    slow = np.empty((max(_SLOW, block.cols), 3), dtype=np.int64)  # room for a whole row
     pos, k, first_slow_bad = 0, 0, None
     while True:
         status, pos, k, n_slow = kernels.parse_rows(
