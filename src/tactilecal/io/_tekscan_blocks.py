@@ -64,8 +64,8 @@ def blocks(index, frames_per_block=None, *, max_bytes=None):
 def _block(index, a, b):
     return Block(name=index.name, rows=index.rows, cols=index.cols, spaced=index.spaced,
                  raw=index.raw, units=index.attrs.get("units"), stat=index.stat, k0=a,
-                 starts=index.starts[a:b + 1].copy(), lines=index.lines[a:b].copy(),
-                 numbers=index.numbers[a:b].copy(), raw_sums=index.raw_sums[a:b].copy())
+                 starts=index.starts[a:b + 1], lines=index.lines[a:b],
+                 numbers=index.numbers[a:b], raw_sums=index.raw_sums[a:b])
 
 
 def read_block(path, block):

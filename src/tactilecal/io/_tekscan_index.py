@@ -28,6 +28,8 @@ _MARKER = re.compile(rb"^[ \t]*ASCII_DATA[ \t]*@@[ \t]*\r?$", re.MULTILINE)
 _FRAME = re.compile(r"Frame[ \t]+(\d+)[ \t]*(?:,[ \t]*([^,]*?)[ \t]*(?:,|$))?")
 _RAW_SUM = re.compile(r"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)")
 _HEADER_STEP = 2**20
+_COLUMNS = {"starts": np.int64, "lines": np.int64, "counts": np.int64, "numbers": np.int64,
+            "times": np.float64, "raw_sums": np.float64}
 _INFO = kernels.INFO_SLOTS
 _STATE = kernels.STATE_SLOTS
 
@@ -88,7 +90,7 @@ def index_export(f, name, *, whole=True):
                                                        name)
     _check_lines(f, scan, rows, cols, lines, name, whole)
     body = marker.end()
-    starts = scan["frames"][:, 0] if len(scan["frames"]) else np.array([body])
+    starts = scan["starts"] if len(scan["starts"]) else np.array([body])
     stat = os.fstat(f.fileno())
     return Index(name=name, rows=rows, cols=cols, header=header, attrs=attrs,
                  first_line=first_line, numbers=numbers, times=times, raw_sums=raw_sums,
@@ -130,8 +132,8 @@ def _scan(f, offset, first_line, cols, name):
     left = os.fstat(f.fileno()).st_size - offset
     buf = np.empty(max(1, min(BLOCK_BYTES, left + 1)), dtype=np.uint8)  # small files: small
     f.seek(offset)
-    frames, numbers, values, carry, base = [], [], [], 0, offset
-    frame_errors = []
+    columns = {key: [] for key in _COLUMNS}  # per block: 48 bytes a frame, nothing per value
+    carry, base, frame_errors = 0, offset, []
     while True:
         got = f.readinto(memoryview(buf)[carry:])
         n = carry + got
@@ -144,22 +146,22 @@ def _scan(f, offset, first_line, cols, name):
             continue
         used, fr, num, val, rows_before = kernels.index_lines(
             buf, n, lf, base, final, min(cols, 2**62), state, info)
-        if frames:  # rows before the block's first frame line belong to the frame before
-            frames[-1][-1, 3] += rows_before
+        if columns["counts"]:  # rows before the block's first frame line: the frame before
+            columns["counts"][-1][-1] += rows_before
         if len(fr):
             _python_frame_lines(buf, base, fr, num, val, name, frame_errors)
-            frames.append(fr)
-            numbers.append(num)
-            values.append(val)
+            for key, column in (("starts", fr[:, 0]), ("lines", fr[:, 2]),
+                                ("counts", fr[:, 3]), ("numbers", num), ("times", val[:, 0]),
+                                ("raw_sums", val[:, 1])):
+                columns[key].append(column.copy())
         if final:
             break
         buf[:n - used] = buf[used:n]
         carry, base = n - used, base + used
-    frames = np.concatenate(frames) if frames else np.zeros((0, 5), dtype=np.int64)
-    return {"state": state, "info": info, "frames": frames,
-            "numbers": np.concatenate(numbers) if numbers else np.zeros(0, np.int64),
-            "values": np.concatenate(values) if values else np.zeros((0, 2)),
-            "frame_errors": frame_errors}
+    scan = {"state": state, "info": info, "frame_errors": frame_errors}
+    for key, dtype in _COLUMNS.items():  # one column at a time: no second copy of them all
+        scan[key] = np.concatenate(columns.pop(key)) if columns[key] else np.zeros(0, dtype)
+    return scan
 
 
 def _python_frame_lines(buf, base, frames, numbers, values, name, errors):
@@ -230,8 +232,8 @@ def _check_structure(f, scan, first_line, rows, header, name):
 
 def _frame_lines(scan, first_line, rows, header, name):
     """Check each frame has ``rows`` rows and increasing numbers (main's ``_frame_lines``)."""
-    frames, n_data = scan["frames"], int(scan["state"][_STATE["n_data"]])
-    if len(frames) == 0:
+    n_data = int(scan["state"][_STATE["n_data"]])
+    if len(scan["lines"]) == 0:
         if n_data != rows:
             raise ValueError(f"{name} has {n_data} rows of values and no 'Frame N' "
                              f"line; expected {rows} rows (ROWS) for a single frame")
@@ -239,12 +241,12 @@ def _frame_lines(scan, first_line, rows, header, name):
         return (np.array([number], dtype=np.int64), np.full(1, np.nan), np.full(1, np.nan),
                 np.array([first_line]))
     first_data = _slot(scan["info"], "first_data")
-    if first_data and first_data[0] < frames[0, 2]:
+    if first_data and first_data[0] < scan["lines"][0]:
         raise ValueError(f"line {first_data[0]} of {name}: a row of values before "
                          "the first 'Frame N' line; expected 'Frame N' first")
     if scan["frame_errors"]:
         raise scan["frame_errors"][0]
-    numbers, counts, lines = scan["numbers"], frames[:, 3], frames[:, 2]
+    numbers, counts, lines = scan["numbers"], scan["counts"], scan["lines"]
     bad = np.flatnonzero(counts != rows)
     if bad.size:
         k = bad[0]
@@ -256,8 +258,7 @@ def _frame_lines(scan, first_line, rows, header, name):
         k = order[0] + 1
         raise ValueError(f"line {lines[k]} of {name}: frame {numbers[k]} "
                          f"follows frame {numbers[k - 1]}; expected increasing frame numbers")
-    values = scan["values"]
-    return numbers, values[:, 0].copy(), values[:, 1].copy(), lines.copy()
+    return numbers, scan["times"], scan["raw_sums"], lines
 
 
 def _check_lines(f, scan, rows, cols, lines, name, whole):
@@ -286,7 +287,7 @@ def _check_lines(f, scan, rows, cols, lines, name, whole):
 def _raise_row_length(found, rows, cols, lines, scan, name):
     line, _, n_values, k = found
     where = f"line {line} of {name}"
-    if len(scan["frames"]):
+    if len(scan["lines"]):
         frame_line = lines[np.searchsorted(lines, line) - 1]
         where = (f"row {k % rows} of the frame on line {frame_line} of {name} "
                  f"(line {line})")
