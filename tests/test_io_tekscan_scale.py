@@ -237,3 +237,25 @@ def test_rows_wider_than_the_slow_number_buffer_read_exactly(tmp_path):
     (tmp_path / "wide.csv").write_text(text)
     values = read_tekscan(tmp_path / "wide.csv").values.ravel()
     assert values.tolist() == [float(t) for t in tokens]
+
+
+def test_eager_read_reports_faults_in_file_order_whatever_block_finds_them(tmp_path,
+                                                                          monkeypatch):
+    """Not-a-number before out-of-range (as before issue 16), and the first of each kind."""
+    values = _raw_values(n=8)
+    path = _movie(tmp_path, values)
+    lines = path.read_text().split("\n")
+    rows = [i for i, line in enumerate(lines) if line[:1].isdigit() or line[:1] == "B"]
+    for i, token in ((rows[3], "300"), (rows[25], "x"), (rows[33], "y")):
+        cells = lines[i].split(",")
+        cells[4] = token
+        lines[i] = ",".join(cells)
+    path.write_text("\n".join(lines))
+    monkeypatch.setattr(_tekscan_index, "BLOCK_BYTES", 100)  # about one frame a block
+    with pytest.raises(ValueError, match=rf"line {rows[25] + 1} of .*m.csv, value 5: 'x'"):
+        read_tekscan(path)
+    lines[rows[25]] = lines[rows[25]].replace("x", "7")
+    lines[rows[33]] = lines[rows[33]].replace("y", "7")
+    path.write_text("\n".join(lines))
+    with pytest.raises(ValueError, match=rf"line {rows[3] + 1} of .*m.csv, value 5: 300;"):
+        read_tekscan(path)

@@ -13,8 +13,8 @@ import numpy as np
 
 from tactilecal.io import _tekscan_kernels as kernels
 
-__all__ = ["Block", "blocks", "parse_block", "read_block", "check_stray_f", "raise_range",
-           "check_block_sums"]
+__all__ = ["Block", "blocks", "parse_block", "parse_into", "read_block", "check_stray_f",
+           "raise_range", "check_block_sums"]
 
 _SLOW = 4096  # numbers converted by Python per kernel call at most
 
@@ -76,16 +76,35 @@ def read_block(path, block):
     """
     out = np.empty((block.n_frames, block.rows, block.cols))
     with open(path, "rb") as f:
-        stat = os.fstat(f.fileno())
-        if (stat.st_size, stat.st_mtime_ns) != block.stat:
-            raise ValueError(f"{block.name} changed since it was indexed (size or time "
-                             "stamp differ); expected the file unchanged while it is read: "
-                             "read it again")
+        _check_unchanged(f, block)
         sums, bad = parse_block(f, block, out)
     if bad is not None:
         raise_range(bad, block)
     check_block_sums(block, sums)
     return out
+
+
+def parse_into(path, block, out):
+    """Parse ``block`` of ``path`` into ``out``; return ``(sums, first bad raw value, error)``.
+
+    A fault in the values is returned (``error``), not raised, so that the caller can report
+    the first in file order whichever thread found it first.
+    """
+    try:
+        with open(path, "rb") as f:
+            _check_unchanged(f, block)
+            sums, bad = parse_block(f, block, out)
+    except ValueError as exc:
+        return None, None, exc
+    return sums, bad, None
+
+
+def _check_unchanged(f, block):
+    stat = os.fstat(f.fileno())
+    if (stat.st_size, stat.st_mtime_ns) != block.stat:
+        raise ValueError(f"{block.name} changed since it was indexed (size or time "
+                         "stamp differ); expected the file unchanged while it is read: "
+                         "read it again")
 
 
 def parse_block(f, block, out, buf=None):

@@ -91,7 +91,7 @@ def read_tekscan(path, *, chunks=None):
             _check_frames(index.numbers, index.times, index.lines, index.header, name)
             return _recording(_lazy_values(Path(path), index, chunks), index)
         values = np.empty((len(index.numbers), index.rows, index.cols))
-        sums, bad = _parse_all(f, index, values)
+    sums, bad = _parse_all(Path(path), index, values)
     if bad is not None:
         raise_range(*bad)
     _check_frames(index.numbers, index.times, index.lines, index.header, name)
@@ -110,26 +110,30 @@ def _check_chunks(chunks):
     return int(chunks)
 
 
-def _parse_all(f, index, values):
-    """Parse every frame into ``values``, one block of about ``BLOCK_BYTES`` at a time.
+def _parse_all(path, index, values):
+    """Parse every frame into ``values``, in blocks of about ``BLOCK_BYTES`` of the file.
 
-    Returns ``(block, frame sums)`` per block and the first value that is no raw reading
-    (or None).
+    The blocks are parsed by dask's local threads (the kernels release the GIL), each
+    straight into its slice of ``values``; faults are then raised in file order, as a
+    one-thread read would find them. Returns ``(block, frame sums)`` per block and the first
+    value that is no raw reading (or None).
     """
-    from tactilecal.io import _tekscan_index
-    from tactilecal.io._tekscan_blocks import blocks, parse_block
+    import dask
 
-    sums, bad = [], None
+    from tactilecal.io import _tekscan_index
+    from tactilecal.io._tekscan_blocks import blocks, parse_into
+
     parts = blocks(index, max_bytes=_tekscan_index.BLOCK_BYTES)
-    buf = np.empty(max(block.n_bytes for block in parts), dtype=np.uint8)
-    for block in parts:
-        out = values[block.k0:block.k0 + block.n_frames]
-        part, found = parse_block(f, block, out, buf)
-        sums.append((block, part))
-        if found is not None and bad is None:
-            k, line, value = found
-            bad = ((block.k0 * index.rows * index.cols + k, line, value), block)
-    return sums, bad
+    tasks = [dask.delayed(parse_into, pure=False)(
+        str(path), block, values[block.k0:block.k0 + block.n_frames],
+        dask_key_name=f"{_key(index, block)}-eager") for block in parts]
+    results = dask.compute(*tasks, scheduler="threads")
+    for _, _, error in results:
+        if error is not None:
+            raise error
+    bad = next(((found, block) for block, (_, found, _) in zip(parts, results, strict=True)
+                if found is not None), None)
+    return [(block, part) for block, (part, _, _) in zip(parts, results, strict=True)], bad
 
 
 def _lazy_values(path, index, chunks):
