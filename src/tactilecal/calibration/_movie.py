@@ -76,8 +76,9 @@ def _histograms(values, mask, equilibration, quiet):
     """Float64 histograms of all frames (gains applied and mask skipped chunk by chunk).
 
     Float64 because every later use is a matrix product; counts are exact in float64.
-    ``values`` may be a dask array (a recording larger than memory): each block of frames
-    is counted where it is computed and only the (frames, 256) histograms are gathered.
+    ``values`` may be a dask array (a recording larger than memory, perhaps on a cluster):
+    each block of frames is counted where it is computed, by dask's scheduler, and only the
+    (frames, 256) histograms are gathered.
     """
     from tactilecal.cli._common import progress
 
@@ -85,14 +86,16 @@ def _histograms(values, mask, equilibration, quiet):
     n = len(values)
     hist = np.empty((n, 256))
     if _is_dask(values):
-        bounds = _block_groups(values.chunks[0], _GROUP_FRAMES)
+        import dask.array as da
+
         lazy = _dask_histograms(values, mask, prepare)
+        bounds = _block_groups(values.chunks[0], _GROUP_FRAMES)
     else:
-        bounds = list(range(0, n, _CHUNK)) + [n]
+        bounds = [*range(0, n, _CHUNK), n]
     for a, b in progress(zip(bounds[:-1], bounds[1:], strict=True), total=len(bounds) - 1,
                          desc="histograms", quiet=quiet or n < 20 * _CHUNK):
         if _is_dask(values):
-            hist[a:b] = lazy[a:b].compute()
+            da.store(lazy[a:b], hist[a:b], lock=False)
         else:
             frame_histograms(values[a:b], out=hist[a:b], prepare=prepare, mask=mask)
     return hist
