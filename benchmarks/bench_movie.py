@@ -9,12 +9,14 @@ are 15.5 GB in float64, so that size is stored as uint8 only, 1.9 GB).
 
 For each size and storage dtype, interleaved in one run (best of ``--repeat``):
 
-- ``np.sum`` over the same array and ``np.copyto`` into a ready buffer: the faster of the
-  two is "one pass at memory speed", the baseline every time is divided by (for uint8,
-  ``np.sum`` widens every value and the copy is faster);
-- ``frame_histograms`` (the compiled one-pass kernel) and the former NumPy version
-  (round, check the range, add frame offsets, ``bincount`` per 64 frames), kept below as
-  ``old_frame_histograms``;
+- ``np.sum`` over the same array, ``np.sum`` of its bytes viewed as uint64 words and
+  ``np.copyto`` into a ready buffer (up to 1 GB): the fastest is "one pass at memory
+  speed", the baseline every time is divided by (for uint8, ``np.sum`` widens every value
+  and is no read at memory speed);
+- ``frame_histograms`` on its two paths, the compiled one-pass kernel and NumPy (taken
+  below ``COMPILED_MIN_VALUES`` readings), and the former NumPy version (round, check the
+  range, add frame offsets, ``bincount`` per 64 frames), kept below as
+  ``old_frame_histograms``; and numba's start-up in a new process, which decides the switch;
 - ``calibrate_movie`` and the former implementation (``old_calibrate_movie`` below: the
   former histograms, raw sums and kept-frame copy around the same alignment and fits),
   with where the new one spends its time (histograms, alignment in
@@ -37,7 +39,8 @@ import tactilecal.calibration._movie as movie
 import tactilecal.dynamic  # noqa: F401  (import time is not part of the calibration)
 from tactilecal.calibration import calibrate_movie, frame_histograms
 from tactilecal.calibration._calibrate import calibrate_arrays
-from tactilecal.calibration._points import take_rows
+from tactilecal.calibration._histogram import COMPILED_MIN_VALUES
+from tactilecal.calibration._points import _frame_histograms, take_rows
 from tactilecal.simulate import make_sensor, ramp_hold
 from tactilecal.simulate._static import ramp_hold_profile
 
@@ -188,20 +191,26 @@ def run_size(raw, loadcell, dtype, repeat_frames, repeat, with_old_movie):
     rec = stored(raw, dtype, repeat_frames)
     values = rec.values
     n = len(values)
-    buf = np.empty_like(values) if values.nbytes < 4e9 else None
-    hist = np.empty((n, 256))
+    buf = np.empty_like(values) if values.nbytes <= 1e9 else None  # room for a copy
+    words = values.reshape(-1).view(np.uint64)  # every byte read once as 64-bit integers
+    hist, old_hist = np.zeros((n, 256)), np.zeros((n, 256))  # both written before timing
     frame_histograms(values[:2], out=hist[:2])  # numba compiles (or loads its cache)
-    lazy = rec.chunk({"frame": 16_384}) if values.nbytes < 4e9 else None
-    t = {k: [] for k in ("sum", "copy", "hist", "hist_old", "movie", "movie_old", "dask")}
+    lazy = rec.chunk({"frame": 16_384})  # dask copies the array
+    t = {k: [] for k in ("sum", "words", "copy", "hist", "hist_numpy", "hist_old", "movie",
+                         "movie_old", "dask")}
     parts = []
-    res_new = res_old = old_hist = None
+    res_new = res_old = None
     for _ in range(repeat):
         t["sum"].append(best(lambda: values.sum(), 1)[0])
+        t["words"].append(best(lambda: words.sum(), 1)[0])
         if buf is not None:
             t["copy"].append(best(lambda: np.copyto(buf, values), 1)[0])
-        t["hist"].append(best(lambda: frame_histograms(values, out=hist), 1)[0])
-        dt, old_hist = best(lambda: old_frame_histograms(values, out=np.empty((n, 256))), 1)
-        t["hist_old"].append(dt)
+        t["hist"].append(best(lambda: _frame_histograms(values, out=hist, compiled=True),
+                              1)[0])
+        t["hist_numpy"].append(best(lambda: _frame_histograms(values, out=old_hist,
+                                                              compiled=False), 1)[0])
+        assert np.array_equal(hist, old_hist)
+        t["hist_old"].append(best(lambda: old_frame_histograms(values, out=old_hist), 1)[0])
         watch = Stopwatch(["_histograms", "_align_loads", "_first_pass_table",
                            "calibrate_arrays"])
         try:
@@ -213,17 +222,20 @@ def run_size(raw, loadcell, dtype, repeat_frames, repeat, with_old_movie):
         if with_old_movie:
             dt, res_old = best(lambda: old_calibrate_movie(rec, loadcell), 1)
             t["movie_old"].append(dt)
-        if lazy is not None:
-            dt, res_dask = best(lambda: calibrate_movie(lazy, loadcell), 1)
-            t["dask"].append(dt)
-            assert res_dask.params == res_new.params
+        dt, res_dask = best(lambda: calibrate_movie(lazy, loadcell), 1)
+        t["dask"].append(dt)
+        assert res_dask.params == res_new.params
     same_hist = bool(np.array_equal(hist, old_hist))
-    base = min(t["sum"] + t["copy"])
+    base = min(t["sum"] + t["words"] + t["copy"])
     copy = f"{min(t['copy']):.3f} s" if t["copy"] else "- (no room for a copy)"
     print(f"\n{n:>9,} frames 44 x 44 {np.dtype(dtype).name:<8} ({values.nbytes / 1e9:.2f} GB):"
-          f" np.sum {min(t['sum']):.3f} s, np.copyto {copy}; one pass = the faster, "
-          f"{base:.3f} s ({values.nbytes / base / 1e9:.1f} GB/s)")
-    for name, key in (("frame_histograms", "hist"), ("  former NumPy version", "hist_old"),
+          f" np.sum {min(t['sum']):.3f} s, as uint64 words {min(t['words']):.3f} s, np.copyto "
+          f"{copy}; one pass = the fastest, {base:.3f} s ({values.nbytes / base / 1e9:.1f} GB/s)")
+    path = "compiled" if values.size >= COMPILED_MIN_VALUES else "NumPy"
+    print(f"  ({n * 1936:,} readings: frame_histograms and calibrate_movie take the {path} "
+          f"path, the switch is at {COMPILED_MIN_VALUES:,})")
+    for name, key in (("frame_histograms, compiled", "hist"),
+                      ("  NumPy path", "hist_numpy"), ("  former NumPy version", "hist_old"),
                       ("calibrate_movie", "movie"), ("  former implementation", "movie_old"),
                       ("  dask-backed, 16k frames/block", "dask")):
         if t[key]:
@@ -247,6 +259,31 @@ def run_size(raw, loadcell, dtype, repeat_frames, repeat, with_old_movie):
     print(line + f"; A = {res_new.params['A']:.6g}, b = {res_new.params['b']:.6g}")
 
 
+STARTUP = """
+import time, numpy as np
+import tactilecal.dynamic  # imports numba, as calibrate_movie does
+from tactilecal.calibration._points import _frame_histograms
+t0 = time.perf_counter()
+_frame_histograms(np.zeros((2, 44, 44)), compiled=True)
+t1 = time.perf_counter()
+_frame_histograms(np.zeros((2, 44, 44), np.uint8), compiled=True)
+print(t1 - t0, time.perf_counter() - t1)
+"""
+
+
+def numba_startup(repeat):
+    """First compiled call in a new process (kernels cached on disk), and a second kernel."""
+    import subprocess
+    import sys
+
+    runs = [tuple(map(float, subprocess.run([sys.executable, "-c", STARTUP], check=True,
+                                            capture_output=True, text=True).stdout.split()))
+            for _ in range(repeat)]
+    first, second = min(r[0] for r in runs), min(r[1] for r in runs)
+    print(f"numba in a new process: first kernel call {first:.3f} s (start-up and cache "
+          f"load), a second kernel {second:.3f} s; best of {repeat}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[10_000, 100_000, 1_000_000])
@@ -256,13 +293,13 @@ def main():
     args = parser.parse_args()
     print(f"{Path(__file__).name}: times are the best of {args.repeat}, interleaved; ratios "
           "to one pass (np.sum or np.copyto) over the same array in the same run")
+    numba_startup(args.repeat)
     for size in args.sizes:
         repeat_frames = max(1, size // 100_000)
         raw, loadcell = simulate(size // repeat_frames)
         dtypes = [np.uint8] if size * 1936 * 8 > 4e9 else [np.float64, np.float32, np.uint8]
         for dtype in dtypes:
             run_size(raw, loadcell, dtype, repeat_frames, args.repeat, not args.no_old_movie)
-        del raw
 
 
 if __name__ == "__main__":

@@ -115,8 +115,19 @@ def shaped(session):
     return raw
 
 
+@pytest.fixture(params=["numpy", "compiled"])
+def counting(request, monkeypatch):
+    """Force the histogram counting path (the session's movie is below the size switch)."""
+    import tactilecal.calibration._histogram as histogram
+
+    monkeypatch.setattr(histogram, "COMPILED_MIN_VALUES",
+                        0 if request.param == "compiled" else 2 ** 62)
+    return request.param
+
+
 @pytest.mark.parametrize("storage", ["float64", "float32", "uint8", "dask"])
-def test_movie_equals_reference_calibration_one_load_per_frame(session, shaped, storage):
+def test_movie_equals_reference_calibration_one_load_per_frame(session, shaped, storage,
+                                                               counting):
     raw = shaped
     if storage == "uint8":
         raw = session.raw.astype(np.uint8)
@@ -131,7 +142,7 @@ def test_movie_equals_reference_calibration_one_load_per_frame(session, shaped, 
     assert res.details["movie"]["n_saturated_frames"] == (0 if storage == "uint8" else 10)
 
 
-def test_movie_with_mask_and_equilibration_equals_reference(session, shaped):
+def test_movie_with_mask_and_equilibration_equals_reference(session, shaped, counting):
     gain = np.random.default_rng(5).uniform(0.9, 1.1, shaped.shape[1:])
     gain[10, 10] = np.nan
     eq = Equilibration(gain=gain)
@@ -154,12 +165,12 @@ def test_aligned_movie_equals_movie_on_reference_histograms(session, shaped, mon
 
     calls = []
 
-    def reference(values, *, out, prepare=None, mask=None):
+    def reference(values, *, out, prepare=None, mask=None, compiled=None):
         calls.append(len(values))
         out[...] = _reference_histograms(values)
         return out
 
-    monkeypatch.setattr(movie_module, "frame_histograms", reference)
+    monkeypatch.setattr(movie_module, "_frame_histograms", reference)
     ref = calibrate_movie(shaped, session.loadcell)
     assert sum(calls) == shaped.sizes["frame"]
     assert new.details["movie"]["lag_s"] == ref.details["movie"]["lag_s"]
@@ -167,7 +178,7 @@ def test_aligned_movie_equals_movie_on_reference_histograms(session, shaped, mon
     _assert_same_calibration(new, ref)
 
 
-def test_real_iscan_movie_equals_reference(iscan_csv):
+def test_real_iscan_movie_equals_reference(iscan_csv, counting):
     rec = read_tekscan(iscan_csv)
     raw = rec.values
     assert np.isnan(raw).any()  # cells outside the sensor shape
@@ -181,7 +192,7 @@ def test_real_iscan_movie_equals_reference(iscan_csv):
 
 
 @pytest.mark.parametrize("which", ["fscan_asf", "fscan_right_asf"])
-def test_real_fscan_frames_histograms_equal_reference(which, request):
+def test_real_fscan_frames_histograms_equal_reference(which, request, counting):
     rec = read_tekscan(request.getfixturevalue(which))
     cal = header_calibration(rec)
     raw = rec.values / (cal.params["A"] / cal.sensel_area_mm2 * 1000)  # kPa -> raw counts

@@ -18,7 +18,11 @@ from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
 from tactilecal.calibration._methods import FITTERS
 from tactilecal.calibration._models import force_table
-from tactilecal.calibration._points import _points_from_histograms, frame_histograms
+from tactilecal.calibration._points import (
+    _frame_histograms,
+    _points_from_histograms,
+    keep_rows_in_place,
+)
 from tactilecal.calibration._sensels import find_dead_sensels
 
 __all__ = ["read_movie_loads", "movie_points", "calibrate_movie"]
@@ -80,15 +84,17 @@ def _histograms(values, mask, equilibration, quiet):
     each block of frames is counted where it is computed, by dask's scheduler, and only the
     (frames, 256) histograms are gathered.
     """
+    from tactilecal.calibration._histogram import COMPILED_MIN_VALUES
     from tactilecal.cli._common import progress
 
     prepare = None if equilibration is None else equilibration.apply
     n = len(values)
     hist = np.empty((n, 256))
+    compiled = values.size >= COMPILED_MIN_VALUES  # the whole movie decides
     if _is_dask(values):
         import dask.array as da
 
-        lazy = _dask_histograms(values, mask, prepare)
+        lazy = _dask_histograms(values, mask, prepare, compiled)
         bounds = _block_groups(values.chunks[0], _GROUP_FRAMES)
     else:
         bounds = [*range(0, n, _CHUNK), n]
@@ -97,7 +103,8 @@ def _histograms(values, mask, equilibration, quiet):
         if _is_dask(values):
             da.store(lazy[a:b], hist[a:b], lock=False)
         else:
-            frame_histograms(values[a:b], out=hist[a:b], prepare=prepare, mask=mask)
+            _frame_histograms(values[a:b], out=hist[a:b], prepare=prepare, mask=mask,
+                              compiled=compiled)
     return hist
 
 
@@ -118,17 +125,17 @@ def _block_groups(chunks, min_frames):
     return bounds
 
 
-def _dask_histograms(values, mask, prepare):
-    """Lazy (frames, 256) float64 histograms, one task per block of frames."""
+def _dask_histograms(values, mask, prepare, compiled):
+    """Lazy (frames, 256) float64 histograms, one task per block of whole frames."""
     whole_frames = values.rechunk({1: -1, 2: -1})
     return whole_frames.map_blocks(_block_histograms, mask=mask, prepare=prepare,
-                                   drop_axis=[1, 2], new_axis=[1],
+                                   compiled=compiled, drop_axis=[1, 2], new_axis=[1],
                                    chunks=(whole_frames.chunks[0], (256,)), dtype=float)
 
 
-def _block_histograms(block, mask=None, prepare=None):
-    return frame_histograms(block, out=np.empty((len(block), 256)), prepare=prepare,
-                            mask=mask)
+def _block_histograms(block, *, mask, prepare, compiled):
+    return _frame_histograms(block, out=np.empty((len(block), 256)), prepare=prepare,
+                             mask=mask, compiled=compiled)
 
 
 def _frame_times(recording, n):
@@ -236,8 +243,6 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
     returned histograms are a view of it and no copy of the movie's histograms is made.
     ``sums`` are :func:`_frame_sums` of ``hist``, computed if not given.
     """
-    from tactilecal.calibration._histogram import keep_rows_in_place  # imports numba
-
     name = str(recording.attrs.get("source", "recording"))
     n = len(hist)
     sums = _frame_sums(hist) if sums is None else sums

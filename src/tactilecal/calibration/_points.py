@@ -76,9 +76,9 @@ class CalibrationPoint:
 def frame_histograms(raw, *, chunk_frames=64, out=None, prepare=None, mask=None):
     """Count raw values 0..255 per frame, ignoring NaN sensels.
 
-    One pass over the frames with a compiled kernel
-    (:mod:`tactilecal.calibration._histogram`); ``benchmarks/bench_movie.py`` compares it
-    with a ``numpy.sum`` over the same array.
+    Large inputs are counted in one pass by a compiled kernel, small ones with NumPy
+    (:mod:`tactilecal.calibration._histogram`, which says where the line is and why;
+    ``benchmarks/bench_movie.py`` measures both against one pass over the same array).
 
     Parameters
     ----------
@@ -114,13 +114,24 @@ def frame_histograms(raw, *, chunk_frames=64, out=None, prepare=None, mask=None)
     >>> frame_histograms(np.array([[[0, 3], [3, 255]]]))[0, [0, 3, 255]]
     array([1, 2, 1])
     """
-    from tactilecal.calibration._histogram import count_into
+    return _frame_histograms(raw, chunk_frames=chunk_frames, out=out, prepare=prepare,
+                             mask=mask)
+
+
+def _frame_histograms(raw, *, chunk_frames=64, out=None, prepare=None, mask=None,
+                      compiled=None):
+    """:func:`frame_histograms`; ``compiled`` (default: by size) chooses the counting path.
+
+    A caller counting a long movie chunk by chunk passes ``compiled`` for the whole movie.
+    """
+    from tactilecal.calibration._histogram import COMPILED_MIN_VALUES, count_into
 
     raw = np.asarray(raw)
     if raw.ndim == 2:
         raw = raw[None]
     if raw.ndim != 3:
         raise ValueError(f"raw frames have {raw.ndim} dimensions; expected 3 (frame, row, col)")
+    compiled = raw.size >= COMPILED_MIN_VALUES if compiled is None else compiled
     n = raw.shape[0]
     skip = (np.zeros(raw.shape[1:], bool) if mask is None
             else _checked_mask(mask, raw.shape[1:])).ravel()
@@ -132,7 +143,7 @@ def frame_histograms(raw, *, chunk_frames=64, out=None, prepare=None, mask=None)
         m = len(block)
         if prepare is not None:
             block = np.asarray(prepare(block), dtype=float)
-        count_into(block.reshape(m, -1), skip, out[start:start + m])
+        count_into(block.reshape(m, -1), skip, out[start:start + m], compiled=compiled)
     return out
 
 
@@ -242,6 +253,37 @@ def take_rows(array, mask):
     if len(idx) and idx[-1] - idx[0] + 1 == len(idx):
         return array[idx[0]:idx[-1] + 1]
     return array[mask]
+
+
+def keep_rows_in_place(rows, keep, *, piece_rows=4096):
+    """Move the rows selected by ``keep`` to the top of ``rows``, in order; return that view.
+
+    ``rows[keep]`` would allocate and fill a new array: for the (100,000, 256) float64
+    histograms of a movie that is 205 MB of fresh pages. Here each run of kept rows is
+    moved up by at most ``piece_rows`` rows at a time. The rows below the returned view
+    are left in an unspecified state.
+
+    Examples
+    --------
+    >>> a = np.arange(8.0).reshape(4, 2)
+    >>> keep_rows_in_place(a, np.array([False, True, False, True])).tolist()
+    [[2.0, 3.0], [6.0, 7.0]]
+    """
+    idx = np.flatnonzero(keep)
+    if len(keep) != len(rows):
+        raise ValueError(f"keep has {len(keep)} flags for {len(rows)} rows; expected one "
+                         "per row")
+    if not len(idx):
+        return rows[:0]
+    breaks = np.flatnonzero(np.diff(idx) != 1) + 1
+    top = 0
+    for first, last in zip(idx[np.r_[0, breaks]], idx[np.r_[breaks - 1, -1]], strict=True):
+        if first != top:
+            for a in range(first, last + 1, piece_rows):
+                b = min(a + piece_rows, last + 1)
+                rows[top + a - first:top + b - first] = rows[a:b]
+        top += last + 1 - first
+    return rows[:top]
 
 
 def points_to_arrays(points):
