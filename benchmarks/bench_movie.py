@@ -2,7 +2,7 @@
 
 Run: ``python benchmarks/bench_movie.py [--sizes 10000 100000 1000000] [--repeat 3]``
 (all three sizes: about 5 minutes and 15 GB resident at the 1M size; ``--sizes 10000
-100000`` stays under 6 GB).
+100000`` peaked at 5.2 GB).
 
 A simulated 5051 sensor (44 x 44 sensels) under a ramp-and-hold load (4 levels up to
 889.6 N, load cell at 500 Hz on its own clock, ``tactilecal.simulate.ramp_hold``). The
