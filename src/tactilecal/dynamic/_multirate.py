@@ -44,6 +44,9 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
+from llvmlite import ir
+from numba.core import cgutils
+from numba.extending import intrinsic
 from scipy import fft, signal
 
 from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
@@ -53,9 +56,11 @@ __all__ = ["MultiratePlan", "plan_multirate", "apply_multirate", "filter_block",
 
 #: Attenuation (dB) of the anti-aliasing / interpolation low-pass in its stop band.
 STOPBAND_DB = 70.0
-#: Decimated rows per stage-1 task, frames per stage-3 task.
+#: Decimated rows per stage-1 task, frames per stage-3 task, output elements whose pages
+#: one task maps (16 MiB of float64).
 DECIMATED_PER_TASK = 256
 FRAMES_PER_TASK = 1024
+PAGES_PER_TASK = 1 << 21
 #: Sensels per stage-2 task, and the FFT length of the overlap-save blocks (at least 4
 #: filter lengths): 32 lines of 16384 float32 keep a task's FFTs in the L2 cache.
 SENSELS_PER_TASK = 32
@@ -222,20 +227,19 @@ def _decimate_rows(before, rows, after, lowpass, factor, first, k0, k1, s0, s1, 
             base = first + factor * k - c
             j = 0
             while j + 4 <= n_taps:
-                r0 = _row(before, rows, after, base + j)
-                r1 = _row(before, rows, after, base + j + 1)
-                r2 = _row(before, rows, after, base + j + 2)
-                r3 = _row(before, rows, after, base + j + 3)
+                r0 = _row(before, rows, after, base + j)[s0:s1]
+                r1 = _row(before, rows, after, base + j + 1)[s0:s1]
+                r2 = _row(before, rows, after, base + j + 2)[s0:s1]
+                r3 = _row(before, rows, after, base + j + 3)[s0:s1]
                 h0, h1, h2, h3 = lowpass[j], lowpass[j + 1], lowpass[j + 2], lowpass[j + 3]
                 for s in range(width):
-                    acc[s] += ((h0 * r0[s0 + s] + h1 * r1[s0 + s])
-                               + (h2 * r2[s0 + s] + h3 * r3[s0 + s]))
+                    acc[s] += (h0 * r0[s] + h1 * r1[s]) + (h2 * r2[s] + h3 * r3[s])
                 j += 4
             while j < n_taps:
-                r0 = _row(before, rows, after, base + j)
+                r0 = _row(before, rows, after, base + j)[s0:s1]
                 h0 = lowpass[j]
                 for s in range(width):
-                    acc[s] += h0 * r0[s0 + s]
+                    acc[s] += h0 * r0[s]
                 j += 1
         for s in range(width):
             line, offset, total = lines[s0 + s], ref[s0 + s], 0.0
@@ -246,15 +250,44 @@ def _decimate_rows(before, rows, after, lowpass, factor, first, k0, k1, s0, s1, 
             sums[s0 + s] += total
 
 
+@intrinsic
+def _store_stream(typingctx, array, index, value):  # pragma: no cover
+    """``array[index] = value`` as a non-temporal store (it bypasses the caches).
+
+    For an output written once and not read back soon, it saves the read of each cache
+    line before it is written (LLVM's ``!nontemporal`` store; ``movnt*`` on x86).
+    """
+    def codegen(context, builder, sig, args):
+        kind = sig.args[0]
+        data = context.make_array(kind)(context, builder, args[0])
+        pointer = cgutils.get_item_pointer(context, builder, kind, data, [args[1]],
+                                           wraparound=False)
+        store = builder.store(context.cast(builder, args[2], sig.args[2], kind.dtype), pointer)
+        store.set_metadata("nontemporal",
+                           builder.module.add_metadata([ir.Constant(ir.IntType(32), 1)]))
+        return context.get_dummy_value()
+
+    return numba.types.void(array, index, value), codegen
+
+
+@numba.njit(nogil=True, cache=True)
+def _touch(flat, a, b):  # pragma: no cover
+    """Write 0 into one element per 4 KiB of ``flat[a:b]``: the pages get mapped now."""
+    for i in range(a, b, 4096 // flat.itemsize):
+        flat[i] = 0
+
+
 @numba.njit(nogil=True, cache=True, fastmath={"contract"})
-def _interpolate_rows(rows, corrected, weights, offset, t0, t1, s0, s1,
-                      out):  # pragma: no cover
+def _interpolate_rows(rows, corrected, weights, offset, t0, t1, s0, s1, out,
+                      stream):  # pragma: no cover
     """``out[t, s] = rows[t, s] + sum_q weights[phi, q] corrected[s, M + q]``.
 
     For ``t0 <= t < t1``, ``s0 <= s < s1``, with ``t + offset = P M + phi``. ``corrected``
     is sensel-major; a tile of its columns is transposed first, so the sum streams whole
     rows. It runs in the type of ``corrected`` (float32 for single precision: twice the
     SIMD lanes; the correction is a fraction of the dynamic part, so its rounding is too).
+    With ``stream``, ``out`` is written with non-temporal stores (its pages should be
+    mapped already: into fresh pages they gain nothing).
     """
     factor, n_q = weights.shape
     width = s1 - s0
@@ -284,9 +317,13 @@ def _interpolate_rows(rows, corrected, weights, offset, t0, t1, s0, s1,
                 for s in range(width):
                     acc[s] += w0 * c0[s]
                 q += 1
-            x, y = rows[t], out[t]
-            for s in range(width):
-                y[s0 + s] = x[s0 + s] + acc[s]
+            x, y = rows[t][s0:s1], out[t][s0:s1]
+            if stream:
+                for s in range(width):
+                    _store_stream(y, s, x[s] + acc[s])
+            else:
+                for s in range(width):
+                    y[s] = x[s] + acc[s]
 
 
 def _ranges(n, size, start=0):
@@ -316,7 +353,7 @@ def _threads(workers):
 
 
 def decimate(before, rows, after, plan, first, n_lines, *, precision="single", workers=1,
-             reference=None):
+             reference=None, side_tasks=None):
     """Stage 1: the decimated record, sensel-major, and each sensel's sum over it.
 
     Decimated row ``k`` is centred on frame ``first + P k`` of ``rows`` (block
@@ -325,17 +362,31 @@ def decimate(before, rows, after, plan, first, n_lines, *, precision="single", w
     relative to the dynamic part; the correction ``D`` has no DC gain, so the reference
     does not change the result). Returns ``(lines, sums)``: ``(sensels, n_lines)`` of the
     precision's type, and float64 sums (NaN for a sensel with a NaN anywhere under the
-    low-pass).
+    low-pass). ``side_tasks`` run on the same threads, interleaved.
     """
     m = rows.shape[1]
     ref = np.array(rows[0] if reference is None else reference, dtype=float)
     lines = np.empty((m, n_lines), dtype=PRECISIONS[precision])
     ranges = _ranges(n_lines, DECIMATED_PER_TASK)
     sums = np.zeros((max(len(ranges), 1), m))  # one row per task: no shared writes
-    run_tasks([lambda i=i, a=a, b=b: _decimate_rows(
+    tasks = [lambda i=i, a=a, b=b: _decimate_rows(
         before, rows, after, plan.lowpass, plan.factor, first, a, b, 0, m, ref, lines,
-        sums[i]) for i, (a, b) in enumerate(ranges)], _threads(workers))
+        sums[i]) for i, (a, b) in enumerate(ranges)]
+    run_tasks(_interleave(tasks, side_tasks or []), _threads(workers))
     return lines, sums.sum(axis=0)
+
+
+def _interleave(tasks, others):
+    """Spread ``others`` evenly through ``tasks`` (memory-bound work among compute-bound)."""
+    if not others:
+        return tasks
+    every = max(len(tasks) // len(others), 1)
+    mixed = []
+    for k, task in enumerate(tasks):
+        mixed.append(task)
+        if k % every == every - 1 and others:
+            mixed.append(others.pop(0))
+    return mixed + others
 
 
 def correct(lines, plan, n_out, *, workers=1, out=None):
@@ -372,17 +423,19 @@ def correct(lines, plan, n_out, *, workers=1, out=None):
     return out[:, :n_out]
 
 
-def interpolate(rows, corrected, plan, offset, *, workers=1, progress=None):
+def interpolate(rows, corrected, plan, offset, *, workers=1, progress=None, out=None):
     """Stage 3: ``rows + P (h * up(corrected))`` as float64 (see :class:`BlockLayout`).
 
     ``corrected`` is sensel-major, its column 0 the corrected sample ``q_half`` grid points
-    before the block's first one; ``offset`` is the block's first frame modulo ``P``.
+    before the block's first one; ``offset`` is the block's first frame modulo ``P``. An
+    ``out`` given is written with non-temporal stores (see :func:`_touch`).
     """
     n, m = rows.shape
-    out = np.empty((n, m), dtype=float)
+    stream = out is not None
+    out = np.empty((n, m), dtype=float) if out is None else out
     weights = plan.polyphase(corrected.dtype)
     run_tasks([lambda a=a, b=b: _interpolate_rows(rows, corrected, weights, offset % plan.factor,
-                                                  a, b, 0, m, out)
+                                                  a, b, 0, m, out, stream)
                for a, b in _ranges(n, FRAMES_PER_TASK)], _threads(workers), progress)
     return out
 
@@ -430,15 +483,20 @@ def filter_block(before, rows, after, offset, plan, *, precision="single", worke
             clock.append(time.perf_counter())
             timings[stage] = clock[-1] - clock[-2]
 
+    out = np.empty(rows.shape, dtype=float)
+    flat = out.reshape(-1)
     lines, sums = decimate(before, rows, after, plan, layout.first_frame, layout.decimated,
-                           precision=precision, workers=workers)
-    lap("decimate")
+                           precision=precision, workers=workers,
+                           side_tasks=[lambda a=a, b=b: _touch(flat, a, b)
+                                       for a, b in _ranges(flat.size, PAGES_PER_TASK)])
+    lap("decimate (and map the output's pages)")
     if check is not None:
         check(sums)
     corrected = correct(lines, plan, layout.corrected, workers=workers, out=lines)
     lap("correct")
-    out = interpolate(rows, corrected, plan, layout.offset, workers=workers, progress=progress)
-    lap("interpolate into the new output")
+    interpolate(rows, corrected, plan, layout.offset, workers=workers, progress=progress,
+                out=out)
+    lap("interpolate into the output")
     return out
 
 
