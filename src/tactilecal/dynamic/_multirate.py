@@ -44,9 +44,6 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
-from llvmlite import ir
-from numba.core import cgutils
-from numba.extending import intrinsic
 from scipy import fft, signal
 
 from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
@@ -56,11 +53,9 @@ __all__ = ["MultiratePlan", "plan_multirate", "apply_multirate", "filter_block",
 
 #: Attenuation (dB) of the anti-aliasing / interpolation low-pass in its stop band.
 STOPBAND_DB = 70.0
-#: Decimated rows per stage-1 task, frames per stage-3 task, output elements whose pages
-#: one task maps (16 MiB of float64).
+#: Decimated rows per stage-1 task, frames per stage-3 task.
 DECIMATED_PER_TASK = 256
 FRAMES_PER_TASK = 1024
-PAGES_PER_TASK = 1 << 21
 #: Sensels per stage-2 task, and the FFT length of the overlap-save blocks (at least 4
 #: filter lengths): 32 lines of 16384 float32 keep a task's FFTs in the L2 cache.
 SENSELS_PER_TASK = 32
@@ -270,44 +265,15 @@ def _decimate_rows(before, rows, after, lowpass, factor, first, k0, k1, s0, s1, 
             sums[s0 + s] += total
 
 
-@intrinsic
-def _store_stream(typingctx, array, index, value):  # pragma: no cover
-    """``array[index] = value`` as a non-temporal store (it bypasses the caches).
-
-    For an output written once and not read back soon, it saves the read of each cache
-    line before it is written (LLVM's ``!nontemporal`` store; ``movnt*`` on x86).
-    """
-    def codegen(context, builder, sig, args):
-        kind = sig.args[0]
-        data = context.make_array(kind)(context, builder, args[0])
-        pointer = cgutils.get_item_pointer(context, builder, kind, data, [args[1]],
-                                           wraparound=False)
-        store = builder.store(context.cast(builder, args[2], sig.args[2], kind.dtype), pointer)
-        store.set_metadata("nontemporal",
-                           builder.module.add_metadata([ir.Constant(ir.IntType(32), 1)]))
-        return context.get_dummy_value()
-
-    return numba.types.void(array, index, value), codegen
-
-
-@numba.njit(nogil=True, cache=True)
-def _touch(flat, a, b):  # pragma: no cover
-    """Write 0 into one element per 4 KiB of ``flat[a:b]``: the pages get mapped now."""
-    for i in range(a, b, 4096 // flat.itemsize):
-        flat[i] = 0
-
-
 @numba.njit(nogil=True, cache=True, fastmath={"contract"})
-def _interpolate_rows(rows, corrected, weights, offset, t0, t1, s0, s1, out,
-                      stream):  # pragma: no cover
+def _interpolate_rows(rows, corrected, weights, offset, t0, t1, s0, s1,
+                      out):  # pragma: no cover
     """``out[t, s] = rows[t, s] + sum_q weights[phi, q] corrected[s, M + q]``.
 
     For ``t0 <= t < t1``, ``s0 <= s < s1``, with ``t + offset = P M + phi``. ``corrected``
     is sensel-major; a tile of its columns is transposed first, so the sum streams whole
     rows. It runs in the type of ``corrected`` (float32 for single precision: twice the
     SIMD lanes; the correction is a fraction of the dynamic part, so its rounding is too).
-    With ``stream``, ``out`` is written with non-temporal stores (its pages should be
-    mapped already: into fresh pages they gain nothing).
     """
     factor, n_q = weights.shape
     width = s1 - s0
@@ -338,12 +304,8 @@ def _interpolate_rows(rows, corrected, weights, offset, t0, t1, s0, s1, out,
                     acc[s] += w0 * c0[s]
                 q += 1
             x, y = rows[t][s0:s1], out[t][s0:s1]
-            if stream:
-                for s in range(width):
-                    _store_stream(y, s, x[s] + acc[s])
-            else:
-                for s in range(width):
-                    y[s] = x[s] + acc[s]
+            for s in range(width):
+                y[s] = x[s] + acc[s]
 
 
 def _ranges(n, size, start=0):
@@ -373,7 +335,7 @@ def _threads(workers):
 
 
 def decimate(before, rows, after, plan, first, n_lines, *, precision="single", workers=1,
-             reference=None, side_tasks=None):
+             reference=None):
     """Stage 1: the decimated record, sensel-major, and each sensel's sum over it.
 
     Decimated row ``k`` is centred on frame ``first + P k`` of ``rows`` (block
@@ -382,7 +344,7 @@ def decimate(before, rows, after, plan, first, n_lines, *, precision="single", w
     relative to the dynamic part; the correction ``D`` has no DC gain, so the reference
     does not change the result). Returns ``(lines, sums)``: ``(sensels, n_lines)`` of the
     precision's type, and float64 sums (NaN for a sensel with a NaN anywhere under the
-    low-pass). ``side_tasks`` run on the same threads, interleaved.
+    low-pass).
     """
     m = rows.shape[1]
     ref = np.array(rows[0] if reference is None else reference, dtype=float)
@@ -392,21 +354,8 @@ def decimate(before, rows, after, plan, first, n_lines, *, precision="single", w
     tasks = [lambda i=i, a=a, b=b: _decimate_rows(
         before, rows, after, plan.lowpass, plan.factor, first, a, b, 0, m, ref, lines,
         sums[i]) for i, (a, b) in enumerate(ranges)]
-    run_tasks(_interleave(tasks, side_tasks or []), _threads(workers))
+    run_tasks(tasks, _threads(workers))
     return lines, sums.sum(axis=0)
-
-
-def _interleave(tasks, others):
-    """Spread ``others`` evenly through ``tasks`` (memory-bound work among compute-bound)."""
-    if not others:
-        return tasks
-    every = max(len(tasks) // len(others), 1)
-    mixed = []
-    for k, task in enumerate(tasks):
-        mixed.append(task)
-        if k % every == every - 1 and others:
-            mixed.append(others.pop(0))
-    return mixed + others
 
 
 def correct(lines, plan, n_out, *, workers=1, out=None):
@@ -443,19 +392,17 @@ def correct(lines, plan, n_out, *, workers=1, out=None):
     return out[:, :n_out]
 
 
-def interpolate(rows, corrected, plan, offset, *, workers=1, progress=None, out=None):
+def interpolate(rows, corrected, plan, offset, *, workers=1, progress=None):
     """Stage 3: ``rows + P (h * up(corrected))`` as float64 (see :class:`BlockLayout`).
 
     ``corrected`` is sensel-major, its column 0 the corrected sample ``q_half`` grid points
-    before the block's first one; ``offset`` is the block's first frame modulo ``P``. An
-    ``out`` given is written with non-temporal stores (see :func:`_touch`).
+    before the block's first one; ``offset`` is the block's first frame modulo ``P``.
     """
     n, m = rows.shape
-    stream = out is not None
-    out = np.empty((n, m), dtype=float) if out is None else out
+    out = np.empty((n, m), dtype=float)
     weights = plan.polyphase(corrected.dtype)
     run_tasks([lambda a=a, b=b: _interpolate_rows(rows, corrected, weights, offset % plan.factor,
-                                                  a, b, 0, m, out, stream)
+                                                  a, b, 0, m, out)
                for a, b in _ranges(n, FRAMES_PER_TASK)], _threads(workers), progress)
     return out
 
@@ -503,30 +450,28 @@ def filter_block(before, rows, after, offset, plan, *, precision="single", worke
             clock.append(time.perf_counter())
             timings[stage] = clock[-1] - clock[-2]
 
-    out = np.empty(rows.shape, dtype=float)
-    flat = out.reshape(-1)
     lines, sums = decimate(before, rows, after, plan, layout.first_frame, layout.decimated,
-                           precision=precision, workers=workers,
-                           side_tasks=[lambda a=a, b=b: _touch(flat, a, b)
-                                       for a, b in _ranges(flat.size, PAGES_PER_TASK)])
-    lap("decimate (and map the output's pages)")
+                           precision=precision, workers=workers)
+    lap("decimate")
     if check is not None:
         check(sums)
     corrected = correct(lines, plan, layout.corrected, workers=workers, out=lines)
     lap("correct")
-    interpolate(rows, corrected, plan, layout.offset, workers=workers, progress=progress,
-                out=out)
-    lap("interpolate into the output")
+    out = interpolate(rows, corrected, plan, layout.offset, workers=workers, progress=progress)
+    lap("interpolate into the new output")
     return out
 
 
-def reflected_margins(x2d, plan):
+def reflected_margins(x2d, plan, workers=1):
     """Rows before and after ``x2d`` by odd reflection about its end rows (value and slope)."""
     layout = BlockLayout.of(plan, 0, x2d.shape[0])
     need_before, need_after = layout.margins
     n = x2d.shape[0]
-    before = (2.0 * x2d[0] - x2d[need_before:0:-1]).astype(x2d.dtype)
-    after = (2.0 * x2d[n - 1] - x2d[n - 2:n - 2 - need_after:-1]).astype(x2d.dtype)
+    before = np.empty((need_before, x2d.shape[1]), dtype=x2d.dtype)
+    after = np.empty((need_after, x2d.shape[1]), dtype=x2d.dtype)
+    run_tasks([lambda: np.subtract(2 * x2d[0], x2d[need_before:0:-1], out=before),
+               lambda: np.subtract(2 * x2d[n - 1], x2d[n - 2:n - 2 - need_after:-1], out=after)],
+              _threads(workers))
     return before, after
 
 
@@ -542,6 +487,6 @@ def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings
     (``benchmarks/bench_dynamic.py --stages``).
     """
     x2d = np.ascontiguousarray(x2d)  # the kernels stream whole rows
-    before, after = reflected_margins(x2d, plan)
+    before, after = reflected_margins(x2d, plan, workers)
     return filter_block(before, x2d, after, 0, plan, precision=precision, workers=workers,
                         progress=progress, check=check, timings=timings)
