@@ -194,12 +194,11 @@ def _apply_dask(arr, filt, precision, method):
                           precision=precision, method="direct")
 
 
-def _dask_array(name, tasks, chunks, dtype, dependencies):
-    """Make a dask array from ``tasks``, a dict of block index -> task (one graph layer)."""
+def _dask_array(name, layer, chunks, dtype, dependencies):
+    """Make a dask array ``name`` from ``layer`` (its tasks, keyed ``(name, *index)``)."""
     import dask.array as da
     from dask.highlevelgraph import HighLevelGraph
 
-    layer = {(name, *index): task for index, task in tasks.items()}
     graph = HighLevelGraph.from_collections(name, layer, dependencies=dependencies)
     return da.Array(graph, name, chunks=chunks, dtype=dtype)
 
@@ -212,72 +211,75 @@ def _covering(bounds, start, stop):
                       int(np.searchsorted(bounds, stop - 1, side="right"))))
 
 
-def _sources(bounds, start, stop):
-    """Chunks holding what rows ``start .. stop - 1`` of the reflected record are made of."""
-    n = bounds[-1]
+def _source_rows(n, start, stop):
+    """Rows ``[lo, hi)`` of the record that rows ``start .. stop - 1`` of its reflection use."""
     v = np.arange(start, stop)
-    if v.size == 0:
-        return []
     src = np.where(v < 0, -v, np.where(v > n - 1, 2 * (n - 1) - v, v))
     rows = [int(src.min()), int(src.max())]
-    rows += [0] if v[0] < 0 else []
-    rows += [n - 1] if v[-1] > n - 1 else []
-    return _covering(bounds, min(rows), max(rows) + 1)
+    rows += [0] if start < 0 else []
+    rows += [n - 1] if stop > n else []
+    return min(rows), max(rows) + 1
+
+
+def _slice(block, axis, a, b):
+    """Task body: a copy of ``block[a:b]`` along ``axis`` (only that travels)."""
+    return np.array(block[a:b] if axis == 0 else block[:, a:b])
+
+
+def _pieces(layer, key, source, index, bounds, axis, lo, hi):
+    """Add to ``layer`` the tasks cutting ``[lo, hi)`` along ``axis`` out of ``source``.
+
+    ``bounds`` are the edges of ``source``'s chunks along ``axis``, ``index(k)`` the block
+    index of its chunk ``k``; ``key`` starts the new keys. Returns the keys, in order.
+    """
+    keys = []
+    for k in _covering(bounds, lo, hi):
+        a, b = max(lo, bounds[k]) - bounds[k], min(hi, bounds[k + 1]) - bounds[k]
+        layer[(*key, k)] = (_slice, (source.name, *index(k)), axis, a, b)
+        keys.append((*key, k))
+    return keys
 
 
 def _reflected_rows(blocks, first_row, n, start, stop):
     """Rows ``start .. stop - 1`` of the odd-reflected record from consecutive ``blocks``.
 
-    ``blocks`` (2-D, time first) hold the record's rows from ``first_row`` on; only the
-    rows asked for are copied.
+    ``blocks`` (2-D, time first) hold the record's rows from ``first_row`` on.
     """
-    edges = np.r_[0, np.cumsum([b.shape[0] for b in blocks])] + first_row
+    rows = np.concatenate(blocks) if len(blocks) > 1 else blocks[0]
     v = np.arange(start, stop)
     src = np.where(v < 0, -v, np.where(v > n - 1, 2 * (n - 1) - v, v))
-    out = np.empty((v.size, blocks[0].shape[1]), dtype=blocks[0].dtype)
-    for k, block in enumerate(blocks):
-        inside = (src >= edges[k]) & (src < edges[k + 1])
-        out[inside] = block[src[inside] - edges[k]]
+    out = rows[src - first_row]
     for side, end in ((v < 0, 0), (v > n - 1, n - 1)):
         if side.any():
-            k = int(np.searchsorted(edges, end, side="right")) - 1
-            out[side] = 2 * blocks[k][end - edges[k]] - out[side]
+            out[side] = 2 * rows[end - first_row] - out[side]
     return out
 
 
-def _decimate_task(ref, rows, *neighbours, spec):
+def _decimate_task(ref, rows, *pieces, spec):
     """Stage 1 of one chunk: its decimated samples, sensel-major (see :func:`decimate`).
 
-    ``neighbours`` are the chunks ``spec["sources"]`` (their first row ``spec["first_row"]``)
-    from which the rows before and after the chunk are copied.
+    ``pieces`` hold the record's rows the rows before and after the chunk are made of
+    (``spec["before"]`` and ``spec["after"]``: ``(start, stop, first row, pieces)``).
     """
     rows = _native(rows)
-    blocks = [_native(b) for b in neighbours]
-    before = _reflected_rows(blocks, spec["first_row"], spec["n"], *spec["before"])
-    after = _reflected_rows(blocks, spec["first_row"], spec["n"], *spec["after"])
+    pieces = [_native(p) for p in pieces]
+    (start, stop, lo, count), after = spec["before"], spec["after"]
+    before = _reflected_rows(pieces[:count], lo, spec["n"], start, stop)
+    after = _reflected_rows(pieces[count:], after[2], spec["n"], after[0], after[1])
     lines, _ = decimate(before, rows, after, spec["plan"], spec["first"], spec["n_lines"],
                         precision=spec["precision"],
                         reference=np.asarray(ref[0], dtype=float))
     return lines
 
 
-def _columns(blocks, first_col, start, stop):
-    """Columns ``start .. stop - 1`` of consecutive sensel-major ``blocks`` (one array)."""
-    edges = np.r_[0, np.cumsum([b.shape[1] for b in blocks])] + first_col
-    parts = [b[:, max(start - a, 0):max(min(stop, e) - a, 0)]
-             for b, a, e in zip(blocks, edges[:-1], edges[1:], strict=True)]
-    return np.ascontiguousarray(np.concatenate(parts, axis=1))
-
-
-def _correct_task(*blocks, spec):
+def _correct_task(*pieces, spec):
     """Stage 2 of one chunk: its corrected samples (see :func:`correct`)."""
-    window = _columns(blocks, spec["first_col"], *spec["window"])
-    return correct(window, spec["plan"], spec["n_out"])
+    return correct(np.concatenate(pieces, axis=1), spec["plan"], spec["n_out"])
 
 
-def _interpolate_task(rows, *blocks, spec):
+def _interpolate_task(rows, *pieces, spec):
     """Stage 3 of one chunk: the chunk plus its interpolated correction."""
-    corrected = _columns(blocks, spec["first_col"], *spec["window"])
+    corrected = np.ascontiguousarray(np.concatenate(pieces, axis=1))
     return interpolate(_native(rows), corrected, spec["plan"], spec["offset"])
 
 
@@ -303,10 +305,10 @@ def _multirate_dask(arr, plan, precision):
     Stage 1 per chunk (with the ``c``-odd rows around it, or the reflection at the record's
     ends) gives the decimated samples the chunk owns, sensel-major; stage 2 the corrected
     samples it owns, from those and ``half`` more on each side; stage 3 interpolates the
-    chunk from the corrected samples around it. Each task reads its own chunk and copies
-    only the rows or columns it needs from its neighbours, so the graph holds no data and
-    little travels between workers. Equal to the in-memory method; the FFT blocks differ,
-    so in single precision to float32 rounding.
+    chunk from the corrected samples around it. The rows and columns a task needs from
+    its neighbours are cut out by small tasks that run where those chunks are, so on a
+    cluster only they travel. Equal to the in-memory method; the FFT blocks differ, so in
+    single precision to float32 rounding.
     """
     from dask.base import tokenize
 
@@ -314,49 +316,52 @@ def _multirate_dask(arr, plan, precision):
     bounds = [int(b) for b in np.r_[0, np.cumsum(arr.chunks[0])]]
     owned, owned_c, lines0, corr0 = _owned(n, bounds, plan)
     token = tokenize(arr, plan.lowpass, plan.correction, precision)
-    ref, sensels = arr[0:1], range(len(arr.chunks[1]))
+    ref, sensels, n_chunks = arr[0:1], range(len(arr.chunks[1])), len(bounds) - 1
+    name = f"tactilecal-decimate-{token}"
     tasks = {}
-    for i in range(len(bounds) - 1):
+    for i in range(n_chunks):
         first = plan.factor * owned[i] - bounds[i]
         last = first + plan.factor * (owned[i + 1] - owned[i] - 1) + c
-        margins = ((bounds[i] - max(c - first, 1), bounds[i]),
-                   (bounds[i + 1], bounds[i + 1] + max(last - (bounds[i + 1] - bounds[i]) + 1, 1)))
-        sources = sorted(set(_sources(bounds, *margins[0]) + _sources(bounds, *margins[1])))
-        sources = list(range(sources[0], sources[-1] + 1))
+        sides = ((bounds[i] - max(c - first, 1), bounds[i]),
+                 (bounds[i + 1], bounds[i + 1] + max(last - (bounds[i + 1] - bounds[i]) + 1, 1)))
+        rows = [_source_rows(n, *side) for side in sides]
         spec = {"plan": plan, "precision": precision, "n": n, "first": first,
-                "n_lines": owned[i + 1] - owned[i], "first_row": bounds[sources[0]],
-                "before": margins[0], "after": margins[1]}
+                "n_lines": owned[i + 1] - owned[i],
+                "before": (*sides[0], rows[0][0], len(_covering(bounds, *rows[0]))),
+                "after": (*sides[1], rows[1][0], len(_covering(bounds, *rows[1])))}
         for j in sensels:
-            tasks[j, i] = (functools.partial(_decimate_task, spec=spec), (ref.name, 0, j),
-                           (arr.name, i, j), *[(arr.name, k, j) for k in sources])
-    lines = _dask_array(f"tactilecal-decimate-{token}", tasks,
-                        (arr.chunks[1], tuple(np.diff(owned))), PRECISIONS[precision],
-                        [arr, ref])
+            keys = [key for side, (lo, hi) in zip(("before", "after"), rows, strict=True)
+                    for key in _pieces(tasks, (f"{name}-{side}", i, j), arr,
+                                       lambda k, j=j: (k, j), bounds, 0, lo, hi)]
+            tasks[(name, j, i)] = (functools.partial(_decimate_task, spec=spec),
+                                   (ref.name, 0, j), (arr.name, i, j), *keys)
+    lines = _dask_array(name, tasks, (arr.chunks[1], tuple(np.diff(owned))),
+                        PRECISIONS[precision], [arr, ref])
+    edges = [k - lines0 for k in owned]
+    name = f"tactilecal-correct-{token}"
     tasks = {}
-    for i in range(len(bounds) - 1):
+    for i in range(n_chunks):
         window = (owned_c[i] - half - lines0, owned_c[i + 1] + half - lines0)
-        sources = _covering(np.array(owned) - lines0, *window)
-        spec = {"plan": plan, "window": window, "first_col": owned[sources[0]] - lines0,
-                "n_out": owned_c[i + 1] - owned_c[i]}
+        spec = {"plan": plan, "n_out": owned_c[i + 1] - owned_c[i]}
         for j in sensels:
-            tasks[j, i] = (functools.partial(_correct_task, spec=spec),
-                           *[(lines.name, j, k) for k in sources])
-    corrected = _dask_array(f"tactilecal-correct-{token}", tasks,
-                            (arr.chunks[1], tuple(np.diff(owned_c))), PRECISIONS[precision],
-                            [lines])
+            keys = _pieces(tasks, (f"{name}-window", i, j), lines, lambda k, j=j: (j, k),
+                           edges, 1, *window)
+            tasks[(name, j, i)] = (functools.partial(_correct_task, spec=spec), *keys)
+    corrected = _dask_array(name, tasks, (arr.chunks[1], tuple(np.diff(owned_c))),
+                            PRECISIONS[precision], [lines])
+    edges = [k - corr0 for k in owned_c]
+    name = f"tactilecal-interpolate-{token}"
     tasks = {}
-    for i in range(len(bounds) - 1):
+    for i in range(n_chunks):
         layout = BlockLayout.of(plan, bounds[i], bounds[i + 1] - bounds[i])
         start = bounds[i] // plan.factor - layout.q_half - corr0
-        window = (start, start + layout.corrected)
-        sources = _covering(np.array(owned_c) - corr0, *window)
-        spec = {"plan": plan, "window": window, "offset": bounds[i],
-                "first_col": owned_c[sources[0]] - corr0}
+        spec = {"plan": plan, "offset": bounds[i]}
         for j in sensels:
-            tasks[i, j] = (functools.partial(_interpolate_task, spec=spec), (arr.name, i, j),
-                           *[(corrected.name, j, k) for k in sources])
-    return _dask_array(f"tactilecal-interpolate-{token}", tasks, arr.chunks, float,
-                       [arr, corrected])
+            keys = _pieces(tasks, (f"{name}-window", i, j), corrected, lambda k, j=j: (j, k),
+                           edges, 1, start, start + layout.corrected)
+            tasks[(name, i, j)] = (functools.partial(_interpolate_task, spec=spec),
+                                   (arr.name, i, j), *keys)
+    return _dask_array(name, tasks, arr.chunks, float, [arr, corrected])
 
 
 @numba.njit(nogil=True, cache=True, fastmath={"contract"})
