@@ -25,6 +25,7 @@ time chunk to the next.
 """
 
 import functools
+import itertools
 import os
 
 import numba
@@ -183,8 +184,11 @@ def _apply_dask(arr, filt, precision, method):
         return arr.map_blocks(_chunk, dtype=float, filt=filt, precision=precision,
                               method=method)
     if plan is not None:
-        flat = arr.reshape(arr.shape[0], -1)
-        return _multirate_dask(flat, plan, precision).reshape(arr.shape)
+        minimum = plan.factor * (plan.correction.size // 2 + 1)  # stage 2's reach, frames
+        if min(arr.chunks[0][:-1]) < minimum:  # else its windows span many chunks
+            size = max(minimum, arr.chunks[0][0])
+            arr = arr.rechunk({0: _aligned_chunks(arr.shape[0], size, minimum)})
+        return _multirate_dask(arr, plan, precision)
     depth = filt.n_taps // 2
     if min(arr.chunks[0]) < depth:
         size = max(4 * filt.n_taps, arr.chunks[0][0], depth)
@@ -222,8 +226,8 @@ def _source_rows(n, start, stop):
 
 
 def _slice(block, axis, a, b):
-    """Task body: a copy of ``block[a:b]`` along ``axis`` (only that travels)."""
-    return np.array(block[a:b] if axis == 0 else block[:, a:b])
+    """Task body: a copy of ``block[a:b]`` along ``axis`` (0 or -1; only that travels)."""
+    return np.array(block[a:b] if axis == 0 else block[..., a:b])
 
 
 def _pieces(layer, key, source, index, bounds, axis, lo, hi):
@@ -255,32 +259,39 @@ def _reflected_rows(blocks, first_row, n, start, stop):
     return out
 
 
+def _flat(block):
+    """Return a block of the recording as ``(time, sensels)``, float32 or float64."""
+    return _native(block.reshape(block.shape[0], -1))
+
+
 def _decimate_task(ref, rows, *pieces, spec):
-    """Stage 1 of one chunk: its decimated samples, sensel-major (see :func:`decimate`).
+    """Stage 1 of one chunk: its decimated samples, time last (see :func:`decimate`).
 
     ``pieces`` hold the record's rows the rows before and after the chunk are made of
     (``spec["before"]`` and ``spec["after"]``: ``(start, stop, first row, pieces)``).
     """
-    rows = _native(rows)
-    pieces = [_native(p) for p in pieces]
+    pieces = [_flat(p) for p in pieces]
     (start, stop, lo, count), after = spec["before"], spec["after"]
     before = _reflected_rows(pieces[:count], lo, spec["n"], start, stop)
     after = _reflected_rows(pieces[count:], after[2], spec["n"], after[0], after[1])
-    lines, _ = decimate(before, rows, after, spec["plan"], spec["first"], spec["n_lines"],
-                        precision=spec["precision"],
-                        reference=np.asarray(ref[0], dtype=float))
-    return lines
+    lines, _ = decimate(before, _flat(rows), after, spec["plan"], spec["first"],
+                        spec["n_lines"], precision=spec["precision"],
+                        reference=np.asarray(ref[0], dtype=float).reshape(-1))
+    return lines.reshape(*rows.shape[1:], -1)
 
 
 def _correct_task(*pieces, spec):
-    """Stage 2 of one chunk: its corrected samples (see :func:`correct`)."""
-    return correct(np.concatenate(pieces, axis=1), spec["plan"], spec["n_out"])
+    """Stage 2 of one chunk: its corrected samples, time last (see :func:`correct`)."""
+    window = np.concatenate(pieces, axis=-1)
+    out = correct(window.reshape(-1, window.shape[-1]), spec["plan"], spec["n_out"])
+    return out.reshape(*window.shape[:-1], -1)
 
 
 def _interpolate_task(rows, *pieces, spec):
     """Stage 3 of one chunk: the chunk plus its interpolated correction."""
-    corrected = np.ascontiguousarray(np.concatenate(pieces, axis=1))
-    return interpolate(_native(rows), corrected, spec["plan"], spec["offset"])
+    corrected = np.concatenate(pieces, axis=-1)
+    corrected = np.ascontiguousarray(corrected.reshape(-1, corrected.shape[-1]))
+    return interpolate(_flat(rows), corrected, spec["plan"], spec["offset"]).reshape(rows.shape)
 
 
 def _owned(n, bounds, plan):
@@ -299,16 +310,21 @@ def _owned(n, bounds, plan):
             [corr0, *inner, corr0 + whole.corrected], lines0, corr0)
 
 
+def _sensel_blocks(arr):
+    """Block indices of ``arr`` over its sensel dimensions (all but the first)."""
+    return list(itertools.product(*[range(len(c)) for c in arr.chunks[1:]]))
+
+
 def _multirate_dask(arr, plan, precision):
-    """Run the multirate method on a 2-D dask array with several time chunks.
+    """Run the multirate method on a dask array with several time chunks (time first).
 
     Stage 1 per chunk (with the ``c``-odd rows around it, or the reflection at the record's
-    ends) gives the decimated samples the chunk owns, sensel-major; stage 2 the corrected
+    ends) gives the decimated samples the chunk owns (time last); stage 2 the corrected
     samples it owns, from those and ``half`` more on each side; stage 3 interpolates the
     chunk from the corrected samples around it. The rows and columns a task needs from
     its neighbours are cut out by small tasks that run where those chunks are, so on a
-    cluster only they travel. Equal to the in-memory method; the FFT blocks differ, so in
-    single precision to float32 rounding.
+    cluster only they travel. Chunks over sensels are kept. Equal to the in-memory method;
+    the FFT blocks differ, so in single precision to float32 rounding.
     """
     from dask.base import tokenize
 
@@ -316,7 +332,8 @@ def _multirate_dask(arr, plan, precision):
     bounds = [int(b) for b in np.r_[0, np.cumsum(arr.chunks[0])]]
     owned, owned_c, lines0, corr0 = _owned(n, bounds, plan)
     token = tokenize(arr, plan.lowpass, plan.correction, precision)
-    ref, sensels, n_chunks = arr[0:1], range(len(arr.chunks[1])), len(bounds) - 1
+    ref, sensels, n_chunks = arr[0:1], _sensel_blocks(arr), len(bounds) - 1
+    real = PRECISIONS[precision]
     name = f"tactilecal-decimate-{token}"
     tasks = {}
     for i in range(n_chunks):
@@ -331,12 +348,12 @@ def _multirate_dask(arr, plan, precision):
                 "after": (*sides[1], rows[1][0], len(_covering(bounds, *rows[1])))}
         for j in sensels:
             keys = [key for side, (lo, hi) in zip(("before", "after"), rows, strict=True)
-                    for key in _pieces(tasks, (f"{name}-{side}", i, j), arr,
-                                       lambda k, j=j: (k, j), bounds, 0, lo, hi)]
-            tasks[(name, j, i)] = (functools.partial(_decimate_task, spec=spec),
-                                   (ref.name, 0, j), (arr.name, i, j), *keys)
-    lines = _dask_array(name, tasks, (arr.chunks[1], tuple(np.diff(owned))),
-                        PRECISIONS[precision], [arr, ref])
+                    for key in _pieces(tasks, (f"{name}-{side}", i, *j), arr,
+                                       lambda k, j=j: (k, *j), bounds, 0, lo, hi)]
+            tasks[(name, *j, i)] = (functools.partial(_decimate_task, spec=spec),
+                                    (ref.name, 0, *j), (arr.name, i, *j), *keys)
+    lines = _dask_array(name, tasks, (*arr.chunks[1:], tuple(np.diff(owned))), real,
+                        [arr, ref])
     edges = [k - lines0 for k in owned]
     name = f"tactilecal-correct-{token}"
     tasks = {}
@@ -344,11 +361,11 @@ def _multirate_dask(arr, plan, precision):
         window = (owned_c[i] - half - lines0, owned_c[i + 1] + half - lines0)
         spec = {"plan": plan, "n_out": owned_c[i + 1] - owned_c[i]}
         for j in sensels:
-            keys = _pieces(tasks, (f"{name}-window", i, j), lines, lambda k, j=j: (j, k),
-                           edges, 1, *window)
-            tasks[(name, j, i)] = (functools.partial(_correct_task, spec=spec), *keys)
-    corrected = _dask_array(name, tasks, (arr.chunks[1], tuple(np.diff(owned_c))),
-                            PRECISIONS[precision], [lines])
+            keys = _pieces(tasks, (f"{name}-window", i, *j), lines, lambda k, j=j: (*j, k),
+                           edges, -1, *window)
+            tasks[(name, *j, i)] = (functools.partial(_correct_task, spec=spec), *keys)
+    corrected = _dask_array(name, tasks, (*arr.chunks[1:], tuple(np.diff(owned_c))), real,
+                            [lines])
     edges = [k - corr0 for k in owned_c]
     name = f"tactilecal-interpolate-{token}"
     tasks = {}
@@ -357,10 +374,10 @@ def _multirate_dask(arr, plan, precision):
         start = bounds[i] // plan.factor - layout.q_half - corr0
         spec = {"plan": plan, "offset": bounds[i]}
         for j in sensels:
-            keys = _pieces(tasks, (f"{name}-window", i, j), corrected, lambda k, j=j: (j, k),
-                           edges, 1, start, start + layout.corrected)
-            tasks[(name, i, j)] = (functools.partial(_interpolate_task, spec=spec),
-                                   (arr.name, i, j), *keys)
+            keys = _pieces(tasks, (f"{name}-window", i, *j), corrected, lambda k, j=j: (*j, k),
+                           edges, -1, start, start + layout.corrected)
+            tasks[(name, i, *j)] = (functools.partial(_interpolate_task, spec=spec),
+                                    (arr.name, i, *j), *keys)
     return _dask_array(name, tasks, arr.chunks, float, [arr, corrected])
 
 
@@ -396,8 +413,9 @@ def _sosfilt_rows(sos, rows, first, state, s0, s1, out):  # pragma: no cover
 
 
 def _causal_block(rows, first, state, sos, workers=1):
-    """Filter ``rows`` (time first, 2-D) causally from ``state``; return ``(out, state)``."""
-    rows = _native(rows)
+    """Filter ``rows`` (time first) causally from ``state``; return ``(out, state)``."""
+    shape = rows.shape
+    rows = _flat(rows)
     m = rows.shape[1]
     first = np.asarray(first, dtype=float).reshape(m)
     state = np.zeros((sos.shape[0], 2, m)) if state is None else state.copy()
@@ -406,7 +424,7 @@ def _causal_block(rows, first, state, sos, workers=1):
     step = max(-(-m // threads), 256)
     run_tasks([lambda a=a: _sosfilt_rows(sos, rows, first, state, a, min(a + step, m), out)
                for a in range(0, m, step)], threads)
-    return out, state
+    return out.reshape(shape), state
 
 
 def _apply_causal(data, filt):
@@ -419,34 +437,31 @@ def _apply_causal(data, filt):
     """
     sos = filt.sos()
     if data.chunks is None:
-        x2d = data.values.reshape(data.shape[0], -1)
-        return _causal_block(x2d, x2d[0], None, sos, workers=-1)[0].reshape(data.shape)
+        x = data.values
+        return _causal_block(x, x[0], None, sos, workers=-1)[0]
     arr = data.data
     if arr.dtype not in (np.float32, np.float64):
         arr = arr.astype(float)
-    return _causal_dask(arr.reshape(arr.shape[0], -1), sos).reshape(arr.shape)
+    return _causal_dask(arr, sos)
 
 
 def _causal_dask(arr, sos):
-    """Filter a 2-D dask array causally: chunk ``(i, j)`` starts from ``(i - 1, j)``'s state."""
+    """Filter a dask array causally: chunk ``(i, J)`` starts from ``(i - 1, J)``'s state."""
     import operator
 
-    import dask.array as da
     from dask.base import tokenize
-    from dask.highlevelgraph import HighLevelGraph
 
     token = f"tactilecal-causal-{tokenize(arr, sos)}"
     first = arr[0:1]
     layer = {}
-    for j in range(len(arr.chunks[1])):
+    for j in _sensel_blocks(arr):
         state = None
         for i in range(len(arr.chunks[0])):
-            layer[(token + "-state", i, j)] = (
-                _causal_task, sos, (arr.name, i, j), (first.name, 0, j), state)
-            layer[(token, i, j)] = (operator.getitem, (token + "-state", i, j), 0)
-            state = (token + "-state", i, j)
-    graph = HighLevelGraph.from_collections(token, layer, dependencies=[arr, first])
-    return da.Array(graph, token, chunks=arr.chunks, dtype=float)
+            layer[(token + "-state", i, *j)] = (
+                _causal_task, sos, (arr.name, i, *j), (first.name, 0, *j), state)
+            layer[(token, i, *j)] = (operator.getitem, (token + "-state", i, *j), 0)
+            state = (token + "-state", i, *j)
+    return _dask_array(token, layer, arr.chunks, float, [arr, first])
 
 
 def _causal_task(sos, rows, first, state):
