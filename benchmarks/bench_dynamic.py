@@ -242,9 +242,12 @@ def cluster(seconds, repeat, chunk_frames):
 
     def written(source, filtered=True):
         lazy = opened(source)
-        out = apply_filter(lazy, filt) if filtered else lazy
-        out.to_dataset(name="x").to_zarr(zarr_out, mode="w", consolidated=False,
-                                         encoding={"x": {"compressors": None}})
+        out = (apply_filter(lazy, filt) if filtered else lazy).to_dataset(name="x")
+        out["time"] = out["time"].load()
+        for variable in out.variables.values():
+            variable.encoding = {}  # the source's chunking and compression
+        out.to_zarr(zarr_out, mode="w", consolidated=False,
+                    encoding={"x": {"compressors": None}})
         lazy.close()
 
     with warnings.catch_warnings(record=True) as caught:
@@ -273,7 +276,8 @@ def cluster(seconds, repeat, chunk_frames):
     large = [w for w in caught if "large graph" in str(w.message).lower()]
     print(f"NetCDF -> cluster -> Zarr against in memory: max |difference| "
           f"{np.abs(back - memory).max() / span:.1e} of the largest sensel's dynamic range; "
-          f"'large graph' warnings: {len(large)} (all warnings: {len(caught)})")
+          f"'large graph' warnings: {len(large)}; other warnings: "
+          f"{sorted({f'{w.category.__name__}: {str(w.message)[:80]}' for w in caught})}")
 
 
 def _page_faults():

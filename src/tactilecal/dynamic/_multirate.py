@@ -25,16 +25,19 @@ Aliases and images are ``STOPBAND_DB`` down on the correction, which is itself a
 ``G - 1`` of the record (about 0.25 for the thesis filter). The record's ends are extended
 by the same odd reflection as the direct method.
 
-Layout: everything is time-major, like the record. Decimated sample ``g`` sits at frame
-``P g`` of the record (frame 0 its first), so a block of frames starting anywhere decimates
-on the record's own grid: :func:`filter_block` filters any block given the rows around it
-(the record's neighbours or its reflection), which is what the dask path does chunk by chunk
-(:mod:`tactilecal.dynamic._apply`). Stages 1 and 3 are numba kernels that stream whole rows
-of the ``(time, sensels)`` record (NumPy would make one pass per filter tap); stage 2
-transposes blocks of a few sensels of the decimated record (a tenth of the record's bytes)
-into contiguous lines for :func:`scipy.fft.rfft`. The three stages run as tasks on a thread
-pool, stage 2 of a time block starting as soon as the decimated rows it needs are done, so
-the FFTs overlap the memory-bound stages. Measured in ``benchmarks/bench_dynamic.py``.
+Blocks: decimated sample ``g`` sits at frame ``P g`` of the record (frame 0 its first), so a
+block of frames starting anywhere decimates on the record's own grid. :func:`filter_block`
+filters a block given the rows around it (the record's neighbours, or its reflection at
+the record's ends); :func:`decimate`, :func:`correct` and :func:`interpolate` are its three
+stages, which the dask path (:mod:`tactilecal.dynamic._apply`) runs chunk by chunk.
+Stages 1 and 3 are numba kernels that stream whole rows of the ``(time, sensels)`` record
+(NumPy would make one pass per filter tap): stage 1 sums two decimated rows per pass over
+the rows they share, in float64, and writes the decimated record sensel-major through a
+small tile, so stage 2's FFTs run along contiguous lines, on a fifth of the rows and in
+float32 by default (a tenth of the bytes); stage 3 transposes a tile of those lines back
+and applies the ``P`` polyphase filters. In memory each stage runs as tasks on a thread
+pool. Measured in ``benchmarks/bench_dynamic.py`` (and the kernels' variants in the
+commit messages).
 """
 
 import os
@@ -48,8 +51,9 @@ from scipy import fft, signal
 
 from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
 
-__all__ = ["MultiratePlan", "plan_multirate", "apply_multirate", "filter_block",
-           "BlockLayout", "run_tasks"]
+__all__ = ["MultiratePlan", "plan_multirate", "BlockLayout", "apply_multirate",
+           "filter_block", "decimate", "correct", "interpolate", "reflected_margins",
+           "run_tasks"]
 
 #: Attenuation (dB) of the anti-aliasing / interpolation low-pass in its stop band.
 STOPBAND_DB = 70.0
