@@ -395,8 +395,12 @@ def correct(lines, plan, n_out, *, workers=1, out=None):
             y = fft.irfft(spectrum, n=n_fft, axis=-1, overwrite_x=True)
             out[s0:s1, t0:t0 + width] = y[:, half:half + width]
 
-    per_call = int(np.clip(SPECTRUM_BYTES // (8 * n_fft), SENSELS_PER_TASK, max(m, 1)))
-    run_tasks([lambda a=a, b=b: run(a, b) for a, b in _ranges(m, per_call)], _threads(workers))
+    threads = _threads(workers)
+    per_call = SPECTRUM_BYTES // (8 * n_fft)
+    if threads > 1:  # at least 4 tasks per thread, so that they share the work evenly
+        per_call = min(per_call, -(-m // (4 * threads)))
+    per_call = int(np.clip(per_call, SENSELS_PER_TASK, max(m, 1)))
+    run_tasks([lambda a=a, b=b: run(a, b) for a, b in _ranges(m, per_call)], threads)
     return out[:, :n_out]
 
 
