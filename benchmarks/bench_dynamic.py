@@ -209,9 +209,19 @@ def throughput(seconds, subset, repeat):
 
 
 def cluster(seconds, repeat, chunk_frames):
+    import shutil
     import tempfile
-    import warnings
     from pathlib import Path
+
+    folder = Path(tempfile.mkdtemp(prefix="bench_dynamic_"))
+    try:
+        _cluster(seconds, repeat, chunk_frames, folder)
+    finally:
+        shutil.rmtree(folder)
+
+
+def _cluster(seconds, repeat, chunk_frames, folder):
+    import warnings
 
     from dask.distributed import Client, LocalCluster, wait
 
@@ -219,7 +229,6 @@ def cluster(seconds, repeat, chunk_frames):
 
     rec = _recording(seconds)
     filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000.0, band_hz=(1, 140))
-    folder = Path(tempfile.mkdtemp(prefix="bench_dynamic_"))
     nc, zarr_in, zarr_out = folder / "rec.nc", folder / "rec.zarr", folder / "out.zarr"
     write_netcdf(rec, nc)
     rec.to_dataset(name="x").to_zarr(zarr_in, mode="w", consolidated=False, encoding={
@@ -227,7 +236,7 @@ def cluster(seconds, repeat, chunk_frames):
     memory = apply_filter(rec, filt).values
     print(f"== dask.distributed: LocalCluster, 2 worker processes x 1 thread; {rec.size / 1e6:.1f} "
           f"M samples read by the workers in {chunk_frames}-frame chunks from {folder} "
-          f"(uncompressed); {repeat} interleaved rounds ==")
+          f"(uncompressed, removed after); {repeat} interleaved rounds ==")
 
     def opened(source):
         if source == "netcdf":
@@ -271,7 +280,8 @@ def cluster(seconds, repeat, chunk_frames):
             times = _interleaved(runs, repeat)
             written("netcdf")
     _report(times, rec.size, "apply_filter in memory (this process) [baseline]")
-    back = xr.open_zarr(zarr_out, consolidated=False)["x"].values
+    with xr.open_zarr(zarr_out, consolidated=False) as written_back:
+        back = written_back["x"].values
     span = np.ptp(memory - memory[:1], axis=0).max()
     large = [w for w in caught if "large graph" in str(w.message).lower()]
     print(f"NetCDF -> cluster -> Zarr against in memory: max |difference| "
