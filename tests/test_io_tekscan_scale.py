@@ -259,3 +259,29 @@ def test_eager_read_reports_faults_in_file_order_whatever_block_finds_them(tmp_p
     path.write_text("\n".join(lines))
     with pytest.raises(ValueError, match=rf"line {rows[3] + 1} of .*m.csv, value 5: 300;"):
         read_tekscan(path)
+
+
+def test_lazy_read_of_a_relative_path_computes_from_another_working_directory(tmp_path,
+                                                                              monkeypatch):
+    """A dask worker may run in another folder: the blocks open the file by its full path."""
+    values = _raw_values(n=6)
+    (tmp_path / "data").mkdir()
+    _movie(tmp_path / "data", values)
+    monkeypatch.chdir(tmp_path / "data")
+    lazy = read_tekscan("m.csv", chunks=4)
+    assert lazy.attrs["source"] == "m.csv"  # messages keep the name as given
+    monkeypatch.chdir(tmp_path)
+    np.testing.assert_array_equal(lazy.values, values)
+
+
+def test_eager_read_does_not_import_distributed(iscan_csv):
+    """dask.compute with a named scheduler imports ``distributed`` (seconds) to find a client."""
+    import subprocess
+    import sys
+
+    code = ("import sys, tactilecal.io as tio\n"
+            f"assert tio.read_tekscan({str(iscan_csv)!r}).shape == (309, 28, 28)\n"
+            "print('distributed' in sys.modules)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.split() == ["False"]
