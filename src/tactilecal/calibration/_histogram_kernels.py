@@ -11,14 +11,15 @@ Imported only when a large input is counted: numba's start-up in a new process (
 0.3-0.5 s here) costs more than it saves on a small one.
 """
 
-import numba
 import numpy as np
+
+from tactilecal._numba import njit
 
 N_LEVELS = 256
 _DISCARD = N_LEVELS  # bin of NaN and masked sensels, dropped
 
 
-@numba.njit(nogil=True, cache=True)
+@njit(nogil=True)
 def _count_row(index, counts, out, i):  # pragma: no cover (compiled)
     """Count ``index`` (values 0..256) into ``out[i]`` using four sub-histograms ``counts``."""
     counts[:] = 0
@@ -33,7 +34,7 @@ def _count_row(index, counts, out, i):  # pragma: no cover (compiled)
         out[i, k] = counts[0, k] + counts[1, k] + counts[2, k] + counts[3, k]
 
 
-@numba.njit(nogil=True, cache=True)
+@njit(nogil=True)
 def _count_float(frames, skipped, out):  # pragma: no cover (compiled)
     """Histograms of float frames (m, n_sensels), rounded half to even like ``numpy.rint``.
 
@@ -62,7 +63,7 @@ def _count_float(frames, skipped, out):  # pragma: no cover (compiled)
     return -1
 
 
-@numba.njit(nogil=True, cache=True)
+@njit(nogil=True)
 def _count_int(frames, skipped, out):  # pragma: no cover (compiled)
     """Histograms of integer frames (m, n_sensels); see :func:`_count_float`."""
     n, m = frames.shape
@@ -85,7 +86,7 @@ def _count_int(frames, skipped, out):  # pragma: no cover (compiled)
     return -1
 
 
-@numba.njit(nogil=True, cache=True)
+@njit(nogil=True)
 def _count_uint8(frames, skipped, out):  # pragma: no cover (compiled)
     """Histograms of uint8 frames: every reading is a bin, counted without an index pass."""
     n, m = frames.shape
@@ -106,7 +107,7 @@ def _count_uint8(frames, skipped, out):  # pragma: no cover (compiled)
     return -1
 
 
-@numba.njit(nogil=True, cache=True)
+@njit(nogil=True)
 def _member(j, sorted_values):  # pragma: no cover (compiled)
     k = np.searchsorted(sorted_values, j)
     return k < sorted_values.size and sorted_values[k] == j

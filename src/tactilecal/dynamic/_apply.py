@@ -28,11 +28,11 @@ import functools
 import itertools
 import os
 
-import numba
 import numpy as np
 import xarray as xr
 from scipy import fft
 
+from tactilecal._numba import njit
 from tactilecal.dynamic._filter import PRECISIONS
 from tactilecal.dynamic._multirate import (
     BlockLayout,
@@ -381,7 +381,7 @@ def _multirate_dask(arr, plan, precision):
     return _dask_array(name, tasks, arr.chunks, float, [arr, corrected])
 
 
-@numba.njit(nogil=True, cache=True, fastmath={"contract"})
+@njit(nogil=True, fastmath={"contract"})
 def _sosfilt_rows(sos, rows, first, state, s0, s1, out):  # pragma: no cover
     """``out[:, s] = sosfilt(sos, rows[:, s] - first[s]) + first[s]`` for ``s0 <= s < s1``.
 

@@ -49,6 +49,7 @@ import numba
 import numpy as np
 from scipy import fft, signal
 
+from tactilecal._numba import njit
 from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
 
 __all__ = ["MultiratePlan", "plan_multirate", "BlockLayout", "apply_multirate",
@@ -208,7 +209,7 @@ def _row(before, rows, after, t):  # pragma: no cover
     return after[t - rows.shape[0]]
 
 
-@numba.njit(nogil=True, cache=True, fastmath={"contract"})
+@njit(nogil=True, fastmath={"contract"})
 def _decimate_rows(before, rows, after, lowpass, factor, first, k0, k1, s0, s1, ref,
                    lines, sums):  # pragma: no cover
     """``lines[s, k] = sum_j lowpass[j] x[first + factor k + j - c, s] - ref[s]``.
@@ -273,7 +274,7 @@ def _decimate_rows(before, rows, after, lowpass, factor, first, k0, k1, s0, s1, 
             sums[s0 + s] += total
 
 
-@numba.njit(nogil=True, cache=True, fastmath={"contract"})
+@njit(nogil=True, fastmath={"contract"})
 def _interpolate_rows(rows, corrected, weights, offset, t0, t1, s0, s1,
                       out):  # pragma: no cover
     """``out[t, s] = rows[t, s] + sum_q weights[phi, q] corrected[s, M + q]``.

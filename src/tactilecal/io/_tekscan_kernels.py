@@ -21,8 +21,9 @@ to be converted by Python's correctly rounded :class:`float`, so every value equ
 ``float(token)``.
 """
 
-import numba
 import numpy as np
+
+from tactilecal._numba import njit
 
 __all__ = ["index_lines", "parse_rows", "INFO_SLOTS", "STATE_SLOTS", "new_state"]
 
@@ -47,19 +48,19 @@ def new_state(first_line):
     return state, info
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@njit(nogil=True, inline="always")
 def _is_space(c):
     """ASCII whitespace that C's ``isspace`` skips inside a value (LF/CR end the line)."""
     return c == 32 or c == 9 or c == 11 or c == 12
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@njit(nogil=True, inline="always")
 def _is_data_start(c):
     """First byte of a row of values: a digit, ``B``, a sign or a point."""
     return (48 <= c <= 57) or c == 66 or c == 45 or c == 43 or c == 46
 
 
-@numba.njit(cache=True, nogil=True)
+@njit(nogil=True)
 def _number(buf, pos, end):
     """Parse a plain decimal number starting at ``buf[pos]`` (no surrounding whitespace).
 
@@ -117,7 +118,7 @@ def _number(buf, pos, end):
     return 0, -value if neg else value, pos
 
 
-@numba.njit(cache=True, nogil=True)
+@njit(nogil=True)
 def _frame_line(buf, start, end):
     """Parse a ``Frame N[, time[, ...Raw Sum=,,S]]`` line given as plain ASCII.
 
@@ -168,7 +169,7 @@ def _frame_line(buf, start, end):
     return ok, number, time_s, raw_sum
 
 
-@numba.njit(cache=True, nogil=True)
+@njit(nogil=True)
 def _raw_sum(buf, start, end):
     r"""``(found in plain form or absent, value)`` of ``Raw Sum[ \t]*=[ \t,]*S`` in a line."""
     key = (82, 97, 119, 32, 83, 117, 109)  # "Raw Sum"
@@ -207,13 +208,13 @@ def _raw_sum(buf, start, end):
     return True, np.nan
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@njit(nogil=True, inline="always")
 def _first(info, slot, line, offset, a, b):
     if info[slot, 0] < 0:
         info[slot, 0], info[slot, 1], info[slot, 2], info[slot, 3] = line, offset, a, b
 
 
-@numba.njit(cache=True, nogil=True)
+@njit(nogil=True)
 def index_lines(buf, n, lf, base, final, cols, state, info):
     """Index the complete lines of ``buf[:n]`` (a block of the data after ``ASCII_DATA @@``).
 
@@ -336,7 +337,7 @@ def index_lines(buf, n, lf, base, final, cols, state, info):
         rows_before
 
 
-@numba.njit(cache=True, nogil=True)
+@njit(nogil=True)
 def parse_rows(buf, pos, end, out, k, cols, per_frame, spaced, raw, sums, bad, slow, n_slow):
     """Parse the rows of values in ``buf[pos:end]`` into ``out[k:]`` (flat, row-major).
 
