@@ -134,6 +134,35 @@ def test_causal_filter_is_scipy_sosfilt_in_memory_and_chunk_by_chunk():
     np.testing.assert_allclose(lazy.values, truth, rtol=0, atol=1e-12 * span)
 
 
+def test_causal_chunks_pass_on_their_state_not_their_output():
+    """Chunk i's task needs chunk i - 1's filter state only, so no output waits for it."""
+    from dask.core import get_dependencies
+
+    filt = CorrectionFilter("rational", {"order": 1}, FS_HZ, (1, 40), rational=VISCO)
+    x = _walk(1000, (2, 3), seed=8)
+    lazy = apply_filter(_record(x).chunk({"frame": 250}), filt, causal=True)
+    graph = dict(lazy.data.__dask_graph__())
+    runs = sorted(key for key in graph if isinstance(key, tuple) and key[0].endswith("-run"))
+    assert len(runs) == 4
+    outputs = {key for key in graph if isinstance(key, tuple) and key[0] == lazy.data.name}
+    for key in runs[1:]:
+        needs = get_dependencies(graph, key)
+        assert any(dep[0].endswith("-state") for dep in needs)
+        assert not needs & outputs
+    eager = apply_filter(_record(x), filt, causal=True, workers=1).values
+    np.testing.assert_allclose(lazy.values, eager, rtol=0, atol=1e-12 * np.ptp(x - x[0]))
+
+
+def test_first_row_reference_is_a_copy_not_a_view_of_the_first_chunk():
+    import dask.array as da
+
+    from tactilecal.dynamic._apply import _first_row
+
+    x = np.arange(24.0).reshape(8, 3)
+    first = _first_row(da.from_array(x, chunks=(4, 3))).compute()
+    assert first.tolist() == [[0.0, 1.0, 2.0]] and not np.shares_memory(first, x)
+
+
 def test_the_graph_holds_no_data_when_the_recording_is_read_lazily(tmp_path):
     from tactilecal.io import write_netcdf
 

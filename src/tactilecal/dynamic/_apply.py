@@ -310,6 +310,12 @@ def _owned(n, bounds, plan):
             [corr0, *inner, corr0 + whole.corrected], lines0, corr0)
 
 
+def _first_row(arr):
+    """``arr[0:1]`` as a copy: a view would keep the whole first chunk in memory until the
+    last task that reads the first row (every chunk's) has run."""
+    return arr[0:1].map_blocks(np.copy, dtype=arr.dtype)
+
+
 def _sensel_blocks(arr):
     """Block indices of ``arr`` over its sensel dimensions (all but the first)."""
     return list(itertools.product(*[range(len(c)) for c in arr.chunks[1:]]))
@@ -332,7 +338,7 @@ def _multirate_dask(arr, plan, precision):
     bounds = [int(b) for b in np.r_[0, np.cumsum(arr.chunks[0])]]
     owned, owned_c, lines0, corr0 = _owned(n, bounds, plan)
     token = tokenize(arr, plan.lowpass, plan.correction, precision)
-    ref, sensels, n_chunks = arr[0:1], _sensel_blocks(arr), len(bounds) - 1
+    ref, sensels, n_chunks = _first_row(arr), _sensel_blocks(arr), len(bounds) - 1
     real = PRECISIONS[precision]
     name = f"tactilecal-decimate-{token}"
     tasks = {}
@@ -427,8 +433,8 @@ def _causal_block(rows, first, state, sos, workers=1):
     return out.reshape(shape), state
 
 
-def _apply_causal(data, filt):
-    """Filter every sensel with the causal inverse ``1 / H`` (``scipy.signal.sosfilt``).
+def _apply_causal(data, filt, workers=-1):
+    """Filter ``data`` with the causal inverse (second-order sections), time first.
 
     Each sensel's first value is removed before and added back after, so the filter starts
     at rest on the record's first state (``1 / H`` has unit gain at 0 Hz). A dask-backed
@@ -438,7 +444,7 @@ def _apply_causal(data, filt):
     sos = filt.sos()
     if data.chunks is None:
         x = data.values
-        return _causal_block(x, x[0], None, sos, workers=-1)[0]
+        return _causal_block(x, x[0], None, sos, workers=workers)[0]
     arr = data.data
     if arr.dtype not in (np.float32, np.float64):
         arr = arr.astype(float)
@@ -446,27 +452,33 @@ def _apply_causal(data, filt):
 
 
 def _causal_dask(arr, sos):
-    """Filter a dask array causally: chunk ``(i, J)`` starts from ``(i - 1, J)``'s state."""
+    """Filter a dask array causally: chunk ``(i, J)`` starts from ``(i - 1, J)``'s state.
+
+    Each chunk's task returns ``(out, state)``; the next chunk depends on the state alone
+    (sections x 2 x sensels), so a chunk's output is neither kept for, nor sent to, the
+    task of the next one.
+    """
     import operator
 
     from dask.base import tokenize
 
     token = f"tactilecal-causal-{tokenize(arr, sos)}"
-    first = arr[0:1]
+    first = _first_row(arr)
     layer = {}
     for j in _sensel_blocks(arr):
         state = None
         for i in range(len(arr.chunks[0])):
-            layer[(token + "-state", i, *j)] = (
-                _causal_task, sos, (arr.name, i, *j), (first.name, 0, *j), state)
-            layer[(token, i, *j)] = (operator.getitem, (token + "-state", i, *j), 0)
+            run = (token + "-run", i, *j)
+            layer[run] = (_causal_task, sos, (arr.name, i, *j), (first.name, 0, *j), state)
+            layer[(token, i, *j)] = (operator.getitem, run, 0)
             state = (token + "-state", i, *j)
+            layer[state] = (operator.getitem, run, 1)
     return _dask_array(token, layer, arr.chunks, float, [arr, first])
 
 
 def _causal_task(sos, rows, first, state):
-    """Task body of :func:`_causal_dask`: ``(out, state)`` from the previous chunk's."""
-    return _causal_block(rows, first[0], None if state is None else state[1], sos)
+    """Task body of :func:`_causal_dask`: ``(out, state)`` from the previous chunk's state."""
+    return _causal_block(rows, first[0], state, sos)
 
 
 def _nan_sensels(sums):
@@ -574,7 +586,7 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
                          f"s); expected at least the filter length {filt.n_taps} frames "
                          f"({filt.length_s:.3g} s)")
     if causal:  # filt.sos() raises first for a filter with no causal form
-        values = _apply_causal(data, filt)
+        values = _apply_causal(data, filt, workers)
     elif data.chunks is not None:
         values = _apply_dask(data.data, filt, precision, method)
     else:
