@@ -311,8 +311,11 @@ def _owned(n, bounds, plan):
 
 
 def _first_row(arr):
-    """``arr[0:1]`` as a copy: a view would keep the whole first chunk in memory until the
-    last task that reads the first row (every chunk's) has run."""
+    """Return ``arr[0:1]`` as a copy.
+
+    A view would keep the whole first chunk in memory until the last task that reads the
+    first row (every chunk's) has run.
+    """
     return arr[0:1].map_blocks(np.copy, dtype=arr.dtype)
 
 
