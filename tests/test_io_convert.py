@@ -23,7 +23,8 @@ def _export(tmp_path, n=30, rows=4, cols=6, seed=0, name="movie.csv"):
 
 
 def _open_zarr(path):
-    return xr.open_dataarray(path, engine="zarr", consolidated=False)
+    """Open a store with xarray's defaults (consolidated metadata expected; warnings fail)."""
+    return xr.open_dataarray(path, engine="zarr")
 
 
 def _leftovers(folder, keep):
@@ -120,6 +121,7 @@ def test_unwritable_output_is_one_line_naming_it(tmp_path, capsys):
 
 @pytest.mark.parametrize("out, match", [
     ("out.csv", "ends in '.csv'; expected .zarr (Zarr store) or .nc (NetCDF)"),
+    ("out", "has no suffix; expected .zarr (Zarr store) or .nc (NetCDF)"),
     ("folder.zarr", "exists and is no Zarr store; expected a new path"),
 ])
 def test_output_that_is_not_zarr_or_netcdf_is_refused(tmp_path, capsys, out, match):
@@ -134,3 +136,78 @@ def test_chunks_flag_must_be_positive(tmp_path, capsys):
     source = _export(tmp_path)
     assert main(["convert", str(source), str(tmp_path / "o.zarr"), "--chunks", "0"]) == 1
     assert "--chunks" in capsys.readouterr().err
+
+
+def test_zarr_store_has_consolidated_metadata_in_format_2(tmp_path):
+    convert(_export(tmp_path), tmp_path / "out.zarr", chunks=8)
+    assert (tmp_path / "out.zarr" / ".zmetadata").is_file()
+    assert (tmp_path / "out.zarr" / ".zgroup").is_file()
+    with xr.open_zarr(tmp_path / "out.zarr") as stored:  # xarray's default: consolidated
+        assert stored["__xarray_dataarray_variable__"].shape == (30, 4, 6)
+
+
+def test_a_local_cluster_reads_the_converted_zarr_store_without_a_warning(tmp_path):
+    """The workers open the store as xarray does by default; warnings are errors here."""
+    from dask.distributed import Client, LocalCluster
+
+    source = _export(tmp_path, n=40)
+    convert(source, tmp_path / "out.zarr", chunks=16)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        with xr.open_dataarray(tmp_path / "out.zarr", engine="zarr", chunks={}) as lazy:
+            assert lazy.chunks[0] == (16, 16, 8)
+            total = client.compute(lazy.sum(dim="frame").data).result()
+    np.testing.assert_array_equal(total, read_tekscan(source).sum(dim="frame").values)
+
+
+def _failing_recording(n_blocks=4):
+    """A lazy recording whose first block fails at once while the others are still running."""
+    import time
+
+    import dask
+    import dask.array as da
+
+    def block(k):
+        if k == 0:
+            raise ValueError("block 0 of rec.csv: bad value")
+        time.sleep(0.3)
+        return np.zeros((5, 2, 3))
+
+    parts = [da.from_delayed(dask.delayed(block)(k), shape=(5, 2, 3), dtype=float)
+             for k in range(n_blocks)]
+    return xr.DataArray(da.concatenate(parts), dims=("frame", "row", "col"))
+
+
+def test_tasks_still_running_when_one_fails_finish_before_the_error_leaves_the_block():
+    """Else a writer removes its temporary output while they still write into it (seen as
+    a left-over '.out.nc.tmp*' file in about 1 of 10 runs of the test below before)."""
+    import threading
+    import time
+
+    import dask
+
+    from tactilecal._atomic import dask_tasks_finished
+
+    done = threading.Event()
+
+    def slow():
+        time.sleep(0.3)
+        done.set()
+
+    def failing():
+        time.sleep(0.05)
+        raise ValueError("block 0 of rec.csv: bad value")
+
+    with pytest.raises(ValueError, match="block 0 of rec.csv"), dask_tasks_finished():
+        dask.compute(dask.delayed(slow)(), dask.delayed(failing)())
+    assert done.is_set()  # dask's own threaded scheduler raises before it is (0.05 s)
+
+
+@pytest.mark.parametrize("suffix", [".nc", ".zarr"])
+def test_a_failed_block_leaves_no_temporary_output_behind(tmp_path, suffix):
+    """Nothing at OUT and no temporary output, whichever block fails and when."""
+    from tactilecal.io._convert import write_lazy
+
+    with pytest.raises(ValueError, match="block 0 of rec.csv: bad value"):
+        write_lazy(_failing_recording(), tmp_path / f"out{suffix}")
+    assert _leftovers(tmp_path, set()) == []

@@ -6,11 +6,11 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from tactilecal._atomic import _running, _umask
+from tactilecal._atomic import _running, _umask, dask_tasks_finished
 from tactilecal.io._netcdf import write_netcdf
 from tactilecal.io._tekscan_read import read_tekscan
 
-__all__ = ["convert", "DEFAULT_CHUNK_FRAMES"]
+__all__ = ["convert", "write_lazy", "DEFAULT_CHUNK_FRAMES"]
 
 DEFAULT_CHUNK_FRAMES = 1000
 """Frames per block of :func:`convert` (44 x 44 sensels: 15.5 MB of float64 a block)."""
@@ -32,9 +32,10 @@ def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES):
     source : str or os.PathLike
         A Tekscan ASCII export (see :func:`read_tekscan`).
     target : str or os.PathLike
-        Output: a ``.zarr`` folder (Zarr store, chunked like the blocks, metadata not
-        consolidated: open it with ``xr.open_dataarray(path, engine="zarr",
-        consolidated=False)``) or a ``.nc`` file (NetCDF4, the layout of
+        Output: a ``.zarr`` folder (a Zarr store in format 2 with consolidated metadata,
+        chunked like the blocks: ``xr.open_zarr(path)`` or ``xr.open_dataarray(path,
+        engine="zarr")`` open it as they expect by default, without a warning, with
+        zarr-python 2 or 3) or a ``.nc`` file (NetCDF4, the layout of
         :func:`write_netcdf`, read by :func:`read_netcdf`). An existing store or file of
         that name is replaced.
     chunks : int, keyword-only
@@ -60,20 +61,40 @@ def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES):
     >>> _ = (folder / "m.csv").write_text("ROWS 1\nCOLS 2\nUNITS raw\nASCII_DATA @@\n"
     ...                                   "Frame 1\n1,2\nFrame 2\n3,B\n@@\n")
     >>> _ = convert(folder / "m.csv", folder / "m.zarr", chunks=1)
-    >>> xr.open_dataarray(folder / "m.zarr", engine="zarr", consolidated=False).values.tolist()
+    >>> xr.open_dataarray(folder / "m.zarr", engine="zarr").values.tolist()
     [[[1.0, 2.0]], [[3.0, nan]]]
     """
+    _check_suffix(target)
+    data = read_tekscan(source, chunks=chunks)
+    write_lazy(data, target)
+    return data
+
+
+def _check_suffix(target):
     target = Path(target)
     if target.suffix.lower() not in _SUFFIXES:
-        raise ValueError(f"output {target} ends in {target.suffix or 'no suffix'!r}; "
-                         "expected .zarr (Zarr store) or .nc (NetCDF)")
-    data = read_tekscan(source, chunks=chunks)
+        what = f"ends in {target.suffix!r}" if target.suffix else "has no suffix"
+        raise ValueError(f"output {target} {what}; expected .zarr (Zarr store) or .nc "
+                         "(NetCDF)")
+    return target
+
+
+def write_lazy(data, target):
+    """Write the (dask-backed) DataArray ``data`` to ``target`` (.zarr or .nc) atomically.
+
+    Blocks are computed and written in turn; on any error nothing is left at ``target`` (an
+    existing one is left as it was), nor any temporary output: the blocks still running
+    when one fails finish before the temporary output is removed.
+    """
+    target = _check_suffix(target)
     if target.suffix.lower() == ".nc":
         write_netcdf(data, target)
-    else:
-        with atomic_folder(target) as tmp:
-            data.to_zarr(tmp, mode="w", consolidated=False)
-    return data
+        return
+    with atomic_folder(target) as tmp, dask_tasks_finished():
+        # format 2: its consolidated metadata (.zmetadata) is in the format's spec, which
+        # xarray reads first by default; format 3 has none in its spec (zarr-python 3
+        # warns when writing it) and zarr-python 2 cannot read format 3 at all
+        data.to_zarr(tmp, mode="w", consolidated=True, zarr_format=2)
 
 
 def _is_zarr(path):
