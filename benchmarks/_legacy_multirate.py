@@ -1,23 +1,23 @@
 """The multirate filter as it was before issue 16 (commit dae8474), kept for timing only.
 
+Its kernels and stages; the filter design (``plan_multirate``) is the package's, unchanged.
+
 ``benchmarks/bench_dynamic.py`` times it against the current one in the same run and checks
 that both give the same output (to float32 rounding). Not used by the package; its numba
 kernels compile on first use (cached next to this file).
 """
 
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
 
 import numba
 import numpy as np
-from scipy import fft, signal
+from scipy import fft
 
-from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
+from tactilecal.dynamic._filter import PRECISIONS, centred_spectrum
+from tactilecal.dynamic._multirate import MultiratePlan, plan_multirate  # design unchanged
 
 __all__ = ["MultiratePlan", "plan_multirate", "apply_multirate", "run_tasks"]
 
-#: Attenuation (dB) of the anti-aliasing / interpolation low-pass in its stop band.
-STOPBAND_DB = 70.0
 #: Rows (frames or decimated frames) per task of the thread pool.
 ROWS_PER_TASK = 2048
 #: Sensels per task of stage 2, and its FFT length (at least 4 filter lengths).
@@ -25,62 +25,6 @@ LINES_PER_TASK = 32
 BLOCK_FFT = 1 << 14
 #: Decimated rows per tile of the transposing kernels (a tile of all sensels stays in L2).
 TILE = 32
-
-
-@dataclass(frozen=True)
-class MultiratePlan:
-    """The three filters of the multirate method for one correction filter.
-
-    Attributes
-    ----------
-    factor : int
-        Decimation factor ``P``.
-    lowpass : numpy.ndarray
-        Zero-phase low-pass (odd length, unit DC gain) of stages 1 and 3.
-    correction : numpy.ndarray
-        Taps of ``D`` at ``fs / P`` (centred, zero DC gain; symmetric unless ``phase``).
-    phase : bool
-        The correction is complex (a filter of :data:`~tactilecal.dynamic._filter.PHASE_MODELS`).
-    """
-
-    factor: int
-    lowpass: np.ndarray
-    correction: np.ndarray
-    phase: bool = False
-
-    @property
-    def reach(self):
-        """Frames on each side of an output frame that it depends on."""
-        c, half = self.lowpass.size // 2, self.correction.size // 2
-        return 2 * c + self.factor * (half + 1)
-
-
-def decimation_factor(filt):
-    """Return ``P = floor(fs / (4 f_c))``, or 1 when the correction is not band-limited."""
-    if filt.outside != "taper":
-        return 1
-    f_c = filt.band_hz[1] + filt.taper_hz
-    return max(1, int(filt.fs_hz // (4.0 * f_c)))
-
-
-def plan_multirate(filt):
-    """Design the multirate filters for ``filt``; None when it gains nothing (``P < 2``)."""
-    factor = decimation_factor(filt)
-    if factor < 2:
-        return None
-    fs, f_c = filt.fs_hz, filt.band_hz[1] + filt.taper_hz
-    fs_low = fs / factor
-    n_low, beta = signal.kaiserord(STOPBAND_DB, (fs_low - 2 * f_c) / (fs / 2))
-    lowpass = signal.firwin(n_low | 1, fs_low / 2, window=("kaiser", beta), fs=fs)
-    lowpass /= lowpass.sum()
-    n_taps = max(filt.n_taps // factor, 3) | 1  # same frequency resolution as the full FIR
-    grid = np.linspace(0.0, fs_low / 2, 8 * n_taps + 1)
-    _, h = signal.freqz(lowpass, worN=grid, fs=fs)
-    inside = grid <= f_c
-    gain = np.zeros(grid.size, dtype=complex if filt.has_phase else float)
-    gain[inside] = (filt.target(grid[inside]) - 1.0) / np.abs(h[inside]) ** 2
-    return MultiratePlan(factor, lowpass, centred_fir(n_taps, grid, gain, fs_low),
-                         filt.has_phase)
 
 
 @numba.njit(nogil=True, cache=True, fastmath={"contract"})
