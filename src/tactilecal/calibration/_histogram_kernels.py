@@ -35,8 +35,11 @@ def _count_row(index, counts, out, i):  # pragma: no cover (compiled)
 
 
 @njit(nogil=True)
-def _count_float(frames, skipped, out):  # pragma: no cover (compiled)
-    """Histograms of float frames (m, n_sensels), rounded half to even like ``numpy.rint``.
+def _count_values(frames, skipped, out):  # pragma: no cover (compiled)
+    """Histograms of float or integer frames (m, n_sensels), rounded like ``numpy.rint``.
+
+    Floats are rounded half to even; integers pass through ``rint`` unchanged (compiled
+    once per dtype, so a second kernel for integers would only repeat this one).
 
     ``skipped`` lists the sensels not counted. Returns -1, or the flat index of the first
     finite, counted reading whose rounded value lies outside 0..255 (counting stops there).
@@ -58,29 +61,6 @@ def _count_float(frames, skipped, out):  # pragma: no cover (compiled)
             for j in range(m):
                 r = np.rint(row[j])
                 if (r < 0.0 or r > 255.0) and not _member(j, skipped):
-                    return i * m + j
-        _count_row(index, counts, out, i)
-    return -1
-
-
-@njit(nogil=True)
-def _count_int(frames, skipped, out):  # pragma: no cover (compiled)
-    """Histograms of integer frames (m, n_sensels); see :func:`_count_float`."""
-    n, m = frames.shape
-    index = np.empty(m, np.int32)
-    counts = np.zeros((4, N_LEVELS + 1), np.int32)
-    for i in range(n):
-        row = frames[i]
-        bad = 0
-        for j in range(m):
-            ok = (row[j] >= 0) & (row[j] <= 255)
-            bad += not ok
-            index[j] = np.int32(row[j]) if ok else _DISCARD
-        for j in skipped:
-            index[j] = _DISCARD
-        if bad:
-            for j in range(m):
-                if (row[j] < 0 or row[j] > 255) and not _member(j, skipped):
                     return i * m + j
         _count_row(index, counts, out, i)
     return -1
@@ -115,6 +95,4 @@ def _member(j, sorted_values):  # pragma: no cover (compiled)
 
 def kernel_for(dtype):
     """Return the kernel counting frames of ``dtype`` (uint8, other integers, float32/64)."""
-    if dtype == np.uint8:
-        return _count_uint8
-    return _count_float if dtype.kind == "f" else _count_int
+    return _count_uint8 if dtype == np.uint8 else _count_values
