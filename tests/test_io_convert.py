@@ -132,10 +132,16 @@ def test_output_that_is_not_zarr_or_netcdf_is_refused(tmp_path, capsys, out, mat
     assert (tmp_path / "folder.zarr" / "notes.txt").read_text() == "mine"
 
 
-def test_chunks_flag_must_be_positive(tmp_path, capsys):
+@pytest.mark.parametrize("value, match", [
+    ("0", "argument --chunks: '0'; expected a finite number > 0"),
+    ("-3", "argument --chunks: '-3'; expected a finite number > 0"),
+    ("1.5", "argument --chunks: '1.5'; expected a whole number > 0"),
+])
+def test_chunks_flag_must_be_a_positive_whole_number(tmp_path, capsys, value, match):
     source = _export(tmp_path)
-    assert main(["convert", str(source), str(tmp_path / "o.zarr"), "--chunks", "0"]) == 1
-    assert "--chunks" in capsys.readouterr().err
+    _fails(["convert", str(source), str(tmp_path / "o.zarr"), "--chunks", value], capsys,
+           match)
+    assert _leftovers(tmp_path, {"movie.csv"}) == []
 
 
 def test_zarr_store_has_consolidated_metadata_in_format_2(tmp_path):
