@@ -1,7 +1,7 @@
-"""Benchmark of the dynamic calibration (issue 5): accuracy on simulated truth, throughput.
+"""Benchmark of the dynamic calibration (issues 5 and 16): accuracy on simulated truth, speed.
 
 Run: ``python benchmarks/bench_dynamic.py [--seconds 8] [--seeds 0 1 2] [--skip-accuracy]
-[--skip-throughput] [--stages]``
+[--skip-throughput] [--stages] [--cluster] [--chunk-frames 8192]``
 
 Accuracy (Gillis 2013 Table 4.2 sessions from ``tactilecal.simulate``): the full sine sweep
 1..140 Hz (sensor 4000 Hz, load cell 5000 Hz starting ``lag_s`` later, white noise) with a
@@ -10,15 +10,25 @@ sensor samples; then the filter on Blind Test 1 (reverse sweep) and Blind Test 2
 sine sets 10..200 Hz), each a separate simulated session with its own seed and lag: RMS error
 of the dynamic part before / after.
 
-Throughput: every sensel of a 1936-sensel (44 x 44) recording at 4000 Hz corrected with
-``apply_filter`` (multirate, direct, and dask-backed) against ``scipy.signal.filtfilt`` per
-channel in the same run; a rational (phase) filter offline and causal, the causal one against
-a bare ``scipy.signal.sosfilt`` of the same sections on the same array. filtfilt is timed
-on a subset of channels and scaled to all of them (said in the output). Two baselines:
-filtfilt with an FIR of the same length designed for sqrt(G) (filtfilt applies it twice, so
-the same gain: the like-for-like per-channel approach) and filtfilt with a 4th-order IIR (a
-cheap per-channel filter of another, lower quality: a floor for per-channel work). Times are
-best and median of ``--repeat`` runs.
+Throughput: every sensel of a 1936-sensel (44 x 44) recording at 4000 Hz (float64, random
+walk plus noise on an offset of 100) corrected with ``apply_filter``, all runs interleaved
+(``--repeat`` rounds, each running every case once; best and median). Baselines in the same
+run: one whole-record float32 ``scipy.fft.rfft`` + ``irfft`` (all cores) of the same
+``(time, sensels)`` array along time, and of a sensel-major copy (contiguous lines: the
+fastest layout for the FFT, a stricter baseline); a fresh float64 output plus a copy of the
+record (the memory floor of any filter that returns a new array); the multirate method as it
+was before issue 16 (``benchmarks/_legacy_multirate.py``), in memory and on dask. Also a
+rational (phase) filter offline and causal, the causal one against a bare
+``scipy.signal.sosfilt`` of the same sections on the same array; ``scipy.signal.filtfilt``
+per channel (timed on ``--subset`` channels and scaled) with an FIR of the same length
+designed for sqrt(G) (the like-for-like per-channel approach) and with a 4th-order IIR (a
+cheap floor for per-channel work). The new output is checked against the old one.
+
+``--cluster``: the same recording written uncompressed to NetCDF and Zarr, filtered on a
+``dask.distributed.LocalCluster`` of 2 worker processes (1 thread each) that read it
+themselves (``open_dataset(..., chunks=...)`` in the graph: no data inside it), the result
+kept on the workers or written by them to Zarr; against ``apply_filter`` in memory on the
+same array in the same run, and against the same read and write without filtering.
 """
 
 import argparse
@@ -78,33 +88,84 @@ def accuracy(seeds):
 RATIONAL = RationalModel.from_corners_hz(zeros_hz=[40.0], poles_hz=[10.0])
 
 
-def throughput(seconds, subset, repeat):
-    fs_hz, shape = 4000.0, (44, 44)
+def _recording(seconds, fs_hz=4000.0, shape=(44, 44)):
     n = int(seconds * fs_hz)
     rng = np.random.default_rng(0)
-    data = 100.0 + rng.standard_normal((n, *shape))
-    rec = xr.DataArray(data, dims=("frame", "row", "col"),
-                       coords={"time": ("frame", np.arange(n) / fs_hz)})
+    data = 100.0 + 0.05 * rng.standard_normal((n, *shape)).cumsum(axis=0)
+    data += rng.standard_normal(data.shape)
+    return xr.DataArray(data, dims=("frame", "row", "col"),
+                        coords={"time": ("frame", np.arange(n) / fs_hz)})
+
+
+def _interleaved(runs, repeat):
+    """Run every case once per round, ``repeat`` rounds; return the seconds of each run."""
+    times = {name: [] for name in runs}
+    for _ in range(repeat):
+        for name, fn in runs.items():
+            times[name].extend(run_times(fn, 1))
+    return {name: np.array(t) for name, t in times.items()}
+
+
+def _report(times, samples, baseline):
+    base = times[baseline].min()
+    for name, t in times.items():
+        best, median = t.min(), np.median(t)
+        print(f"{name}: {best:.3f} / {median:.3f} s = {samples / best / 1e6:.0f} / "
+              f"{samples / median / 1e6:.0f} M samples/s; {base / best:.2f}x the baseline")
+
+
+def throughput(seconds, subset, repeat):
+    import _legacy_multirate as legacy
+    from scipy import fft
+
+    rec = _recording(seconds)
+    data, fs_hz = rec.values, 4000.0
+    n = data.shape[0]
     filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=fs_hz, band_hz=(1, 140))
+    plan = legacy.plan_multirate(filt)
     samples = data.size
-    print(f"== throughput: {shape[0] * shape[1]} sensels x {n} frames ({seconds:g} s at "
+    print(f"== throughput: {data[0].size} sensels x {n} frames ({seconds:g} s at "
           f"{fs_hz:g} Hz) = {samples / 1e6:.1f} M float64 samples, FIR {filt.n_taps} taps, "
-          f"{repeat} runs each (best / median) ==")
-    apply_filter(rec.isel(frame=slice(0, 3 * filt.n_taps)), filt)  # numba compiles (cached)
+          f"multirate P = {plan.factor}, {repeat} interleaved rounds (best / median) ==")
+    flat = data.reshape(n, -1)
+    head = rec.isel(frame=slice(0, 3 * filt.n_taps))
+    apply_filter(head, filt)  # numba compiles (cached)
+    legacy.apply_multirate(flat[:3 * filt.n_taps], plan, 2, None, "single")
+    rational = CorrectionFilter("rational", {"order": 1}, fs_hz, (1, 140), rational=RATIONAL)
+    apply_filter(head, rational, causal=True)
+    sos = rational.sos()
+    as_float32 = flat.astype(np.float32)
+    sensel_major = np.ascontiguousarray(as_float32.T)
+
+    def fft_time_axis():
+        fft.irfft(fft.rfft(as_float32, axis=0, workers=-1), n=n, axis=0, workers=-1)
+
+    def fft_sensel_major():
+        fft.irfft(fft.rfft(sensel_major, axis=-1, workers=-1), n=n, axis=-1, workers=-1)
 
     def fresh_copy():  # what any float64 -> new float64 output costs (page faults + copy)
         out = np.empty_like(data)
         out[...] = data
 
-    t_first_copy = run_times(fresh_copy, 1)[0]  # memory this process never held before
-    chunked = rec.chunk({"frame": 65536})
-    rational = CorrectionFilter("rational", {"order": 1}, fs_hz, (1, 140), rational=RATIONAL)
-    flat, sos = data.reshape(n, -1), rational.sos()
+    one_chunk, chunks = rec.chunk({"frame": 65536}), rec.chunk({"frame": 8192})
+    baseline = "float32 rfft + irfft of the (time, sensels) array along time [baseline]"
     runs = {
-        "apply_filter, method='auto' (multirate)": lambda: apply_filter(rec, filt),
-        "apply_filter, method='direct'": lambda: apply_filter(rec, filt, method="direct"),
-        "apply_filter on dask (65536-frame chunks)":
-            lambda: apply_filter(chunked, filt).compute(),
+        baseline: fft_time_axis,
+        "float32 rfft + irfft of a sensel-major copy (contiguous lines)": fft_sensel_major,
+        "fresh float64 output + copy (memory floor)": fresh_copy,
+        "apply_filter (multirate)": lambda: apply_filter(rec, filt),
+        "multirate before issue 16 (_legacy_multirate.py)":
+            lambda: legacy.apply_multirate(flat, plan, 2, None, "single"),
+        "apply_filter on dask, 65536-frame chunks, .compute()":
+            lambda: apply_filter(one_chunk, filt).compute(),
+        "before issue 16 on dask, 65536-frame chunks":
+            lambda: legacy.legacy_apply_dask(one_chunk.data, filt).compute(),
+        "apply_filter on dask, 8192-frame chunks, .compute()":
+            lambda: apply_filter(chunks, filt).compute(),
+        "apply_filter on dask, 8192-frame chunks, .persist() (no final concatenation)":
+            lambda: apply_filter(chunks, filt).persist(),
+        "before issue 16 on dask, 8192-frame chunks":
+            lambda: legacy.legacy_apply_dask(chunks.data, filt).compute(),
         "rational inverse, offline (centred FIR with phase, multirate)":
             lambda: apply_filter(rec, rational),
         "rational inverse, causal (apply_filter(causal=True))":
@@ -112,38 +173,121 @@ def throughput(seconds, subset, repeat):
         "scipy.signal.sosfilt of the same sections on the same array":
             lambda: signal.sosfilt(sos, flat, axis=0),
     }
-    times = {name: run_times(fn, repeat) for name, fn in runs.items()}
-    t_copy = run_times(fresh_copy, repeat).min()
-    x = data.reshape(n, -1)[:, :subset].T.copy()
-    sqrt_fir = signal.firwin2(filt.n_taps, np.linspace(0, fs_hz / 2, 4097),
-                              np.sqrt(filt.gain(np.linspace(0, fs_hz / 2, 4097))), fs=fs_hz)
+    times = _interleaved(runs, repeat)
+    _report(times, samples, baseline)
+    new, old = times["apply_filter (multirate)"], times[
+        "multirate before issue 16 (_legacy_multirate.py)"]
+    print(f"run by run (same round): new / baseline speed {np.round(times[baseline] / new, 2)}, "
+          f"new / before {np.round(old / new, 2)}, in-memory / dask (65536) "
+          f"{np.round(new / times['apply_filter on dask, 65536-frame chunks, .compute()'], 2)}, "
+          f"in-memory / dask (8192) "
+          f"{np.round(new / times['apply_filter on dask, 8192-frame chunks, .compute()'], 2)}")
+    causal = times["scipy.signal.sosfilt of the same sections on the same array"] / times[
+        "rational inverse, causal (apply_filter(causal=True))"]
+    print(f"causal apply_filter speed / bare sosfilt, run by run: {np.round(causal, 2)}")
+    out = apply_filter(rec, filt).values.reshape(n, -1)
+    span = np.ptp(flat - flat[0], axis=0).max()
+    checks = {
+        "before issue 16": legacy.apply_multirate(flat, plan, 2, None, "single"),
+        "dask, 8192-frame chunks": apply_filter(chunks, filt).values.reshape(n, -1),
+        "double precision": apply_filter(rec, filt, precision="double").values.reshape(n, -1),
+        "method='direct'": apply_filter(rec, filt, method="direct").values.reshape(n, -1),
+    }
+    print("max |apply_filter - x| / the largest sensel's dynamic range: " + ", ".join(
+        f"{name} {np.abs(out - other).max() / span:.1e}" for name, other in checks.items()))
+    x = flat[:, :subset].T.copy()
+    grid = np.linspace(0, fs_hz / 2, 4097)
+    sqrt_fir = signal.firwin2(filt.n_taps, grid, np.sqrt(filt.gain(grid)), fs=fs_hz)
     t_fir = run_times(lambda: [signal.filtfilt(sqrt_fir, [1.0], row) for row in x], 1).min()
     b, a = signal.butter(4, 140.0, fs=fs_hz)
     t_iir = run_times(lambda: [signal.filtfilt(b, a, row) for row in x], repeat).min()
     scale = samples / x.size
-    t_fir, t_iir = t_fir * scale, t_iir * scale
+    best = new.min()
     print(f"filtfilt per channel, timed on {subset} channels and scaled x{scale:.0f}: "
-          f"same-length FIR (sqrt gain) {t_fir:.1f} s, 4th-order IIR {t_iir:.2f} s; "
-          f"fresh float64 output + copy (memory floor) {t_copy:.3f} s, the first such copy "
-          f"in this process {t_first_copy:.3f} s")
-    for name, t in times.items():
-        best, median = t.min(), np.median(t)
-        print(f"{name}: {best:.3f} / {median:.3f} s = {samples / best / 1e6:.0f} / "
-              f"{samples / median / 1e6:.0f} M samples/s; vs filtfilt FIR "
-              f"{t_fir / best:.0f}x, vs filtfilt IIR {t_iir / best:.2f}x, "
-              f"{best / t_copy:.1f}x the copy")
-    auto, direct = apply_filter(rec, filt).values, apply_filter(rec, filt, method="direct").values
-    print(f"multirate - direct on this record: max |difference| "
-          f"{np.abs(auto - direct).max() / np.ptp(data):.1e} of the record's range")
-    ratio = times["apply_filter, method='direct'"] / times[
-        "apply_filter, method='auto' (multirate)"]
-    print(f"multirate speed-up over direct, run by run: {np.round(ratio, 2).tolist()}")
-    rates = samples / times["apply_filter, method='auto' (multirate)"] / 1e6
-    print(f"multirate M samples/s, run by run: {np.round(rates).astype(int).tolist()}")
-    causal = times["scipy.signal.sosfilt of the same sections on the same array"] / times[
-        "rational inverse, causal (apply_filter(causal=True))"]
-    print(f"causal apply_filter speed / bare sosfilt, run by run: "
-          f"{np.round(causal, 2).tolist()}")
+          f"same-length FIR (sqrt gain) {t_fir * scale:.1f} s ({t_fir * scale / best:.0f}x "
+          f"apply_filter), 4th-order IIR {t_iir * scale:.2f} s ({t_iir * scale / best:.1f}x)")
+
+
+def cluster(seconds, repeat, chunk_frames):
+    import shutil
+    import tempfile
+    from pathlib import Path
+
+    folder = Path(tempfile.mkdtemp(prefix="bench_dynamic_"))
+    try:
+        _cluster(seconds, repeat, chunk_frames, folder)
+    finally:
+        shutil.rmtree(folder)
+
+
+def _cluster(seconds, repeat, chunk_frames, folder):
+    import warnings
+
+    from dask.distributed import Client, LocalCluster, wait
+
+    from tactilecal.io import write_netcdf
+
+    rec = _recording(seconds)
+    filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000.0, band_hz=(1, 140))
+    nc, zarr_in, zarr_out = folder / "rec.nc", folder / "rec.zarr", folder / "out.zarr"
+    write_netcdf(rec, nc)
+    rec.to_dataset(name="x").to_zarr(zarr_in, mode="w", consolidated=False, encoding={
+        "x": {"compressors": None, "chunks": (chunk_frames, 44, 44)}})
+    memory = apply_filter(rec, filt).values
+    print(f"== dask.distributed: LocalCluster, 2 worker processes x 1 thread; {rec.size / 1e6:.1f} "
+          f"M samples read by the workers in {chunk_frames}-frame chunks from {folder} "
+          f"(uncompressed, removed after); {repeat} interleaved rounds ==")
+
+    def opened(source):
+        if source == "netcdf":
+            return xr.open_dataarray(nc, chunks={"frame": chunk_frames})
+        return xr.open_zarr(zarr_in, consolidated=False, chunks={"frame": chunk_frames})["x"]
+
+    def kept(client, source, filtered=True):
+        lazy = opened(source)
+        data = (apply_filter(lazy, filt) if filtered else lazy).data
+        wait(client.persist(data))
+        lazy.close()
+
+    def written(source, filtered=True):
+        lazy = opened(source)
+        out = (apply_filter(lazy, filt) if filtered else lazy).to_dataset(name="x")
+        out["time"] = out["time"].load()
+        for variable in out.variables.values():
+            variable.encoding = {}  # the source's chunking and compression
+        out.to_zarr(zarr_out, mode="w", consolidated=False,
+                    encoding={"x": {"compressors": None}})
+        lazy.close()
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                          dashboard_address=None) as cl, Client(cl) as client:
+            kept(client, "netcdf")  # workers import tactilecal and load the numba kernels
+            runs = {
+                "apply_filter in memory (this process) [baseline]":
+                    lambda: apply_filter(rec, filt),
+                "cluster: read NetCDF, filter, keep on the workers":
+                    lambda: kept(client, "netcdf"),
+                "cluster: read Zarr, filter, keep on the workers":
+                    lambda: kept(client, "zarr"),
+                "cluster: read NetCDF, keep on the workers (no filter)":
+                    lambda: kept(client, "netcdf", filtered=False),
+                "cluster: read Zarr, filter, write Zarr": lambda: written("zarr"),
+                "cluster: read Zarr, write Zarr (no filter)":
+                    lambda: written("zarr", filtered=False),
+            }
+            times = _interleaved(runs, repeat)
+            written("netcdf")
+    _report(times, rec.size, "apply_filter in memory (this process) [baseline]")
+    with xr.open_zarr(zarr_out, consolidated=False) as written_back:
+        back = written_back["x"].values
+    span = np.ptp(memory - memory[:1], axis=0).max()
+    large = [w for w in caught if "large graph" in str(w.message).lower()]
+    print(f"NetCDF -> cluster -> Zarr against in memory: max |difference| "
+          f"{np.abs(back - memory).max() / span:.1e} of the largest sensel's dynamic range; "
+          f"'large graph' warnings: {len(large)}; other warnings: "
+          f"{sorted({f'{w.category.__name__}: {str(w.message)[:80]}' for w in caught})}")
 
 
 def _page_faults():
@@ -158,8 +302,9 @@ def stages(seconds, repeat):
     """Seconds of each multirate stage and page faults, run by run (same record as above)."""
     from tactilecal.dynamic._multirate import apply_multirate, plan_multirate
 
-    fs_hz, n = 4000.0, int(seconds * 4000.0)
-    x2d = 100.0 + np.random.default_rng(0).standard_normal((n, 44 * 44))
+    fs_hz = 4000.0
+    x2d = _recording(seconds, fs_hz).values.reshape(int(seconds * fs_hz), -1)
+    n = x2d.shape[0]
     filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=fs_hz, band_hz=(1, 140))
     plan = plan_multirate(filt)
     apply_multirate(x2d[:3 * filt.n_taps], plan, 2, None, "single")  # numba compiles (cached)
@@ -183,6 +328,10 @@ def main():
     parser.add_argument("--skip-throughput", action="store_true")
     parser.add_argument("--stages", action="store_true",
                         help="also time each multirate stage, run by run")
+    parser.add_argument("--cluster", action="store_true",
+                        help="also filter on a 2-worker dask.distributed LocalCluster")
+    parser.add_argument("--chunk-frames", type=int, default=8192,
+                        help="frames per chunk read by the cluster's workers")
     args = parser.parse_args()
     if not args.skip_accuracy:
         accuracy(args.seeds)
@@ -190,6 +339,8 @@ def main():
         throughput(args.seconds, args.subset, args.repeat)
     if args.stages:
         stages(args.seconds, args.repeat)
+    if args.cluster:
+        cluster(args.seconds, args.repeat, args.chunk_frames)
 
 
 if __name__ == "__main__":

@@ -3,7 +3,18 @@
 import numpy as np
 import pytest
 
-from tactilecal.calibration import calibrate_movie, read_movie_loads
+import tactilecal.calibration._movie as movie_module
+from tactilecal.calibration import (
+    CalibrationPoint,
+    Equilibration,
+    calibrate,
+    calibrate_movie,
+    frame_histograms,
+    header_calibration,
+    movie_points,
+    read_movie_loads,
+)
+from tactilecal.io import read_tekscan
 from tactilecal.simulate import make_sensor, ramp_hold
 
 
@@ -62,3 +73,133 @@ def test_movie_dask_recording_gives_same_fit(session):
     b = calibrate_movie(lazy, session.loadcell, lag_s=0.37)
     assert type(lazy.data).__name__ == "Array"
     assert a.params == b.params
+
+
+# ------------------------------------------------ same calibration as the definition
+def _reference_histograms(frames):
+    """Per-frame np.bincount of the rounded finite readings (what frame_histograms defines)."""
+    flat = np.asarray(frames, dtype=float).reshape(len(frames), -1)
+    return np.stack([np.bincount(np.rint(f[np.isfinite(f)]).astype(int), minlength=256)
+                     for f in flat])
+
+
+def _reference_calibration(raw, load_N, *, min_load_fraction=0.02, area=np.nan, **options):
+    """calibrate() on points made from reference histograms of the frames movie keeps."""
+    hist = _reference_histograms(raw)
+    keep = load_N >= min_load_fraction * load_N.max()
+    total = int(np.isfinite(np.asarray(raw[0], dtype=float)).sum())
+    points = [CalibrationPoint(histogram=h, load_N=float(f), raw_sum=float(h @ np.arange(256)),
+                               loaded_cells=int(h[1:].sum()), saturated_cells=int(h[255]),
+                               frame=i + 1, sensel_area_mm2=area, working_cells=int(h.sum()),
+                               total_cells=total)
+              for i, (h, f) in enumerate(zip(hist, load_N, strict=True)) if keep[i]]
+    return calibrate(points, **options)
+
+
+def _assert_same_calibration(new, ref):
+    assert new.params.keys() == ref.params.keys()
+    for key, value in ref.params.items():
+        assert new.params[key] == pytest.approx(value, rel=1e-9, abs=0)
+    a, b = new.points, ref.points
+    for column in ("frame", "raw_sum", "loaded_cells", "saturated_cells", "used"):
+        np.testing.assert_array_equal(a[column].to_numpy(), b[column].to_numpy())
+    np.testing.assert_allclose(a["predicted_N"], b["predicted_N"], rtol=1e-9, atol=0)
+
+
+@pytest.fixture(scope="module")
+def shaped(session):
+    """The session's movie with NaN cells outside a shape and saturated frames."""
+    raw = session.raw.copy()
+    raw[:, :3, :5] = np.nan
+    raw[1500:1510, 20, 20] = 255.0
+    return raw
+
+
+@pytest.fixture(params=["numpy", "compiled"])
+def counting(request, monkeypatch):
+    """Force the histogram counting path (the session's movie is below the size switch)."""
+    import tactilecal.calibration._histogram as histogram
+
+    monkeypatch.setattr(histogram, "COMPILED_MIN_VALUES",
+                        0 if request.param == "compiled" else 2 ** 62)
+    return request.param
+
+
+@pytest.mark.parametrize("storage", ["float64", "float32", "uint8", "dask"])
+def test_movie_equals_reference_calibration_one_load_per_frame(session, shaped, storage,
+                                                               counting):
+    raw = shaped
+    if storage == "uint8":
+        raw = session.raw.astype(np.uint8)
+    elif storage == "float32":
+        raw = shaped.astype(np.float32)
+    elif storage == "dask":
+        raw = shaped.chunk({"frame": 333, "row": 20})  # blocks split frames and rows
+    res = calibrate_movie(raw, session.load_N, objective="l2")
+    ref = _reference_calibration(np.asarray(raw), session.load_N, objective="l2",
+                                 area=raw.attrs["sensel_area_mm2"])
+    _assert_same_calibration(res, ref)
+    assert res.details["movie"]["n_saturated_frames"] == (0 if storage == "uint8" else 10)
+
+
+def test_movie_with_mask_and_equilibration_equals_reference(session, shaped, counting):
+    gain = np.random.default_rng(5).uniform(0.9, 1.1, shaped.shape[1:])
+    gain[10, 10] = np.nan
+    eq = Equilibration(gain=gain)
+    dead = np.zeros(shaped.shape[1:], bool)
+    dead[30, 12] = True
+    prepared = eq.apply(shaped.values)
+    prepared[:, dead] = np.nan
+    ref = _reference_calibration(prepared, session.load_N, area=shaped.attrs["sensel_area_mm2"])
+    for raw in (shaped, shaped.chunk({"frame": 500})):
+        points, _ = movie_points(raw, session.load_N, mask=dead, equilibration=eq)
+        hist = np.stack([p.histogram for p in points])
+        keep = session.load_N >= 0.02 * session.load_N.max()
+        np.testing.assert_array_equal(hist, _reference_histograms(prepared)[keep])
+        _assert_same_calibration(calibrate(points), ref)
+
+
+def test_aligned_movie_equals_movie_on_reference_histograms(session, shaped, monkeypatch):
+    """The two-pass alignment (raw sum, then calibrated force) with reference histograms."""
+    new = calibrate_movie(shaped, session.loadcell)
+
+    calls = []
+
+    def reference(values, *, out, prepare=None, mask=None, compiled=None):
+        calls.append(len(values))
+        out[...] = _reference_histograms(values)
+        return out
+
+    monkeypatch.setattr(movie_module, "_frame_histograms", reference)
+    ref = calibrate_movie(shaped, session.loadcell)
+    assert sum(calls) == shaped.sizes["frame"]
+    assert new.details["movie"]["lag_s"] == ref.details["movie"]["lag_s"]
+    assert new.details["movie"]["lag_s_raw_sum"] == ref.details["movie"]["lag_s_raw_sum"]
+    _assert_same_calibration(new, ref)
+
+
+def test_real_iscan_movie_equals_reference(iscan_csv, counting):
+    rec = read_tekscan(iscan_csv)
+    raw = rec.values
+    assert np.isnan(raw).any()  # cells outside the sensor shape
+    np.testing.assert_array_equal(frame_histograms(raw), _reference_histograms(raw))
+    # a known law: loads that a power law gives on these real frames
+    load = 0.0035 * np.nansum(raw ** 1.16, axis=(1, 2))
+    res = calibrate_movie(rec, load, objective="l2")
+    _assert_same_calibration(res, _reference_calibration(
+        raw, load, objective="l2", area=rec.attrs["sensel_area_mm2"]))
+    assert res.params["b"] == pytest.approx(1.16, rel=1e-6)
+
+
+@pytest.mark.parametrize("which", ["fscan_asf", "fscan_right_asf"])
+def test_real_fscan_frames_histograms_equal_reference(which, request, counting):
+    rec = read_tekscan(request.getfixturevalue(which))
+    cal = header_calibration(rec)
+    raw = rec.values / (cal.params["A"] / cal.sensel_area_mm2 * 1000)  # kPa -> raw counts
+    assert np.isnan(raw).any()
+    np.testing.assert_array_equal(frame_histograms(raw), _reference_histograms(raw))
+    lazy = rec.copy(data=raw).chunk({"frame": 50}).assign_attrs(units="raw")
+    load = 0.0035 * np.nansum(np.rint(raw) ** 1.2, axis=(1, 2))
+    res = calibrate_movie(lazy, load, objective="relative")
+    _assert_same_calibration(res, _reference_calibration(
+        raw, load, objective="relative", area=rec.attrs["sensel_area_mm2"]))

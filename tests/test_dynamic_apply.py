@@ -120,8 +120,19 @@ def test_streamed_recording_memory_does_not_grow_with_its_length(tmp_path):
     assert plan_multirate(filt).factor == 5
     size = {n: n * 32 * 8 for n in (60_000, 240_000)}  # 15 and 61 MB of float64
     short, long = (_streamed_peak_bytes(tmp_path, n, filt) for n in size)
-    # measured: the peak grows by 0.07-0.08 of the added data, and is 0.30 of the long record
-    assert long - short < 0.2 * (size[240_000] - size[60_000])
+    # measured: the peak grows by 0.15-0.22 of the added data and is 0.33-0.35 of the long
+    # record (map_overlap before issue 16: 0.07-0.08 and 0.30). Why: stage 3 of a chunk adds
+    # its correction to the chunk itself, so dask keeps each input chunk from its stage 1
+    # until its stage 3, which waits (through stage 2 of the next chunk) for stage 1 of the
+    # chunk after next and rows of the one after that: at least 4 input chunks resident,
+    # where map_overlap needed 2-3; and dask's order of this graph, written to NetCDF, runs
+    # ahead in several places at once, each holding its edge chunks. Counted with a dask
+    # callback: 7 of 12 input chunks (1.28 MB each) resident at the peak at 60k frames, 13
+    # of 48 at 240k. Re-reading each chunk for stage 3 (a copy of its load task) brought the
+    # growth to 0.095, but copies dask's private task objects (and for a computed input
+    # computes its last step twice) and reads the input twice: 1.15x the time on a 69 MB
+    # record, 0.82x on a 1.5 GB one, best of 4 on the shared 2 cores. Not done: bound 0.3.
+    assert long - short < 0.3 * (size[240_000] - size[60_000])
     assert long < 0.45 * size[240_000]
 
 

@@ -59,6 +59,31 @@ def atomic_path(path, *, suffix=None):
         raise
 
 
+@contextlib.contextmanager
+def dask_tasks_finished():
+    """Run dask's local computations inside the block on a pool drained before it exits.
+
+    When a task fails, dask's threaded scheduler raises at once while the tasks already
+    running go on: a writer's clean-up (removing its temporary output) would run before
+    them, and they would write into, or create again, what it removed. Here the block's
+    computations run on a thread pool whose shutdown waits for the running tasks, so an
+    exception leaves the block only after them. A distributed client or a scheduler the
+    caller chose is left as it is.
+    """
+    import dask
+    import dask.threaded
+    from dask.base import get_scheduler
+
+    if get_scheduler() not in (None, dask.threaded.get):
+        yield
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool, \
+            dask.config.set(scheduler=pool):
+        yield
+
+
 def remove_stale(path):
     """Remove the temporary files a killed writer of ``path`` left behind; return them.
 

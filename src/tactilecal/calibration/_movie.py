@@ -19,15 +19,16 @@ from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
 from tactilecal.calibration._methods import FITTERS
 from tactilecal.calibration._models import force_table
 from tactilecal.calibration._points import (
+    _frame_histograms,
     _points_from_histograms,
-    frame_histograms,
-    take_rows,
+    keep_rows_in_place,
 )
 from tactilecal.calibration._sensels import find_dead_sensels
 
 __all__ = ["read_movie_loads", "movie_points", "calibrate_movie"]
 
 _CHUNK = 2048
+_GROUP_FRAMES = 16 * _CHUNK  # frames of dask blocks computed together
 
 
 def read_movie_loads(path, *, time_col=None, load_col=None):
@@ -76,29 +77,65 @@ def read_movie_loads(path, *, time_col=None, load_col=None):
 
 
 def _histograms(values, mask, equilibration, quiet):
-    """Float64 histograms of all frames (gains and mask applied chunk by chunk).
+    """Float64 histograms of all frames (gains applied and mask skipped chunk by chunk).
 
     Float64 because every later use is a matrix product; counts are exact in float64.
-    ``values`` may be a dask array (a recording larger than memory): only one chunk of
-    frames is computed at a time.
+    ``values`` may be a dask array (a recording larger than memory, perhaps on a cluster):
+    each block of frames is counted where it is computed, by dask's scheduler, and only the
+    (frames, 256) histograms are gathered.
     """
+    from tactilecal.calibration._histogram import COMPILED_MIN_VALUES
     from tactilecal.cli._common import progress
 
-    def prepare(block):
-        if equilibration is not None:
-            block = equilibration.apply(block)
-        if mask is not None:
-            block = np.where(mask[None], np.nan, block)
-        return block
+    prepare = None if equilibration is None else equilibration.apply
+    n = len(values)
+    hist = np.empty((n, 256))
+    compiled = values.size >= COMPILED_MIN_VALUES  # the whole movie decides
+    if _is_dask(values):
+        import dask.array as da
 
-    hist = np.empty((len(values), 256))
-    transform = None if mask is None and equilibration is None else prepare
-    starts = range(0, len(values), _CHUNK)
-    for s in progress(starts, total=len(starts), desc="histograms",
-                      quiet=quiet or len(values) < 20 * _CHUNK):
-        frame_histograms(np.asarray(values[s:s + _CHUNK]), out=hist[s:s + _CHUNK],
-                         prepare=transform)
+        lazy = _dask_histograms(values, mask, prepare, compiled)
+        bounds = _block_groups(values.chunks[0], _GROUP_FRAMES)
+    else:
+        bounds = [*range(0, n, _CHUNK), n]
+    for a, b in progress(zip(bounds[:-1], bounds[1:], strict=True), total=len(bounds) - 1,
+                         desc="histograms", quiet=quiet or n < 20 * _CHUNK):
+        if _is_dask(values):
+            da.store(lazy[a:b], hist[a:b], lock=False)
+        else:
+            _frame_histograms(values[a:b], out=hist[a:b], prepare=prepare, mask=mask,
+                              compiled=compiled)
     return hist
+
+
+def _is_dask(values):
+    return type(values).__module__.startswith("dask.")
+
+
+def _block_groups(chunks, min_frames):
+    """Bounds of consecutive dask blocks grouped to at least ``min_frames`` frames."""
+    bounds, size = [0], 0
+    for c in chunks:
+        size += c
+        if size >= min_frames:
+            bounds.append(bounds[-1] + size)
+            size = 0
+    if size:
+        bounds.append(bounds[-1] + size)
+    return bounds
+
+
+def _dask_histograms(values, mask, prepare, compiled):
+    """Lazy (frames, 256) float64 histograms, one task per block of whole frames."""
+    whole_frames = values.rechunk({1: -1, 2: -1})
+    return whole_frames.map_blocks(_block_histograms, mask=mask, prepare=prepare,
+                                   compiled=compiled, drop_axis=[1, 2], new_axis=[1],
+                                   chunks=(whole_frames.chunks[0], (256,)), dtype=float)
+
+
+def _block_histograms(block, *, mask, prepare, compiled):
+    return _frame_histograms(block, out=np.empty((len(block), 256)), prepare=prepare,
+                             mask=mask, compiled=compiled)
 
 
 def _frame_times(recording, n):
@@ -173,49 +210,67 @@ def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
                               min_load_fraction=min_load_fraction)
 
 
-def _movie_loads(recording, hist, loads, *, lag_s, max_lag_s, signal_N=None):
-    """Return each frame's load (NaN outside the record), aligned on ``hist @ signal_N``."""
+def _frame_sums(hist):
+    """Per-frame raw sum ``R_T`` and working, loaded and saturated sensels, from histograms.
+
+    ``R_T = hist @ (0..255)`` (Zvyagin 2022, eq. 4) and the working count ``hist @ 1`` come
+    from one product over the histograms (exact: integer sums below 2**53); loaded cells are
+    the working ones minus bin 0, saturated cells bin 255.
+    """
+    both = hist @ np.column_stack([np.arange(256.0), np.ones(256)])
+    working = both[:, 1]
+    return {"raw_sum": both[:, 0], "working_cells": working.astype(np.int64),
+            "loaded_cells": (working - hist[:, 0]).astype(np.int64),
+            "saturated_cells": hist[:, 255].astype(np.int64)}
+
+
+def _movie_loads(recording, signal, loads, *, lag_s, max_lag_s, aligned_on="raw sum"):
+    """Return each frame's load (NaN outside the record), aligned on ``signal``."""
     name = str(recording.attrs.get("source", "recording"))
-    n = len(hist)
-    signal = hist @ (np.arange(256.0) if signal_N is None else signal_N)
+    n = len(signal)
     load, report = _align_loads(loads, signal, _frame_times(recording, n), n, name, lag_s,
                                 max_lag_s)
-    report["aligned_on"] = "raw sum" if signal_N is None else "calibrated force"
+    report["aligned_on"] = aligned_on
     return load, report
 
 
 def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction,
-                  signal_N=None):
+                  signal_N=None, sums=None):
     """Align the loads on ``hist @ signal_N`` (default: the raw sum) and keep the frames.
 
-    Returns ``(hist, load, meta, report)`` of the frames kept as points.
+    Returns ``(hist, load, meta, report)`` of the frames kept as points. The kept rows are
+    moved to the top of ``hist`` in place (``hist`` is not used afterwards), so the
+    returned histograms are a view of it and no copy of the movie's histograms is made.
+    ``sums`` are :func:`_frame_sums` of ``hist``, computed if not given.
     """
     name = str(recording.attrs.get("source", "recording"))
     n = len(hist)
-    load, report = _movie_loads(recording, hist, loads, lag_s=lag_s, max_lag_s=max_lag_s,
-                                signal_N=signal_N)
+    sums = _frame_sums(hist) if sums is None else sums
+    signal = sums["raw_sum"] if signal_N is None else hist @ signal_N
+    load, report = _movie_loads(recording, signal, loads, lag_s=lag_s, max_lag_s=max_lag_s,
+                                aligned_on="raw sum" if signal_N is None else
+                                "calibrated force")
     outside = ~np.isfinite(load)
     low = ~outside & (load < min_load_fraction * np.nanmax(load))
     keep = ~outside & ~low
     frames = (recording["frame"].values if "frame" in recording.coords
               else np.arange(1, n + 1))
-    kept = take_rows(hist, keep)
+    kept = keep_rows_in_place(hist, keep)
     m = len(kept)
     meta = {"file": np.full(m, Path(name).name, dtype=object), "frame": frames[keep],
-            "raw_sum": kept @ np.arange(256.0),
-            "loaded_cells": kept[:, 1:].sum(axis=1).astype(np.int64),
-            "saturated_cells": kept[:, 255].astype(np.int64),
+            "raw_sum": sums["raw_sum"][keep], "loaded_cells": sums["loaded_cells"][keep],
+            "saturated_cells": sums["saturated_cells"][keep],
             "label": np.full(m, "", dtype=object),
             "note": np.full(m, "", dtype=object),
             "sensel_area_mm2": np.full(m, float(recording.attrs.get("sensel_area_mm2",
                                                                      np.nan))),
-            "working_cells": kept.sum(axis=1).astype(np.int64),
+            "working_cells": sums["working_cells"][keep],
             "total_cells": np.full(m, int(np.isfinite(np.asarray(recording.data[0],
                                                                  dtype=float)).sum()))}
     report.update({
         "n_frames": n, "n_points": m, "n_outside_load_record": int(outside.sum()),
         "n_below_load_floor": int(low.sum()), "min_load_fraction": min_load_fraction,
-        "n_saturated_frames": int((kept[:, 255] > 0).sum()),
+        "n_saturated_frames": int((meta["saturated_cells"] > 0).sum()),
     })
     lag_txt = "none" if report["lag_s"] is None else f"{report['lag_s']:.6g} s"
     report["report"] = (
@@ -224,7 +279,7 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
         f"record and {report['n_below_load_floor']} below {min_load_fraction:.0%} of the "
         f"largest load left out; {m} points, of which "
         f"{report['n_saturated_frames']} have saturated sensels")
-    return kept, load[keep], meta, report  # kept: a view of hist when contiguous
+    return kept, load[keep], meta, report
 
 
 def _points_from_movie(recording, hist, loads, **kwargs):
@@ -299,15 +354,16 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     dead = find_dead_sensels(recording.values) if mask_dead else None
     hist = _histograms(recording.data, None if dead is None else dead.mask, equilibration,
                        quiet)
+    sums = _frame_sums(hist)
     signal_N, first = None, None
     if lag_s is None and isinstance(loads, xr.DataArray) and method in FITTERS:
         # The raw sum is not proportional to the load (b != 1): align on it, fit, then
         # align again on the force that fit gives (Gillis 2013 aligns force on force).
-        load, first_report = _movie_loads(recording, hist, loads, lag_s=None,
+        load, first_report = _movie_loads(recording, sums["raw_sum"], loads, lag_s=None,
                                           max_lag_s=max_lag_s)
         signal_N, first = _first_pass_table(hist, load, method, options, min_load_fraction)
     kwargs = {"lag_s": lag_s, "max_lag_s": max_lag_s, "min_load_fraction": min_load_fraction,
-              "signal_N": signal_N}
+              "signal_N": signal_N, "sums": sums}
     if method in FITTERS:
         kept, load, meta, report = _movie_arrays(recording, hist, loads, **kwargs)
         result = calibrate_arrays(kept, load, meta, method=method, **options)

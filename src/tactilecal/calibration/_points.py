@@ -73,20 +73,28 @@ class CalibrationPoint:
         return self.raw_sum / self.loaded_cells if self.loaded_cells else float("nan")
 
 
-def frame_histograms(raw, *, chunk_frames=64, out=None, prepare=None):
+def frame_histograms(raw, *, chunk_frames=64, out=None, prepare=None, mask=None):
     """Count raw values 0..255 per frame, ignoring NaN sensels.
+
+    Large inputs are counted in one pass by a compiled kernel, small ones with NumPy
+    (:mod:`tactilecal.calibration._histogram`, which says where the line is and why;
+    ``benchmarks/bench_movie.py`` measures both against one pass over the same array).
 
     Parameters
     ----------
     raw : array_like, shape (n_frames, rows, cols)
-        Raw readings (floats are rounded to the nearest integer; NaN are skipped).
+        Raw readings of any real dtype (floats are rounded to the nearest integer, half to
+        even as :func:`numpy.rint`; NaN are skipped). uint8 is counted fastest.
     chunk_frames : int
-        Frames counted per ``bincount`` call; small chunks keep the work buffers in cache.
+        Frames passed to ``prepare`` at a time (and copied at a time when ``raw`` is not
+        C-contiguous), so that the work stays in cache.
     out : numpy.ndarray, optional
         (n_frames, 256) array to fill (e.g. float64 for fitting); default a new int64 array.
     prepare : callable, optional
         Applied to each chunk of frames (m, rows, cols) before counting (equilibration
-        gains, non-working-sensel mask), so a long movie is never copied whole.
+        gains), so a long movie is never copied whole.
+    mask : array_like of bool, shape (rows, cols), optional
+        True for sensels not to count (non-working); their readings are not checked.
 
     Returns
     -------
@@ -96,53 +104,47 @@ def frame_histograms(raw, *, chunk_frames=64, out=None, prepare=None):
     Raises
     ------
     ValueError
-        If a finite value lies outside 0..255.
+        If a counted value (rounded) lies outside 0..255, or the mask does not have the
+        frames' shape.
+    TypeError
+        If the readings are not real numbers.
 
     Examples
     --------
     >>> frame_histograms(np.array([[[0, 3], [3, 255]]]))[0, [0, 3, 255]]
     array([1, 2, 1])
     """
+    return _frame_histograms(raw, chunk_frames=chunk_frames, out=out, prepare=prepare,
+                             mask=mask)
+
+
+def _frame_histograms(raw, *, chunk_frames=64, out=None, prepare=None, mask=None,
+                      compiled=None):
+    """:func:`frame_histograms`; ``compiled`` (default: by size) chooses the counting path.
+
+    A caller counting a long movie chunk by chunk passes ``compiled`` for the whole movie.
+    """
+    from tactilecal.calibration._histogram import COMPILED_MIN_VALUES, count_into
+
     raw = np.asarray(raw)
     if raw.ndim == 2:
         raw = raw[None]
     if raw.ndim != 3:
         raise ValueError(f"raw frames have {raw.ndim} dimensions; expected 3 (frame, row, col)")
+    compiled = raw.size >= COMPILED_MIN_VALUES if compiled is None else compiled
     n = raw.shape[0]
-    flat = raw.reshape(n, -1)
+    skip = (np.zeros(raw.shape[1:], bool) if mask is None
+            else _checked_mask(mask, raw.shape[1:])).ravel()
     out = np.empty((n, N_LEVELS), dtype=np.int64) if out is None else out
-    # bin 256 of each frame collects the NaN sensels and is dropped
-    offsets = (np.arange(chunk_frames, dtype=np.intp) * (N_LEVELS + 1))[:, None]
-    work = np.empty((chunk_frames, flat.shape[1]))
-    index = np.empty((chunk_frames, flat.shape[1]), dtype=np.intp)
-    for start in range(0, n, chunk_frames):
-        block = flat[start:start + chunk_frames]
+    whole = prepare is None and raw.flags.c_contiguous
+    step = max(n, 1) if whole else max(int(chunk_frames), 1)
+    for start in range(0, n, step):
+        block = raw[start:start + step]
         m = len(block)
         if prepare is not None:
-            block = np.asarray(prepare(block.reshape(m, *raw.shape[1:])),
-                               dtype=float).reshape(m, -1)
-        values = _rounded(block, work[:m])
-        np.add(values, offsets[:m], out=index[:m], casting="unsafe")
-        counts = np.bincount(index[:m].ravel(), minlength=m * (N_LEVELS + 1))
-        out[start:start + m] = counts.reshape(m, N_LEVELS + 1)[:, :N_LEVELS]
+            block = np.asarray(prepare(block), dtype=float)
+        count_into(block.reshape(m, -1), skip, out[start:start + m], compiled=compiled)
     return out
-
-
-def _rounded(block, work):
-    """Round a block into ``work`` with NaN -> 256, after checking the range 0..255."""
-    if block.dtype.kind in "ui":
-        values, lo, hi = block, block.min(), block.max()
-    else:
-        values = np.rint(block, out=work)
-        lo, hi = np.fmin.reduce(values, axis=None), np.fmax.reduce(values, axis=None)
-    if lo < 0 or hi > SATURATION_RAW:
-        bad = values[(values < 0) | (values > SATURATION_RAW)].flat[0]
-        raise ValueError(f"raw frames contain the value {bad:g}; expected raw readings 0..255")
-    if values is work:
-        nan = np.isnan(work)
-        if nan.any():
-            work[nan] = N_LEVELS
-    return values
 
 
 def points_from_frames(raw, load_N, *, source="", labels=None, frames=None, mask=None,
@@ -189,7 +191,7 @@ def points_from_frames(raw, load_N, *, source="", labels=None, frames=None, mask
     if sensel_area_mm2 is None:
         sensel_area_mm2 = float(attrs.get("sensel_area_mm2", float("nan")))
     source = source or str(attrs.get("source", ""))
-    values = np.asarray(getattr(raw, "values", raw), dtype=float)
+    values = np.asarray(getattr(raw, "values", raw))  # any real dtype: not copied
     if values.ndim == 2:
         values = values[None]
     n = values.shape[0]
@@ -200,9 +202,7 @@ def points_from_frames(raw, load_N, *, source="", labels=None, frames=None, mask
     frames = np.arange(1, n + 1) if frames is None else np.asarray(frames)
     _check_length("frames", len(frames), n)
     total_cells = int(np.isfinite(values[0]).sum())
-    if mask is not None:
-        values = _apply_mask(values, mask)
-    hist = frame_histograms(values)
+    hist = frame_histograms(values, mask=mask)
     return _points_from_histograms(hist, load_N, source=source, labels=labels, frames=frames,
                                    sensel_area_mm2=sensel_area_mm2, total_cells=total_cells)
 
@@ -212,12 +212,12 @@ def _check_length(name, found, expected):
         raise ValueError(f"{name} has {found} entries; expected {expected} (one per frame)")
 
 
-def _apply_mask(values, mask):
+def _checked_mask(mask, shape):
     mask = np.asarray(mask, dtype=bool)
-    if mask.shape != values.shape[1:]:
-        raise ValueError(f"mask has shape {mask.shape}; expected {values.shape[1:]} "
+    if mask.shape != tuple(shape):
+        raise ValueError(f"mask has shape {mask.shape}; expected {tuple(shape)} "
                          "(rows, cols of the frames)")
-    return np.where(mask[None], np.nan, values)
+    return mask
 
 
 def _points_from_histograms(hist, load_N, *, source, labels, frames, sensel_area_mm2,
@@ -253,6 +253,37 @@ def take_rows(array, mask):
     if len(idx) and idx[-1] - idx[0] + 1 == len(idx):
         return array[idx[0]:idx[-1] + 1]
     return array[mask]
+
+
+def keep_rows_in_place(rows, keep, *, piece_rows=4096):
+    """Move the rows selected by ``keep`` to the top of ``rows``, in order; return that view.
+
+    ``rows[keep]`` would allocate and fill a new array: for the (100,000, 256) float64
+    histograms of a movie that is 205 MB of fresh pages. Here each run of kept rows is
+    moved up by at most ``piece_rows`` rows at a time. The rows below the returned view
+    are left in an unspecified state.
+
+    Examples
+    --------
+    >>> a = np.arange(8.0).reshape(4, 2)
+    >>> keep_rows_in_place(a, np.array([False, True, False, True])).tolist()
+    [[2.0, 3.0], [6.0, 7.0]]
+    """
+    idx = np.flatnonzero(keep)
+    if len(keep) != len(rows):
+        raise ValueError(f"keep has {len(keep)} flags for {len(rows)} rows; expected one "
+                         "per row")
+    if not len(idx):
+        return rows[:0]
+    breaks = np.flatnonzero(np.diff(idx) != 1) + 1
+    top = 0
+    for first, last in zip(idx[np.r_[0, breaks]], idx[np.r_[breaks - 1, -1]], strict=True):
+        if first != top:
+            for a in range(first, last + 1, piece_rows):
+                b = min(a + piece_rows, last + 1)
+                rows[top + a - first:top + b - first] = rows[a:b]
+        top += last + 1 - first
+    return rows[:top]
 
 
 def points_to_arrays(points):

@@ -52,15 +52,17 @@ def info_grouped(args, messages, *, show=3):
 
 def _number(kind, minimum, inclusive, maximum=None):
     """Return an argparse ``type`` for a finite number in range (the error names the flag)."""
+    bound = f"{'>=' if inclusive else '>'} {minimum:g}"
+    bound += f" and <= {maximum:g}" if maximum is not None else ""
+    what = "whole number" if kind is int else "finite number"
+
     def convert(text):
         try:
             value = kind(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a {kind.__name__}") from None
+        except ValueError:  # "; expected": bad input (exit 1, one line), like a bad range
+            raise argparse.ArgumentTypeError(f"{text!r}; expected a {what} {bound}") from None
         if not math.isfinite(value) or value < minimum or (value == minimum and not inclusive) \
                 or (maximum is not None and value > maximum):
-            bound = f"{'>=' if inclusive else '>'} {minimum:g}"
-            bound += f" and <= {maximum:g}" if maximum is not None else ""
             raise argparse.ArgumentTypeError(f"{text!r}; expected a finite number {bound}")
         return value
     convert.__name__ = kind.__name__  # argparse says "invalid int value" on a bare failure

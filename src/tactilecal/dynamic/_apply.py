@@ -14,18 +14,35 @@ random walk plus noise, 1.8e-5 on white noise; see docs/dynamic-calibration.md):
 
 The record's own ends are extended by an odd reflection about the end sample (value and
 slope continuous), the same as the resampler, so the edges carry no transient from a large
-offset. Arrays backed by dask (``xarray.open_dataset(..., chunks=...)``) are filtered lazily
-with :func:`dask.array.map_overlap`, so recordings larger than memory stream through.
+offset. Arrays backed by dask (``xarray.open_dataset(..., chunks=...)``) are filtered lazily,
+so recordings larger than memory stream through: the multirate method as three stages per
+time chunk (decimate with the few rows around the chunk; correct with ``half`` decimated
+rows of the neighbours, a tenth of the bytes; interpolate), whose tasks read only their own
+chunk of the recording and small slices of its neighbours, so on ``dask.distributed`` each
+worker reads its chunks from the file and only the decimated rows travel; the direct
+method by :func:`dask.array.map_overlap`. The causal filter carries its IIR state from one
+time chunk to the next.
 """
 
+import functools
+import itertools
 import os
 
 import numpy as np
 import xarray as xr
 from scipy import fft
 
+from tactilecal._numba import njit
 from tactilecal.dynamic._filter import PRECISIONS
-from tactilecal.dynamic._multirate import apply_multirate, plan_multirate, run_tasks
+from tactilecal.dynamic._multirate import (
+    BlockLayout,
+    apply_multirate,
+    correct,
+    decimate,
+    interpolate,
+    plan_multirate,
+    run_tasks,
+)
 from tactilecal.dynamic._records import label, sampling_rate_hz, time_jitter_s
 
 __all__ = ["apply_filter"]
@@ -69,28 +86,37 @@ def _plan(filt, n_frames, method):
 
 
 def _apply_array(x2d, filt, workers, progress, precision, method, where=None):
-    """Filter a float64 ``(time, sensels)`` array in memory with the chosen method.
+    """Filter a ``(time, sensels)`` array in memory with the chosen method; float64 out.
 
-    With ``where`` (the record's name), sensels with NaN gaps raise a ValueError.
+    With ``where`` (the record's name), sensels with NaN gaps raise a ValueError. The
+    multirate method reads float32 and float64 as they are; other types are converted.
     """
     threads = (os.cpu_count() or 1) if workers == -1 else max(int(workers), 1)
     plan = _plan(filt, x2d.shape[0], method)
     if plan is None:
+        x2d = np.asarray(x2d, dtype=float)
         if where is not None:
             _check_nan_gaps(x2d, where, _nan_sensels(x2d.sum(axis=0)))
         return _apply_numpy(x2d, filt, threads, progress, precision)
+    x2d = _native(x2d)
     check = None if where is None else (
-        lambda lines: _check_nan_gaps(x2d, where, _nan_sensels(lines.sum(axis=1))))
+        lambda sums: _check_nan_gaps(x2d, where, _nan_sensels(sums)))
     return apply_multirate(x2d, plan, threads, progress, precision, check)
 
 
+def _native(x):
+    """``x`` as a C-contiguous float32 or float64 array (other types become float64)."""
+    dtype = x.dtype if x.dtype in (np.float32, np.float64) else np.float64
+    return np.ascontiguousarray(x, dtype=dtype)
+
+
 def _chunk(block, filt, precision, method):
-    """Filter one dask chunk (with its overlap) in memory.
+    """Filter one dask chunk (with its overlap) in memory (direct method, or a whole record).
 
     Rows within the method's reach of the chunk's ends see the reflection of the chunk, not
     the record; ``map_overlap`` trims exactly those rows.
     """
-    x2d = np.asarray(block, dtype=float).reshape(block.shape[0], -1)
+    x2d = np.asarray(block).reshape(block.shape[0], -1)
     return _apply_array(x2d, filt, -1, None, precision, method).reshape(block.shape)
 
 
@@ -141,49 +167,321 @@ def _aligned_chunks(total, size, minimum):
 
 
 def _apply_dask(arr, filt, precision, method):
-    """Lazy filtering: :func:`_chunk` on chunks overlapping by the method's reach.
+    """Lazy filtering of a dask array, time along axis 0 (see the module notes).
 
-    The first and last chunks are filtered with the odd reflection about their outer rows,
-    which are the record's ends, so the result equals the in-memory one. With the multirate
-    method the chunk boundaries and the overlap are multiples of the decimation factor, so
-    every chunk decimates on the record's own sample grid.
+    A record in one time chunk is filtered in memory chunk by chunk of sensels; the
+    multirate method otherwise runs as its three stages per time chunk
+    (:func:`_multirate_dask`); the direct method by :func:`_chunk` on chunks overlapping by
+    its reach: the first and last chunks are filtered with the odd reflection about their
+    outer rows, which are the record's ends, so the result equals the in-memory one.
     """
     import dask.array as da
 
     plan = _plan(filt, arr.shape[0], method)
-    step = 1 if plan is None else plan.factor
-    reach = filt.n_taps // 2 if plan is None else plan.reach
-    depth = -(-reach // step) * step
-    bounds = np.cumsum(arr.chunks[0])[:-1]
-    if len(arr.chunks[0]) > 1 and (min(arr.chunks[0]) < depth or np.any(bounds % step)):
-        size = -(-max(4 * filt.n_taps, arr.chunks[0][0], depth) // step) * step
+    if arr.dtype not in (np.float32, np.float64):
+        arr = arr.astype(float)
+    if len(arr.chunks[0]) == 1:
+        return arr.map_blocks(_chunk, dtype=float, filt=filt, precision=precision,
+                              method=method)
+    if plan is not None:
+        minimum = plan.factor * (plan.correction.size // 2 + 1)  # stage 2's reach, frames
+        if min(arr.chunks[0][:-1]) < minimum:  # else its windows span many chunks
+            size = max(minimum, arr.chunks[0][0])
+            arr = arr.rechunk({0: _aligned_chunks(arr.shape[0], size, minimum)})
+        return _multirate_dask(arr, plan, precision)
+    depth = filt.n_taps // 2
+    if min(arr.chunks[0]) < depth:
+        size = max(4 * filt.n_taps, arr.chunks[0][0], depth)
         arr = arr.rechunk({0: _aligned_chunks(arr.shape[0], size, depth)})
     return da.map_overlap(_chunk, arr, depth={0: depth} | {axis: 0 for axis in range(1, arr.ndim)},
                           boundary="none", trim=True, dtype=float, filt=filt,
-                          precision=precision, method="direct" if plan is None else method)
+                          precision=precision, method="direct")
 
 
-def _apply_causal(data, filt):
-    """Filter every sensel with the causal inverse ``1 / H`` (``scipy.signal.sosfilt``).
+def _dask_array(name, layer, chunks, dtype, dependencies):
+    """Make a dask array ``name`` from ``layer`` (its tasks, keyed ``(name, *index)``)."""
+    import dask.array as da
+    from dask.highlevelgraph import HighLevelGraph
+
+    graph = HighLevelGraph.from_collections(name, layer, dependencies=dependencies)
+    return da.Array(graph, name, chunks=chunks, dtype=dtype)
+
+
+def _covering(bounds, start, stop):
+    """Return the chunks (edges ``bounds``) holding rows ``start .. stop - 1``."""
+    if stop <= start:
+        return []
+    return list(range(int(np.searchsorted(bounds, start, side="right")) - 1,
+                      int(np.searchsorted(bounds, stop - 1, side="right"))))
+
+
+def _source_rows(n, start, stop):
+    """Rows ``[lo, hi)`` of the record that rows ``start .. stop - 1`` of its reflection use."""
+    v = np.arange(start, stop)
+    src = np.where(v < 0, -v, np.where(v > n - 1, 2 * (n - 1) - v, v))
+    rows = [int(src.min()), int(src.max())]
+    rows += [0] if start < 0 else []
+    rows += [n - 1] if stop > n else []
+    return min(rows), max(rows) + 1
+
+
+def _slice(block, axis, a, b):
+    """Task body: a copy of ``block[a:b]`` along ``axis`` (0 or -1; only that travels)."""
+    return np.array(block[a:b] if axis == 0 else block[..., a:b])
+
+
+def _pieces(layer, key, source, index, bounds, axis, lo, hi):
+    """Add to ``layer`` the tasks cutting ``[lo, hi)`` along ``axis`` out of ``source``.
+
+    ``bounds`` are the edges of ``source``'s chunks along ``axis``, ``index(k)`` the block
+    index of its chunk ``k``; ``key`` starts the new keys. Returns the keys, in order.
+    """
+    keys = []
+    for k in _covering(bounds, lo, hi):
+        a, b = max(lo, bounds[k]) - bounds[k], min(hi, bounds[k + 1]) - bounds[k]
+        layer[(*key, k)] = (_slice, (source.name, *index(k)), axis, a, b)
+        keys.append((*key, k))
+    return keys
+
+
+def _reflected_rows(blocks, first_row, n, start, stop):
+    """Rows ``start .. stop - 1`` of the odd-reflected record from consecutive ``blocks``.
+
+    ``blocks`` (2-D, time first) hold the record's rows from ``first_row`` on.
+    """
+    rows = np.concatenate(blocks) if len(blocks) > 1 else blocks[0]
+    v = np.arange(start, stop)
+    src = np.where(v < 0, -v, np.where(v > n - 1, 2 * (n - 1) - v, v))
+    out = rows[src - first_row]
+    for side, end in ((v < 0, 0), (v > n - 1, n - 1)):
+        if side.any():
+            out[side] = 2 * rows[end - first_row] - out[side]
+    return out
+
+
+def _flat(block):
+    """Return a block of the recording as ``(time, sensels)``, float32 or float64."""
+    return _native(block.reshape(block.shape[0], -1))
+
+
+def _decimate_task(ref, rows, *pieces, spec):
+    """Stage 1 of one chunk: its decimated samples, time last (see :func:`decimate`).
+
+    ``pieces`` hold the record's rows the rows before and after the chunk are made of
+    (``spec["before"]`` and ``spec["after"]``: ``(start, stop, first row, pieces)``).
+    """
+    pieces = [_flat(p) for p in pieces]
+    (start, stop, lo, count), after = spec["before"], spec["after"]
+    before = _reflected_rows(pieces[:count], lo, spec["n"], start, stop)
+    after = _reflected_rows(pieces[count:], after[2], spec["n"], after[0], after[1])
+    lines, _ = decimate(before, _flat(rows), after, spec["plan"], spec["first"],
+                        spec["n_lines"], precision=spec["precision"],
+                        reference=np.asarray(ref[0], dtype=float).reshape(-1))
+    return lines.reshape(*rows.shape[1:], -1)
+
+
+def _correct_task(*pieces, spec):
+    """Stage 2 of one chunk: its corrected samples, time last (see :func:`correct`)."""
+    window = np.concatenate(pieces, axis=-1)
+    out = correct(window.reshape(-1, window.shape[-1]), spec["plan"], spec["n_out"])
+    return out.reshape(*window.shape[:-1], -1)
+
+
+def _interpolate_task(rows, *pieces, spec):
+    """Stage 3 of one chunk: the chunk plus its interpolated correction."""
+    corrected = np.concatenate(pieces, axis=-1)
+    corrected = np.ascontiguousarray(corrected.reshape(-1, corrected.shape[-1]))
+    return interpolate(_flat(rows), corrected, spec["plan"], spec["offset"]).reshape(rows.shape)
+
+
+def _owned(n, bounds, plan):
+    """Decimated and corrected samples owned by each time chunk (edges of global indices).
+
+    Sample ``g`` (at frame ``P g``) belongs to the chunk holding that frame; the first and
+    last chunks also own the samples beyond the record's ends that the edges need. Returns
+    ``(lines, corrected, lines0, corr0)``: the edges, and the grid index of the first
+    decimated and corrected sample.
+    """
+    whole = BlockLayout.of(plan, 0, n)
+    half = plan.correction.size // 2
+    lines0, corr0 = -(whole.q_half + half), -whole.q_half
+    inner = [-(-int(b) // plan.factor) for b in bounds[1:-1]]
+    return ([lines0, *inner, lines0 + whole.decimated],
+            [corr0, *inner, corr0 + whole.corrected], lines0, corr0)
+
+
+def _first_row(arr):
+    """Return ``arr[0:1]`` as a copy.
+
+    A view would keep the whole first chunk in memory until the last task that reads the
+    first row (every chunk's) has run.
+    """
+    return arr[0:1].map_blocks(np.copy, dtype=arr.dtype)
+
+
+def _sensel_blocks(arr):
+    """Block indices of ``arr`` over its sensel dimensions (all but the first)."""
+    return list(itertools.product(*[range(len(c)) for c in arr.chunks[1:]]))
+
+
+def _multirate_dask(arr, plan, precision):
+    """Run the multirate method on a dask array with several time chunks (time first).
+
+    Stage 1 per chunk (with the ``c``-odd rows around it, or the reflection at the record's
+    ends) gives the decimated samples the chunk owns (time last); stage 2 the corrected
+    samples it owns, from those and ``half`` more on each side; stage 3 interpolates the
+    chunk from the corrected samples around it. The rows and columns a task needs from
+    its neighbours are cut out by small tasks that run where those chunks are, so on a
+    cluster only they travel. Chunks over sensels are kept. Equal to the in-memory method;
+    the FFT blocks differ, so in single precision to float32 rounding.
+    """
+    from dask.base import tokenize
+
+    n, c, half = arr.shape[0], plan.lowpass.size // 2, plan.correction.size // 2
+    bounds = [int(b) for b in np.r_[0, np.cumsum(arr.chunks[0])]]
+    owned, owned_c, lines0, corr0 = _owned(n, bounds, plan)
+    token = tokenize(arr, plan.lowpass, plan.correction, precision)
+    ref, sensels, n_chunks = _first_row(arr), _sensel_blocks(arr), len(bounds) - 1
+    real = PRECISIONS[precision]
+    name = f"tactilecal-decimate-{token}"
+    tasks = {}
+    for i in range(n_chunks):
+        first = plan.factor * owned[i] - bounds[i]
+        last = first + plan.factor * (owned[i + 1] - owned[i] - 1) + c
+        sides = ((bounds[i] - max(c - first, 1), bounds[i]),
+                 (bounds[i + 1], bounds[i + 1] + max(last - (bounds[i + 1] - bounds[i]) + 1, 1)))
+        rows = [_source_rows(n, *side) for side in sides]
+        spec = {"plan": plan, "precision": precision, "n": n, "first": first,
+                "n_lines": owned[i + 1] - owned[i],
+                "before": (*sides[0], rows[0][0], len(_covering(bounds, *rows[0]))),
+                "after": (*sides[1], rows[1][0], len(_covering(bounds, *rows[1])))}
+        for j in sensels:
+            keys = [key for side, (lo, hi) in zip(("before", "after"), rows, strict=True)
+                    for key in _pieces(tasks, (f"{name}-{side}", i, *j), arr,
+                                       lambda k, j=j: (k, *j), bounds, 0, lo, hi)]
+            tasks[(name, *j, i)] = (functools.partial(_decimate_task, spec=spec),
+                                    (ref.name, 0, *j), (arr.name, i, *j), *keys)
+    lines = _dask_array(name, tasks, (*arr.chunks[1:], tuple(np.diff(owned))), real,
+                        [arr, ref])
+    edges = [k - lines0 for k in owned]
+    name = f"tactilecal-correct-{token}"
+    tasks = {}
+    for i in range(n_chunks):
+        window = (owned_c[i] - half - lines0, owned_c[i + 1] + half - lines0)
+        spec = {"plan": plan, "n_out": owned_c[i + 1] - owned_c[i]}
+        for j in sensels:
+            keys = _pieces(tasks, (f"{name}-window", i, *j), lines, lambda k, j=j: (*j, k),
+                           edges, -1, *window)
+            tasks[(name, *j, i)] = (functools.partial(_correct_task, spec=spec), *keys)
+    corrected = _dask_array(name, tasks, (*arr.chunks[1:], tuple(np.diff(owned_c))), real,
+                            [lines])
+    edges = [k - corr0 for k in owned_c]
+    name = f"tactilecal-interpolate-{token}"
+    tasks = {}
+    for i in range(n_chunks):
+        layout = BlockLayout.of(plan, bounds[i], bounds[i + 1] - bounds[i])
+        start = bounds[i] // plan.factor - layout.q_half - corr0
+        spec = {"plan": plan, "offset": bounds[i]}
+        for j in sensels:
+            keys = _pieces(tasks, (f"{name}-window", i, *j), corrected, lambda k, j=j: (*j, k),
+                           edges, -1, start, start + layout.corrected)
+            tasks[(name, i, *j)] = (functools.partial(_interpolate_task, spec=spec),
+                                    (arr.name, i, *j), *keys)
+    return _dask_array(name, tasks, arr.chunks, float, [arr, corrected])
+
+
+@njit(nogil=True, fastmath={"contract"})
+def _sosfilt_rows(sos, rows, first, state, s0, s1, out):  # pragma: no cover
+    """``out[:, s] = sosfilt(sos, rows[:, s] - first[s]) + first[s]`` for ``s0 <= s < s1``.
+
+    Transposed direct form II, section by section, as :func:`scipy.signal.sosfilt`;
+    ``state`` (sections x 2 x sensels, float64) is the filters' state, updated in place,
+    so a record can be filtered in consecutive blocks. The loops run along the rows
+    (all sensels of a frame at once).
+    """
+    n_sections = sos.shape[0]
+    width = s1 - s0
+    x = np.empty(width)
+    for t in range(rows.shape[0]):
+        row = rows[t]
+        for s in range(width):
+            x[s] = row[s0 + s] - first[s0 + s]
+        for k in range(n_sections):
+            b0, b1, b2 = sos[k, 0], sos[k, 1], sos[k, 2]
+            a1, a2 = sos[k, 4], sos[k, 5]
+            z0, z1 = state[k, 0], state[k, 1]
+            for s in range(width):
+                v = x[s]
+                y = b0 * v + z0[s0 + s]
+                z0[s0 + s] = b1 * v - a1 * y + z1[s0 + s]
+                z1[s0 + s] = b2 * v - a2 * y
+                x[s] = y
+        y_row = out[t]
+        for s in range(width):
+            y_row[s0 + s] = x[s] + first[s0 + s]
+
+
+def _causal_block(rows, first, state, sos, workers=1):
+    """Filter ``rows`` (time first) causally from ``state``; return ``(out, state)``."""
+    shape = rows.shape
+    rows = _flat(rows)
+    m = rows.shape[1]
+    first = np.asarray(first, dtype=float).reshape(m)
+    state = np.zeros((sos.shape[0], 2, m)) if state is None else state.copy()
+    out = np.empty(rows.shape, dtype=float)
+    threads = (os.cpu_count() or 1) if workers == -1 else max(int(workers), 1)
+    step = max(-(-m // threads), 256)
+    run_tasks([lambda a=a: _sosfilt_rows(sos, rows, first, state, a, min(a + step, m), out)
+               for a in range(0, m, step)], threads)
+    return out.reshape(shape), state
+
+
+def _apply_causal(data, filt, workers=-1):
+    """Filter ``data`` with the causal inverse (second-order sections), time first.
 
     Each sensel's first value is removed before and added back after, so the filter starts
     at rest on the record's first state (``1 / H`` has unit gain at 0 Hz). A dask-backed
-    recording is filtered lazily, chunked over sensels (time in one chunk: the IIR carries
-    its state along time).
+    recording is filtered lazily chunk by chunk along time, each chunk's task starting
+    from the filters' state at the end of the previous one (see :func:`_causal_dask`).
     """
-    from scipy import signal
-
     sos = filt.sos()
-
-    def run(block):
-        x = np.asarray(block, dtype=float)
-        first = x[:1]
-        return signal.sosfilt(sos, x - first, axis=0) + first
-
     if data.chunks is None:
-        return run(data.values)
-    arr = data.data.astype(float).rechunk({0: -1})
-    return arr.map_blocks(run, dtype=float)
+        x = data.values
+        return _causal_block(x, x[0], None, sos, workers=workers)[0]
+    arr = data.data
+    if arr.dtype not in (np.float32, np.float64):
+        arr = arr.astype(float)
+    return _causal_dask(arr, sos)
+
+
+def _causal_dask(arr, sos):
+    """Filter a dask array causally: chunk ``(i, J)`` starts from ``(i - 1, J)``'s state.
+
+    Each chunk's task returns ``(out, state)``; the next chunk depends on the state alone
+    (sections x 2 x sensels), so a chunk's output is neither kept for, nor sent to, the
+    task of the next one.
+    """
+    import operator
+
+    from dask.base import tokenize
+
+    token = f"tactilecal-causal-{tokenize(arr, sos)}"
+    first = _first_row(arr)
+    layer = {}
+    for j in _sensel_blocks(arr):
+        state = None
+        for i in range(len(arr.chunks[0])):
+            run = (token + "-run", i, *j)
+            layer[run] = (_causal_task, sos, (arr.name, i, *j), (first.name, 0, *j), state)
+            layer[(token, i, *j)] = (operator.getitem, run, 0)
+            state = (token + "-state", i, *j)
+            layer[state] = (operator.getitem, run, 1)
+    return _dask_array(token, layer, arr.chunks, float, [arr, first])
+
+
+def _causal_task(sos, rows, first, state):
+    """Task body of :func:`_causal_dask`: ``(out, state)`` from the previous chunk's state."""
+    return _causal_block(rows, first[0], state, sos)
 
 
 def _nan_sensels(sums):
@@ -291,11 +589,11 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
                          f"s); expected at least the filter length {filt.n_taps} frames "
                          f"({filt.length_s:.3g} s)")
     if causal:  # filt.sos() raises first for a filter with no causal form
-        values = _apply_causal(data, filt)
+        values = _apply_causal(data, filt, workers)
     elif data.chunks is not None:
-        values = _apply_dask(data.data.astype(float), filt, precision, method)
+        values = _apply_dask(data.data, filt, precision, method)
     else:
-        x2d = np.asarray(data.values, dtype=float).reshape(data.shape[0], -1)
+        x2d = data.values.reshape(data.shape[0], -1)
         values = _apply_array(x2d, filt, workers, progress, precision, method, where)
         values = values.reshape(data.shape)
     out = xr.DataArray(values, dims=data.dims, coords=data.coords, name=data.name,

@@ -18,20 +18,30 @@ stays short (41 taps for the thesis filter: 4000 Hz, band 1..140 Hz, 35 Hz taper
    for ``f <= f_c`` and 0 above (``H`` the low-pass's gain, so the low-pass and the
    interpolation filter are compensated), designed like the full-rate FIR
    (:func:`~tactilecal.dynamic._filter.zero_phase_fir`) at the same frequency resolution;
-3. ``y = x + P (h * up(c_d))``: zero-stuffing and the same low-pass (polyphase: only the
-   non-zero samples are multiplied).
+3. ``y = x + P (h * up(c_d))``: zero-stuffing and the same low-pass, as ``P`` polyphase
+   filters of ``ceil(len(h) / P)`` taps (only the non-zero samples are multiplied).
 
 Aliases and images are ``STOPBAND_DB`` down on the correction, which is itself at most
 ``G - 1`` of the record (about 0.25 for the thesis filter). The record's ends are extended
-by the same odd reflection as the direct method, inside the decimation kernel.
+by the same odd reflection as the direct method.
 
-Stages 1 and 3 are numba kernels that read whole rows of the ``(time, sensels)`` record
-(NumPy would make one pass over the record per filter tap). Stage 1 writes the decimated
-record sensel-major, so the FFTs of stage 2 run along contiguous lines with no block
-copies, on a fifth of the data. Measured (``benchmarks/bench_dynamic.py``): the method takes
-about 1.7x the time of a bare copy of the record into a new array.
+Blocks: decimated sample ``g`` sits at frame ``P g`` of the record (frame 0 its first), so a
+block of frames starting anywhere decimates on the record's own grid. :func:`filter_block`
+filters a block given the rows around it (the record's neighbours, or its reflection at
+the record's ends); :func:`decimate`, :func:`correct` and :func:`interpolate` are its three
+stages, which the dask path (:mod:`tactilecal.dynamic._apply`) runs chunk by chunk.
+Stages 1 and 3 are numba kernels that stream whole rows of the ``(time, sensels)`` record
+(NumPy would make one pass per filter tap): stage 1 sums two decimated rows per pass over
+the rows they share, in float64, and writes the decimated record sensel-major through a
+small tile, so stage 2's FFTs run along contiguous lines, on a fifth of the rows and in
+float32 by default (a tenth of the bytes); stage 3 transposes a tile of those lines back
+and applies the ``P`` polyphase filters. In memory each stage runs as tasks on a thread
+pool. Measured in ``benchmarks/bench_dynamic.py`` (and the kernels' variants in the
+commit messages).
 """
 
+import os
+import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
@@ -39,17 +49,26 @@ import numba
 import numpy as np
 from scipy import fft, signal
 
+from tactilecal._numba import njit
 from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
 
-__all__ = ["MultiratePlan", "plan_multirate", "apply_multirate", "run_tasks"]
+__all__ = ["MultiratePlan", "plan_multirate", "BlockLayout", "apply_multirate",
+           "filter_block", "decimate", "correct", "interpolate", "reflected_margins",
+           "run_tasks"]
 
 #: Attenuation (dB) of the anti-aliasing / interpolation low-pass in its stop band.
 STOPBAND_DB = 70.0
-#: Rows (frames or decimated frames) per task of the thread pool.
-ROWS_PER_TASK = 2048
-#: Sensels per task of stage 2, and its FFT length (at least 4 filter lengths).
-LINES_PER_TASK = 32
+#: Decimated rows per stage-1 task, frames per stage-3 task.
+DECIMATED_PER_TASK = 256
+FRAMES_PER_TASK = 1024
+#: Stage 2: the FFT length of the overlap-save blocks (at least 4 filter lengths), and the
+#: lines per FFT call: enough for 32 MiB of spectrum (at least 32). Large temporaries are
+#: mapped in huge pages: on dask.distributed workers, where MALLOC_TRIM_THRESHOLD_ makes
+#: every freed large array go back to the system, 32 lines per call (1 MB temporaries
+#: faulted in again and again) measured 2.5x slower than one call per 1936 lines.
 BLOCK_FFT = 1 << 14
+SENSELS_PER_TASK = 32
+SPECTRUM_BYTES = 1 << 25
 #: Decimated rows per tile of the transposing kernels (a tile of all sensels stays in L2).
 TILE = 32
 
@@ -81,6 +100,23 @@ class MultiratePlan:
         c, half = self.lowpass.size // 2, self.correction.size // 2
         return 2 * c + self.factor * (half + 1)
 
+    def polyphase(self, dtype):
+        """Return ``weights[phi, q] = P h[phi - P (q - Q_h) + c]`` (zero off the low-pass).
+
+        Frame ``f = P M + phi`` of the interpolated correction is
+        ``sum_q weights[phi, q] c_d[M - Q_h + q]`` (stage 3), ``Q_h = c // P``.
+        """
+        h, factor = self.lowpass, self.factor
+        c = h.size // 2
+        q_half, q_max = c // factor, (factor - 1 + c) // factor
+        weights = np.zeros((factor, q_half + q_max + 1))
+        for phi in range(factor):
+            for q in range(weights.shape[1]):
+                j = phi - factor * (q - q_half) + c
+                if 0 <= j < h.size:
+                    weights[phi, q] = factor * h[j]
+        return weights.astype(dtype)
+
 
 def decimation_factor(filt):
     """Return ``P = floor(fs / (4 f_c))``, or 1 when the correction is not band-limited."""
@@ -110,63 +146,179 @@ def plan_multirate(filt):
                          filt.has_phase)
 
 
-@numba.njit(nogil=True, cache=True, fastmath={"contract"})
-def _decimate_to_lines(x, lowpass, factor, first, k0, k1, lines):  # pragma: no cover
-    """``lines[s, k] = sum_j lowpass[j] x~[factor (first + k) + j - c, s] - x[0, s]``.
+@dataclass(frozen=True)
+class BlockLayout:
+    """Where the decimated and corrected rows of a block of frames sit.
 
-    ``x~`` is ``x`` odd-reflected about its end rows. Rows ``k0..k1`` are computed a tile
-    at a time into a row-major buffer, then written transposed (time along ``lines``' rows).
+    The block holds ``n_frames`` frames starting at a frame ``offset`` past a multiple of
+    ``P`` (only the frame's place on the decimation grid matters). In block coordinates the
+    decimated sample ``g`` sits at frame ``P g - offset``; the block needs the corrected
+    samples ``g = -q_half .. (offset + n_frames - 1) // P + q_max`` (``corrected`` rows, the
+    first at ``g = -q_half``) and the decimated ones ``half`` further on each side
+    (``decimated`` rows, the first at frame ``first_frame``).
     """
-    n, m = x.shape
-    c = lowpass.size // 2
-    tile = np.empty((TILE, m))
+
+    factor: int
+    offset: int
+    n_frames: int
+    lowpass_half: int
+    correction_half: int
+
+    @classmethod
+    def of(cls, plan, offset, n_frames):
+        """Layout of ``n_frames`` frames starting ``offset`` frames past the grid (any int)."""
+        return cls(plan.factor, offset % plan.factor, n_frames, plan.lowpass.size // 2,
+                   plan.correction.size // 2)
+
+    @property
+    def q_half(self):
+        """Corrected samples before the block's first grid point that stage 3 reads."""
+        return self.lowpass_half // self.factor
+
+    @property
+    def corrected(self):
+        """Number of corrected rows stage 3 reads."""
+        q_max = (self.factor - 1 + self.lowpass_half) // self.factor
+        return (self.offset + self.n_frames - 1) // self.factor + q_max + self.q_half + 1
+
+    @property
+    def decimated(self):
+        """Number of decimated rows stage 2 reads."""
+        return self.corrected + 2 * self.correction_half
+
+    @property
+    def first_frame(self):
+        """Frame (block coordinates) of the first decimated row."""
+        return -self.factor * (self.q_half + self.correction_half) - self.offset
+
+    @property
+    def margins(self):
+        """Rows needed before and after the block: ``(before, after)``."""
+        c = self.lowpass_half
+        last = self.first_frame + self.factor * (self.decimated - 1) + c
+        return max(c - self.first_frame, 0), max(last - (self.n_frames - 1), 0)
+
+
+@numba.njit(inline="always")
+def _row(before, rows, after, t):  # pragma: no cover
+    """Row ``t`` of ``rows`` extended by ``before`` (ending at row -1) and ``after``."""
+    if t < 0:
+        return before[before.shape[0] + t]
+    if t < rows.shape[0]:
+        return rows[t]
+    return after[t - rows.shape[0]]
+
+
+@njit(nogil=True, fastmath={"contract"})
+def _decimate_rows(before, rows, after, lowpass, factor, first, k0, k1, s0, s1, ref,
+                   lines, sums):  # pragma: no cover
+    """``lines[s, k] = sum_j lowpass[j] x[first + factor k + j - c, s] - ref[s]``.
+
+    For ``k0 <= k < k1`` and ``s0 <= s < s1``; ``x`` is ``rows`` extended by ``before``
+    and ``after``. Two consecutive decimated rows are summed in one pass over the
+    ``len(lowpass) + P`` rows they read (each row loaded once for both: 17 % faster than
+    one at a time), in float64 over whole rows into a tile of ``TILE`` decimated rows,
+    then written sensel-major in the type of ``lines``; ``sums`` (float64) accumulates the
+    stored values, so a NaN anywhere in a sensel shows in its sum.
+    """
+    width = s1 - s0
+    n_taps = lowpass.size
+    c = n_taps // 2
+    span = n_taps + factor
+    taps0, taps1 = np.zeros(span), np.zeros(span)  # of rows k and k + 1 over the span
+    taps0[:n_taps] = lowpass
+    taps1[factor:] = lowpass
+    tile = np.empty((TILE, width))
     for a in range(k0, k1, TILE):
         b = min(a + TILE, k1)
-        for k in range(a, b):
-            row = tile[k - a]
-            row[:] = 0.0
-            centre = factor * (first + k) - c
-            for j in range(lowpass.size):
-                t, w = centre + j, lowpass[j]
-                if 0 <= t < n:
-                    for s in range(m):
-                        row[s] += w * x[t, s]
-                else:
-                    end = 0 if t < 0 else n - 1
-                    src = -t if t < 0 else 2 * (n - 1) - t
-                    for s in range(m):
-                        row[s] += w * (2.0 * x[end, s] - x[src, s])
-        for s in range(m):
+        for k in range(a, b - 1, 2):
+            base = first + factor * k - c
+            acc0, acc1 = tile[k - a], tile[k + 1 - a]
+            acc0[:] = 0.0
+            acc1[:] = 0.0
+            j = 0
+            while j + 4 <= span:
+                r0 = _row(before, rows, after, base + j)[s0:s1]
+                r1 = _row(before, rows, after, base + j + 1)[s0:s1]
+                r2 = _row(before, rows, after, base + j + 2)[s0:s1]
+                r3 = _row(before, rows, after, base + j + 3)[s0:s1]
+                p0, p1, p2, p3 = taps0[j], taps0[j + 1], taps0[j + 2], taps0[j + 3]
+                q0, q1, q2, q3 = taps1[j], taps1[j + 1], taps1[j + 2], taps1[j + 3]
+                for s in range(width):
+                    v0, v1, v2, v3 = r0[s], r1[s], r2[s], r3[s]
+                    acc0[s] += (p0 * v0 + p1 * v1) + (p2 * v2 + p3 * v3)
+                    acc1[s] += (q0 * v0 + q1 * v1) + (q2 * v2 + q3 * v3)
+                j += 4
+            while j < span:
+                r0 = _row(before, rows, after, base + j)[s0:s1]
+                p0, q0 = taps0[j], taps1[j]
+                for s in range(width):
+                    acc0[s] += p0 * r0[s]
+                    acc1[s] += q0 * r0[s]
+                j += 1
+        if (b - a) % 2:  # the tile's last row alone, reading only its own rows
+            base = first + factor * (b - 1) - c
+            acc0 = tile[b - 1 - a]
+            acc0[:] = 0.0
+            for j in range(n_taps):
+                r0 = _row(before, rows, after, base + j)[s0:s1]
+                p0 = lowpass[j]
+                for s in range(width):
+                    acc0[s] += p0 * r0[s]
+        for s in range(width):
+            line, offset, total = lines[s0 + s], ref[s0 + s], 0.0
             for k in range(a, b):
-                lines[s, k] = tile[k - a, s] - x[0, s]
+                value = tile[k - a, s] - offset
+                line[k] = value
+                total += value
+            sums[s0 + s] += total
 
 
-@numba.njit(nogil=True, cache=True, fastmath={"contract"})
-def _interpolate_add(x, lines, first, lowpass, factor, t0, t1, out):  # pragma: no cover
-    """``out[t] = x[t] + factor sum_i lowpass[t - factor i + c] lines[:, i - first]``.
+@njit(nogil=True, fastmath={"contract"})
+def _interpolate_rows(rows, corrected, weights, offset, t0, t1, s0, s1,
+                      out):  # pragma: no cover
+    """``out[t, s] = rows[t, s] + sum_q weights[phi, q] corrected[s, M + q]``.
 
-    The sum runs in the type of ``lines`` (float32 for single precision: twice the SIMD
-    lanes; the correction is a fraction of the dynamic part, so its rounding is too).
+    For ``t0 <= t < t1``, ``s0 <= s < s1``, with ``t + offset = P M + phi``. ``corrected``
+    is sensel-major; a tile of its columns is transposed first, so the sum streams whole
+    rows. It runs in the type of ``corrected`` (float32 for single precision: twice the
+    SIMD lanes; the correction is a fraction of the dynamic part, so its rounding is too).
     """
-    m = x.shape[1]
-    c = lowpass.size // 2
-    weights = (factor * lowpass).astype(lines.dtype)
-    tile = np.empty(((TILE * factor + 2 * c) // factor + 2, m), dtype=lines.dtype)
-    acc = np.empty(m, dtype=lines.dtype)
+    factor, n_q = weights.shape
+    width = s1 - s0
+    tile = np.empty((TILE + n_q + 1, width), dtype=corrected.dtype)
+    acc = np.empty(width, dtype=corrected.dtype)
     for a in range(t0, t1, TILE * factor):
         b = min(a + TILE * factor, t1)
-        i0 = -((c - a) // factor)  # ceil((a - c) / factor): first decimated row used
-        for s in range(m):
-            for i in range(i0, (b - 1 + c) // factor + 1):
-                tile[i - i0, s] = lines[s, i - first]
+        i0 = (a + offset) // factor
+        i1 = (b - 1 + offset) // factor + n_q
+        for s in range(width):
+            line = corrected[s0 + s]
+            for i in range(i0, i1):
+                tile[i - i0, s] = line[i]
         for t in range(a, b):
-            acc[:] = 0.0
-            for i in range(-((c - t) // factor), (t + c) // factor + 1):
-                w, row = weights[t - factor * i + c], tile[i - i0]
-                for s in range(m):
-                    acc[s] += w * row[s]
-            for s in range(m):
-                out[t, s] = x[t, s] + acc[s]
+            frame = t + offset
+            first, phi = frame // factor - i0, frame % factor
+            acc[:] = 0
+            q = 0
+            while q + 3 <= n_q:
+                w0, w1, w2 = weights[phi, q], weights[phi, q + 1], weights[phi, q + 2]
+                c0, c1, c2 = tile[first + q], tile[first + q + 1], tile[first + q + 2]
+                for s in range(width):
+                    acc[s] += w0 * c0[s] + w1 * c1[s] + w2 * c2[s]
+                q += 3
+            while q < n_q:
+                w0, c0 = weights[phi, q], tile[first + q]
+                for s in range(width):
+                    acc[s] += w0 * c0[s]
+                q += 1
+            x, y = rows[t][s0:s1], out[t][s0:s1]
+            for s in range(width):
+                y[s] = x[s] + acc[s]
+
+
+def _ranges(n, size, start=0):
+    return [(a, min(a + size, n)) for a in range(start, n, size)]
 
 
 def run_tasks(tasks, workers, progress=None):
@@ -174,44 +326,138 @@ def run_tasks(tasks, workers, progress=None):
 
     ``progress`` wraps the iterator of finished tasks, called with ``total=``.
     """
-    with ThreadPoolExecutor(max_workers=workers) as pool:
+    if workers <= 1:
+        done = (task() for task in tasks)
+    else:
+        pool = ThreadPoolExecutor(max_workers=workers)
         done = pool.map(lambda task: task(), tasks)
+    try:
         for _ in (progress(done, total=len(tasks)) if progress else done):
             pass
+    finally:
+        if workers > 1:
+            pool.shutdown()
 
 
-def _ranges(n, size):
-    return [(a, min(a + size, n)) for a in range(0, n, size)]
+def _threads(workers):
+    return (os.cpu_count() or 1) if workers == -1 else max(int(workers), 1)
 
 
-def _convolve_lines(lines, gain, half, a, b):
-    """Convolve ``lines[a:b]`` (time along rows) in place, keeping the valid part left-aligned.
+def decimate(before, rows, after, plan, first, n_lines, *, precision="single", workers=1,
+             reference=None):
+    """Stage 1: the decimated record, sensel-major, and each sensel's sum over it.
 
-    ``gain`` is the FIR's centred half-spectrum on the FFT grid (overlap-save blocks); after
-    the call ``lines[a:b, :n - 2 half]`` holds the convolution centred at columns
-    ``half .. n - half``.
+    Decimated row ``k`` is centred on frame ``first + P k`` of ``rows`` (block
+    coordinates; ``before`` and ``after`` hold the rows around the block) and is relative
+    to ``reference`` (default ``rows[0]``; removed in float64, so single precision rounds
+    relative to the dynamic part; the correction ``D`` has no DC gain, so the reference
+    does not change the result). Returns ``(lines, sums)``: ``(sensels, n_lines)`` of the
+    precision's type, and float64 sums (NaN for a sensel with a NaN anywhere under the
+    low-pass).
     """
-    n_fft = 2 * (gain.size - 1)
-    n, step = lines.shape[1], n_fft - 2 * half
-    for t0 in range(0, n - 2 * half, step):
-        block = lines[a:b, t0:t0 + n_fft]
-        y = fft.irfft(fft.rfft(block, n=n_fft, axis=-1) * gain, n=n_fft, axis=-1)
-        width = min(step, n - 2 * half - t0)
-        lines[a:b, t0:t0 + width] = y[:, half:half + width]  # rows past t0 + width unread
+    m = rows.shape[1]
+    ref = np.array(rows[0] if reference is None else reference, dtype=float)
+    lines = np.empty((m, n_lines), dtype=PRECISIONS[precision])
+    ranges = _ranges(n_lines, DECIMATED_PER_TASK if _threads(workers) > 1 else max(n_lines, 1))
+    sums = np.zeros((max(len(ranges), 1), m))  # one row per task: no shared writes
+    tasks = [lambda i=i, a=a, b=b: _decimate_rows(
+        before, rows, after, plan.lowpass, plan.factor, first, a, b, 0, m, ref, lines,
+        sums[i]) for i, (a, b) in enumerate(ranges)]
+    run_tasks(tasks, _threads(workers))
+    return lines, sums.sum(axis=0)
 
 
-def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings=None):
-    """Return ``x + c`` for ``x2d`` (time, sensels) float64; see the module notes.
+def correct(lines, plan, n_out, *, workers=1, out=None):
+    """Stage 2: ``out[:, q] = sum_j D[j] lines[:, q + j]`` for ``q < n_out``.
 
-    ``precision`` ("single" or "double") is the type of the decimated record and its FFTs.
-    ``progress`` wraps the tasks of stage 3 (the last and longest). ``check(lines)``, if
-    given, sees the decimated record (sensels x decimated frames) before stage 2: a NaN
-    anywhere in a sensel's record reaches its decimated line (every frame is under the
-    low-pass), so NaN gaps are found in 1/P of the data. ``timings``, if a dict, receives
-    the seconds of each stage (``benchmarks/bench_dynamic.py --stages``).
+    Overlap-save FFTs along the (contiguous) lines of ``lines`` (sensel-major, at least
+    ``n_out + 2 half`` columns). ``out`` may be ``lines`` itself: each line's blocks are
+    done left to right and a block's result lands left of the columns the next one reads.
+    Returns ``out[:, :n_out]``.
     """
-    import time
+    half = plan.correction.size // 2
+    m, n_in = lines.shape
+    if n_in < n_out + 2 * half:
+        raise ValueError(f"stage 2 needs {n_out + 2 * half} decimated rows; got {n_in}")
+    n_fft = fft.next_fast_len(max(min(BLOCK_FFT, n_out + 2 * half),
+                                  4 * plan.correction.size), real=True)
+    n_fft += n_fft % 2  # even, so that the half-spectrum's length gives it back
+    step = n_fft - 2 * half
+    gain = centred_spectrum(plan.correction, n_fft, phase=plan.phase)
+    gain = gain.astype(np.result_type(lines.dtype, np.complex64) if plan.phase else lines.dtype)
+    out = np.empty((m, n_out), dtype=lines.dtype) if out is None else out
 
+    def run(s0, s1):
+        for t0 in range(0, n_out, step):
+            width = min(step, n_out - t0)
+            block = lines[s0:s1, t0:t0 + width + 2 * half]
+            spectrum = fft.rfft(block, n=n_fft, axis=-1)
+            spectrum *= gain
+            y = fft.irfft(spectrum, n=n_fft, axis=-1, overwrite_x=True)
+            out[s0:s1, t0:t0 + width] = y[:, half:half + width]
+
+    threads = _threads(workers)
+    per_call = SPECTRUM_BYTES // (8 * n_fft)
+    if threads > 1:  # at least 4 tasks per thread, so that they share the work evenly
+        per_call = min(per_call, -(-m // (4 * threads)))
+    per_call = int(np.clip(per_call, SENSELS_PER_TASK, max(m, 1)))
+    run_tasks([lambda a=a, b=b: run(a, b) for a, b in _ranges(m, per_call)], threads)
+    return out[:, :n_out]
+
+
+def interpolate(rows, corrected, plan, offset, *, workers=1, progress=None):
+    """Stage 3: ``rows + P (h * up(corrected))`` as float64 (see :class:`BlockLayout`).
+
+    ``corrected`` is sensel-major, its column 0 the corrected sample ``q_half`` grid points
+    before the block's first one; ``offset`` is the block's first frame modulo ``P``.
+    """
+    n, m = rows.shape
+    out = np.empty((n, m), dtype=float)
+    weights = plan.polyphase(corrected.dtype)
+    threads = _threads(workers)
+    size = FRAMES_PER_TASK if threads > 1 or progress else n  # one call: its buffers once
+    run_tasks([lambda a=a, b=b: _interpolate_rows(rows, corrected, weights, offset % plan.factor,
+                                                  a, b, 0, m, out)
+               for a, b in _ranges(n, max(size, 1))], threads, progress)
+    return out
+
+
+def filter_block(before, rows, after, offset, plan, *, precision="single", workers=1,
+                 progress=None, check=None, timings=None):
+    """Return ``x + c`` for the frames ``rows`` (time first, 2-D), see the module notes.
+
+    Parameters
+    ----------
+    before, after : numpy.ndarray
+        The rows just before and after ``rows`` in the (extended) record, at least
+        ``BlockLayout.margins`` of them, same type as ``rows``.
+    rows : numpy.ndarray
+        ``(frames, sensels)``, float32 or float64, rows contiguous.
+    offset : int
+        Frame index of ``rows[0]`` in the record (only its remainder modulo ``P`` counts).
+    plan : MultiratePlan
+    precision : {"single", "double"}
+        Type of the decimated record, its FFTs and the correction.
+    workers : int
+        Threads (-1: one per core).
+    progress : callable, optional
+        Wraps the iterator of finished stage-3 tasks, called with ``total=``.
+    check : callable, optional
+        Called with each sensel's sum over the decimated record (float64; NaN when the
+        sensel has a NaN anywhere) before the FFTs.
+    timings : dict, optional
+        Receives the seconds of each stage.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(frames, sensels)`` float64.
+    """
+    layout = BlockLayout.of(plan, offset, rows.shape[0])
+    need_before, need_after = layout.margins
+    if before.shape[0] < need_before or after.shape[0] < need_after:
+        raise ValueError(f"filter_block needs {need_before} rows before and {need_after} "
+                         f"after; got {before.shape[0]} and {after.shape[0]}")
     clock = [time.perf_counter()]
 
     def lap(stage):
@@ -219,28 +465,43 @@ def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings
             clock.append(time.perf_counter())
             timings[stage] = clock[-1] - clock[-2]
 
-    x2d = np.ascontiguousarray(x2d)  # the kernels stream whole rows
-    n, m = x2d.shape
-    factor, lowpass, taps = plan.factor, plan.lowpass, plan.correction
-    c, half = lowpass.size // 2, taps.size // 2
-    first = -(c // factor) - half  # decimated rows that stage 3 needs, plus stage 2's reach
-    n_low = (n - 1 + c) // factor + half - first + 1
-    lines = np.empty((m, n_low), dtype=PRECISIONS[precision])
-    run_tasks([lambda a=a, b=b: _decimate_to_lines(x2d, lowpass, factor, first, a, b, lines)
-          for a, b in _ranges(n_low, ROWS_PER_TASK)], workers)
+    lines, sums = decimate(before, rows, after, plan, layout.first_frame, layout.decimated,
+                           precision=precision, workers=workers)
     lap("decimate")
     if check is not None:
-        check(lines)
-    n_fft = fft.next_fast_len(max(min(BLOCK_FFT, n_low), 4 * taps.size), real=True)
-    n_fft += n_fft % 2  # even, so that the half-spectrum's length gives it back
-    gain = centred_spectrum(taps, n_fft, phase=plan.phase)
-    gain = gain.astype(np.result_type(lines.dtype, np.complex64) if plan.phase else lines.dtype)
-    run_tasks([lambda a=a, b=b: _convolve_lines(lines, gain, half, a, b)
-          for a, b in _ranges(m, LINES_PER_TASK)], workers)
+        check(sums)
+    corrected = correct(lines, plan, layout.corrected, workers=workers, out=lines)
     lap("correct")
-    out = np.empty_like(x2d)
-    run_tasks([lambda a=a, b=b: _interpolate_add(x2d, lines, first + half, lowpass, factor, a, b,
-                                            out)
-          for a, b in _ranges(n, ROWS_PER_TASK)], workers, progress)
+    out = interpolate(rows, corrected, plan, layout.offset, workers=workers, progress=progress)
     lap("interpolate into the new output")
     return out
+
+
+def reflected_margins(x2d, plan, workers=1):
+    """Rows before and after ``x2d`` by odd reflection about its end rows (value and slope)."""
+    layout = BlockLayout.of(plan, 0, x2d.shape[0])
+    need_before, need_after = layout.margins
+    n = x2d.shape[0]
+    before = np.empty((need_before, x2d.shape[1]), dtype=x2d.dtype)
+    after = np.empty((need_after, x2d.shape[1]), dtype=x2d.dtype)
+    run_tasks([lambda: np.subtract(2 * x2d[0], x2d[need_before:0:-1], out=before),
+               lambda: np.subtract(2 * x2d[n - 1], x2d[n - 2:n - 2 - need_after:-1], out=after)],
+              _threads(workers))
+    return before, after
+
+
+def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings=None):
+    """Return ``x + c`` for ``x2d`` (time, sensels); see the module notes.
+
+    ``x2d`` float32 or float64 (the result is float64). ``precision`` ("single" or
+    "double") is the type of the decimated record and its FFTs. ``progress`` wraps the
+    tasks of stage 3 (the last and longest). ``check(sums)``, if given, sees each sensel's
+    sum over the decimated record before stage 2: a NaN anywhere in a sensel's record
+    reaches it (every frame is under the low-pass), so NaN gaps are found in 1/P of the
+    data. ``timings``, if a dict, receives the seconds of each stage
+    (``benchmarks/bench_dynamic.py --stages``).
+    """
+    x2d = np.ascontiguousarray(x2d)  # the kernels stream whole rows
+    before, after = reflected_margins(x2d, plan, workers)
+    return filter_block(before, x2d, after, 0, plan, precision=precision, workers=workers,
+                        progress=progress, check=check, timings=timings)

@@ -1,5 +1,6 @@
-"""File input/output: Tekscan ASCII exports, load-cell time series, NetCDF, unit helpers."""
+"""File input/output: Tekscan ASCII exports, load-cell time series, NetCDF/Zarr, unit helpers."""
 
+from tactilecal.io._convert import convert
 from tactilecal.io._netcdf import read_netcdf, write_netcdf
 from tactilecal.io._tekscan_read import read_tekscan
 from tactilecal.io._tekscan_write import write_tekscan
@@ -17,7 +18,7 @@ from tactilecal.io._units import (
 )
 
 __all__ = [
-    "G_STANDARD", "area_to_mm2", "force_to_N", "length_to_mm", "mass_to_N",
+    "G_STANDARD", "area_to_mm2", "convert", "force_to_N", "length_to_mm", "mass_to_N",
     "normalise_unit", "pressure_to_kPa", "read_netcdf", "read_tekscan", "read_timeseries",
     "time_to_s", "unit_from_column", "unit_kind", "write_netcdf", "write_tekscan",
 ]

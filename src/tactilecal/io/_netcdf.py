@@ -1,12 +1,13 @@
 """NetCDF files for any recording or result (thin wrappers around xarray)."""
 
+import contextlib
 import importlib.util
 import json
 
 import numpy as np
 import xarray as xr
 
-from tactilecal._atomic import atomic_path
+from tactilecal._atomic import atomic_path, dask_tasks_finished
 from tactilecal._jsonutil import dumps
 
 __all__ = ["read_netcdf", "write_netcdf"]
@@ -54,9 +55,11 @@ def write_netcdf(data, path):
     if encoded:
         out.attrs[_JSON_ATTRS] = ",".join(encoded)
     engine = _engine()
+    finished = dask_tasks_finished() if out.chunks is not None else contextlib.nullcontext()
     with atomic_path(path, suffix=".nc") as tmp:
         try:
-            out.to_netcdf(tmp, engine=engine)
+            with finished:
+                out.to_netcdf(tmp, engine=engine)
         except ValueError as exc:
             if engine != "scipy":
                 raise

@@ -1,0 +1,109 @@
+"""Per-frame 256-bin histograms of raw readings: a NumPy path and a one-pass compiled path.
+
+A movie of 100,000 frames of 44 x 44 sensels is 1.55 GB in float64; its histograms are what
+every calibration fit uses (Zvyagin 2022, eq. 2: ``sum_k f(X_k) = histogram @ f(0..255)``),
+so counting them should cost about one read of the frames. NumPy needs several passes over
+each chunk (round, check the range, add frame offsets, ``bincount``): 6-9 times a
+``numpy.sum`` over the same float64 array. The numba kernels of
+:mod:`tactilecal.calibration._histogram_kernels` make one, 2-3 times a ``numpy.sum``
+(``benchmarks/bench_movie.py``), but numba's start-up in a new process (0.3-0.5 s here)
+outweighs that below about :data:`COMPILED_MIN_VALUES` readings, so smaller inputs
+(single frames, dead-weight sessions, short movies) are counted with NumPy. Both paths give
+the same counts and the same errors.
+"""
+
+import numpy as np
+
+N_LEVELS = 256
+SATURATION_RAW = 255
+#: Readings from which the compiled kernel is used (2**26: 35,000 frames of 44 x 44, where
+#: the NumPy path takes about as long as numba's start-up).
+COMPILED_MIN_VALUES = 2 ** 26
+
+
+def count_into(frames, skip, out, *, compiled):
+    """Count each frame's raw readings 0..255 into ``out`` (m, 256).
+
+    Parameters
+    ----------
+    frames : numpy.ndarray, shape (m, n_sensels)
+        Raw readings, any real dtype; floats are rounded half to even (``numpy.rint``),
+        NaN are not counted.
+    skip : numpy.ndarray of bool, shape (n_sensels,)
+        Sensels not to count (non-working); their readings are not checked either.
+    out : numpy.ndarray, shape (m, 256)
+        Filled in place (any numeric dtype; int64 and float64 are written directly).
+    compiled : bool
+        Use the numba kernel (one pass) rather than NumPy (a few passes per 64 frames).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``out``.
+
+    Raises
+    ------
+    ValueError
+        If a counted reading (rounded) lies outside 0..255.
+    TypeError
+        If the readings are not real numbers.
+    """
+    kind = frames.dtype.kind
+    if kind == "b":
+        frames = frames.view(np.uint8)
+    elif kind == "f" and frames.dtype.itemsize < 4:
+        frames = frames.astype(np.float32)  # exact; numba has no float16 arithmetic
+    elif kind not in "fui":
+        raise TypeError(f"raw frames have dtype {frames.dtype}; expected real numbers "
+                        "(raw readings 0..255)")
+    frames = np.ascontiguousarray(frames)
+    direct = out.dtype in (np.int64, np.float64) and out.flags.c_contiguous
+    target = out if direct else np.empty(out.shape, np.int64)
+    if compiled:
+        from tactilecal.calibration._histogram_kernels import kernel_for
+
+        bad = kernel_for(frames.dtype)(frames, np.flatnonzero(skip), target)
+    else:
+        bad = _count_numpy(frames, skip, target)
+    if bad >= 0:
+        value = frames.flat[bad]
+        value = np.rint(value) if frames.dtype.kind == "f" else value
+        raise ValueError(f"raw frames contain the value {value:g}; expected raw readings "
+                         "0..255")
+    if not direct:
+        out[...] = target
+    return out
+
+
+def _count_numpy(frames, skip, out, chunk_frames=64):
+    """NumPy version of the kernels: per chunk, round, check, add 257 * frame, ``bincount``.
+
+    Bin 256 of each frame collects NaN and skipped sensels and is dropped. Returns -1 or
+    the flat index of the first counted reading outside 0..255, like the kernels.
+    """
+    n, m = frames.shape
+    offsets = (np.arange(chunk_frames, dtype=np.intp) * (N_LEVELS + 1))[:, None]
+    index = np.empty((chunk_frames, m), dtype=np.intp)
+    work = np.empty((chunk_frames, m))
+    for start in range(0, n, chunk_frames):
+        block = frames[start:start + chunk_frames]
+        k = len(block)
+        if skip.any():
+            block = np.where(skip, np.nan, block)
+        if block.dtype.kind in "ui":
+            values = block
+            lo, hi = block.min(initial=0), block.max(initial=0)
+        else:
+            values = np.rint(block, out=work[:k])
+            lo = np.fmin.reduce(values, axis=None, initial=0.0)
+            hi = np.fmax.reduce(values, axis=None, initial=0.0)
+        if lo < 0 or hi > SATURATION_RAW:
+            return start * m + int(np.flatnonzero((values < 0) | (values > SATURATION_RAW))[0])
+        if values.dtype.kind == "f":
+            nan = np.isnan(values)
+            if nan.any():
+                values[nan] = N_LEVELS
+        np.add(values, offsets[:k], out=index[:k], casting="unsafe")
+        counts = np.bincount(index[:k].ravel(), minlength=k * (N_LEVELS + 1))
+        out[start:start + k] = counts.reshape(k, N_LEVELS + 1)[:, :N_LEVELS]
+    return -1

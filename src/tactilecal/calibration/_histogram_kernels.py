@@ -1,0 +1,98 @@
+"""numba kernels of :func:`tactilecal.calibration._histogram.count_into` (one pass per frame).
+
+For each frame a vectorised loop rounds every reading to an index (NaN to a discarded bin
+256) while checking the range, the non-working sensels are set to that bin, then a scalar
+loop counts the indices into four interleaved sub-histograms (consecutive equal readings,
+e.g. the zeros of an unloaded area, would otherwise wait on one counter). uint8 readings
+are their own indices and are counted directly. Each kernel returns -1, or the flat index
+of the first counted reading outside 0..255 (counting stops there).
+
+Imported only when a large input is counted: numba's start-up in a new process (about
+0.3-0.5 s here) costs more than it saves on a small one.
+"""
+
+import numpy as np
+
+from tactilecal._numba import njit
+
+N_LEVELS = 256
+_DISCARD = N_LEVELS  # bin of NaN and masked sensels, dropped
+
+
+@njit(nogil=True)
+def _count_row(index, counts, out, i):  # pragma: no cover (compiled)
+    """Count ``index`` (values 0..256) into ``out[i]`` using four sub-histograms ``counts``."""
+    counts[:] = 0
+    m = index.size
+    m4 = m - m % 4
+    for j in range(0, m4, 4):
+        for u in range(4):
+            counts[u, index[j + u]] += 1
+    for j in range(m4, m):
+        counts[0, index[j]] += 1
+    for k in range(N_LEVELS):
+        out[i, k] = counts[0, k] + counts[1, k] + counts[2, k] + counts[3, k]
+
+
+@njit(nogil=True)
+def _count_values(frames, skipped, out):  # pragma: no cover (compiled)
+    """Histograms of float or integer frames (m, n_sensels), rounded like ``numpy.rint``.
+
+    Floats are rounded half to even; integers pass through ``rint`` unchanged (compiled
+    once per dtype, so a second kernel for integers would only repeat this one).
+
+    ``skipped`` lists the sensels not counted. Returns -1, or the flat index of the first
+    finite, counted reading whose rounded value lies outside 0..255 (counting stops there).
+    """
+    n, m = frames.shape
+    index = np.empty(m, np.int32)
+    counts = np.zeros((4, N_LEVELS + 1), np.int32)
+    for i in range(n):
+        row = frames[i]
+        bad = 0
+        for j in range(m):  # no branch, so that it vectorises
+            r = np.rint(row[j])
+            ok = (r >= 0.0) & (r <= 255.0)
+            bad += (not ok) & (row[j] == row[j])
+            index[j] = np.int32(r) if ok else _DISCARD
+        for j in skipped:
+            index[j] = _DISCARD
+        if bad:
+            for j in range(m):
+                r = np.rint(row[j])
+                if (r < 0.0 or r > 255.0) and not _member(j, skipped):
+                    return i * m + j
+        _count_row(index, counts, out, i)
+    return -1
+
+
+@njit(nogil=True)
+def _count_uint8(frames, skipped, out):  # pragma: no cover (compiled)
+    """Histograms of uint8 frames: every reading is a bin, counted without an index pass."""
+    n, m = frames.shape
+    counts = np.zeros((4, N_LEVELS), np.int32)
+    m4 = m - m % 4
+    for i in range(n):
+        row = frames[i]
+        counts[:] = 0
+        for j in range(0, m4, 4):
+            for u in range(4):
+                counts[u, row[j + u]] += 1
+        for j in range(m4, m):
+            counts[0, row[j]] += 1
+        for j in skipped:
+            counts[0, row[j]] -= 1
+        for k in range(N_LEVELS):
+            out[i, k] = counts[0, k] + counts[1, k] + counts[2, k] + counts[3, k]
+    return -1
+
+
+@njit(nogil=True)
+def _member(j, sorted_values):  # pragma: no cover (compiled)
+    k = np.searchsorted(sorted_values, j)
+    return k < sorted_values.size and sorted_values[k] == j
+
+
+def kernel_for(dtype):
+    """Return the kernel counting frames of ``dtype`` (uint8, other integers, float32/64)."""
+    return _count_uint8 if dtype == np.uint8 else _count_values

@@ -1,0 +1,32 @@
+"""``tactilecal convert``: a Tekscan export to Zarr or NetCDF, streamed block by block."""
+
+from tactilecal.cli._common import info, positive_int
+
+DEFAULT_CHUNK_FRAMES = 1000  # tactilecal.io.convert's default (not imported: keeps --help fast)
+
+
+def register(subparsers):
+    """Add the ``convert`` command."""
+    p = subparsers.add_parser(
+        "convert", help="a Tekscan export to Zarr (.zarr) or NetCDF (.nc), block by block",
+        description="Write a Tekscan ASCII export as a Zarr store (OUT.zarr) or a NetCDF file "
+                    "(OUT.nc) without holding it in memory: the file is indexed once, then "
+                    "parsed and written FRAMES frames at a time. OUT is written under a "
+                    "temporary name and renamed at the end, so an error leaves no output.")
+    p.add_argument("recording", metavar="IN", help="Tekscan ASCII export")
+    p.add_argument("out", metavar="OUT", help="output ending in .zarr or .nc")
+    p.add_argument("--chunks", type=positive_int, default=DEFAULT_CHUNK_FRAMES,
+                   metavar="FRAMES",
+                   help=f"frames per block (default {DEFAULT_CHUNK_FRAMES})")
+    p.set_defaults(func=run)
+
+
+def run(args):
+    """Run ``tactilecal convert``."""
+    from tactilecal.io import convert
+
+    data = convert(args.recording, args.out, chunks=args.chunks)
+    frames, rows, cols = data.shape
+    info(args, f"wrote {args.out}: {frames} frames of {rows} x {cols} sensels in blocks of "
+               f"{args.chunks} frames")
+    return 0

@@ -1,0 +1,144 @@
+"""Stream a Tekscan export to Zarr or NetCDF, block by block (``tactilecal convert``)."""
+
+import contextlib
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+from tactilecal._atomic import _running, _umask, dask_tasks_finished
+from tactilecal.io._netcdf import write_netcdf
+from tactilecal.io._tekscan_read import read_tekscan
+
+__all__ = ["convert", "write_lazy", "DEFAULT_CHUNK_FRAMES"]
+
+DEFAULT_CHUNK_FRAMES = 1000
+"""Frames per block of :func:`convert` (44 x 44 sensels: 15.5 MB of float64 a block)."""
+
+_SUFFIXES = (".zarr", ".nc")
+
+
+def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES):
+    r"""Write a Tekscan export as Zarr or NetCDF without holding it in memory.
+
+    The export is indexed once (every structural check of :func:`read_tekscan`), then each
+    block of ``chunks`` frames is parsed and written in turn by dask, so memory is bounded by
+    a few blocks (the dask threads' in flight), not by the file. The output is written under
+    a temporary name next to ``target`` and renamed onto it at the end: on any error nothing
+    is left at ``target`` (an existing ``target`` is left as it was).
+
+    Parameters
+    ----------
+    source : str or os.PathLike
+        A Tekscan ASCII export (see :func:`read_tekscan`).
+    target : str or os.PathLike
+        Output: a ``.zarr`` folder (a Zarr store in format 2 with consolidated metadata,
+        chunked like the blocks: ``xr.open_zarr(path)`` or ``xr.open_dataarray(path,
+        engine="zarr")`` open it as they expect by default, without a warning, with
+        zarr-python 2 or 3) or a ``.nc`` file (NetCDF4, the layout of
+        :func:`write_netcdf`, read by :func:`read_netcdf`). An existing store or file of
+        that name is replaced.
+    chunks : int, keyword-only
+        Frames per block.
+
+    Returns
+    -------
+    xarray.DataArray
+        The lazy recording that was written (dask-backed, nothing in memory).
+
+    Raises
+    ------
+    ValueError
+        ``target`` does not end in ``.zarr`` or ``.nc``, is an existing folder that is no
+        Zarr store, or the export is malformed (the message names the file and line).
+    OSError
+        ``target`` cannot be written (the message names it).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, xarray as xr
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "m.csv").write_text("ROWS 1\nCOLS 2\nUNITS raw\nASCII_DATA @@\n"
+    ...                                   "Frame 1\n1,2\nFrame 2\n3,B\n@@\n")
+    >>> _ = convert(folder / "m.csv", folder / "m.zarr", chunks=1)
+    >>> xr.open_dataarray(folder / "m.zarr", engine="zarr").values.tolist()
+    [[[1.0, 2.0]], [[3.0, nan]]]
+    """
+    _check_suffix(target)
+    data = read_tekscan(source, chunks=chunks)
+    write_lazy(data, target)
+    return data
+
+
+def _check_suffix(target):
+    target = Path(target)
+    if target.suffix.lower() not in _SUFFIXES:
+        what = f"ends in {target.suffix!r}" if target.suffix else "has no suffix"
+        raise ValueError(f"output {target} {what}; expected .zarr (Zarr store) or .nc "
+                         "(NetCDF)")
+    return target
+
+
+def write_lazy(data, target):
+    """Write the (dask-backed) DataArray ``data`` to ``target`` (.zarr or .nc) atomically.
+
+    Blocks are computed and written in turn; on any error nothing is left at ``target`` (an
+    existing one is left as it was), nor any temporary output: the blocks still running
+    when one fails finish before the temporary output is removed.
+    """
+    target = _check_suffix(target)
+    if target.suffix.lower() == ".nc":
+        write_netcdf(data, target)
+        return
+    with atomic_folder(target) as tmp, dask_tasks_finished():
+        # format 2: its consolidated metadata (.zmetadata) is in the format's spec, which
+        # xarray reads first by default; format 3 has none in its spec (zarr-python 3
+        # warns when writing it) and zarr-python 2 cannot read format 3 at all
+        data.to_zarr(tmp, mode="w", consolidated=True, zarr_format=2)
+
+
+def _is_zarr(path):
+    return any((path / name).is_file() for name in ("zarr.json", ".zgroup", ".zarray"))
+
+
+@contextlib.contextmanager
+def atomic_folder(path):
+    """Yield a temporary folder next to ``path``; rename it onto ``path`` on success.
+
+    The folder analogue of :func:`tactilecal._atomic.atomic_path`: on any exception the
+    temporary folder is removed and ``path`` is left as it was. An existing ``path`` is
+    replaced only if it is a Zarr store.
+    """
+    path = Path(path)
+    if not path.parent.is_dir():
+        raise FileNotFoundError(f"cannot write {path}: folder {path.parent} does not exist")
+    if path.exists() and not (path.is_dir() and _is_zarr(path)):
+        raise ValueError(f"output {path} exists and is no Zarr store; expected a new path or "
+                         "a Zarr store to replace")
+    _remove_stale(path)
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.tmp{os.getpid()}.",
+                                    dir=path.parent))
+    except OSError as exc:  # name the path the user gave, not the hidden temporary folder
+        raise type(exc)(exc.errno, f"cannot write here ({exc.strerror})", str(path)) from None
+    try:
+        yield tmp
+        tmp.chmod(0o777 & ~_umask())  # mkdtemp makes 0700
+        if path.exists():
+            old = tmp.with_name(tmp.name + ".old")
+            os.replace(path, old)
+            os.replace(tmp, path)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.replace(tmp, path)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+
+
+def _remove_stale(path):
+    """Remove temporary folders that a killed writer of ``path`` left behind."""
+    for tmp in path.parent.glob(f".{path.name}.tmp*"):
+        pid = tmp.name[len(path.name) + 5:].split(".", 1)[0]
+        if tmp.is_dir() and pid.isdigit() and not _running(int(pid)):
+            shutil.rmtree(tmp, ignore_errors=True)

@@ -1,0 +1,295 @@
+"""Index of a Tekscan ASCII export: header, frame offsets and the structural checks.
+
+:func:`index_export` reads the file once, in blocks of ``BLOCK_BYTES``, through the numba
+kernel :func:`~tactilecal.io._tekscan_kernels.index_lines`, and keeps per frame only its byte
+offset, line number, number, time and ``Raw Sum`` (about 40 bytes a frame, whatever the frame
+size). Every check that needs no value of the data is done here, in the order (and with the
+messages) of the reader before issue 16, so that the first fault a file has is the one
+reported: terminator, lines after it, unknown lines, frame lines, rows per frame, frame order,
+``_`` inside a value, lone CR, row lengths, size.
+"""
+
+import os
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from tactilecal._validate import check_size
+from tactilecal.io import _tekscan_kernels as kernels
+from tactilecal.io._header import header_attrs, integer, parse_header_lines
+
+__all__ = ["BLOCK_BYTES", "Index", "index_export", "line_text"]
+
+BLOCK_BYTES = 16 * 2**20
+"""Bytes read at a time while indexing, and bytes of frames parsed at a time when eager."""
+
+_MARKER = re.compile(rb"^[ \t]*ASCII_DATA[ \t]*@@[ \t]*\r?$", re.MULTILINE)
+_FRAME = re.compile(r"Frame[ \t]+(\d+)[ \t]*(?:,[ \t]*([^,]*?)[ \t]*(?:,|$))?")
+_RAW_SUM = re.compile(r"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)")
+_HEADER_STEP = 2**20
+_COLUMNS = {"starts": np.int64, "lines": np.int64, "counts": np.int64, "numbers": np.int64,
+            "times": np.float64, "raw_sums": np.float64}
+_INFO = kernels.INFO_SLOTS
+_STATE = kernels.STATE_SLOTS
+
+
+@dataclass
+class Index:
+    """Where the frames of an export are, and what its header says.
+
+    ``starts[k]`` is the byte offset of frame ``k``'s first line and ``starts[-1]`` that of the
+    ``@@`` terminator, so frame ``k`` is the byte range ``starts[k]:starts[k + 1]``.
+    """
+
+    name: str
+    rows: int
+    cols: int
+    header: dict
+    attrs: dict
+    first_line: int
+    numbers: np.ndarray
+    times: np.ndarray
+    raw_sums: np.ndarray
+    lines: np.ndarray
+    starts: np.ndarray
+    spaced: bool
+    stat: tuple = field(default=())
+    stray_f: tuple | None = None
+
+    @property
+    def raw(self):
+        """True when the values must be raw readings (``UNITS raw``, or no UNITS)."""
+        return self.attrs.get("units") in (None, "raw")
+
+
+def index_export(f, name, *, whole=True):
+    """Index the open export ``f`` (binary); raise the first structural fault found.
+
+    ``whole`` (the values will be read into one array) also checks their number against
+    :data:`tactilecal._validate.MAX_VALUES`; a lazy read checks each block instead.
+
+    Returns
+    -------
+    Index
+    """
+    raw, marker = _read_header(f, name)
+    header = parse_header_lines(_decode(raw[:marker.start()]).splitlines(), name)
+    header_lines = raw.count(b"\n", 0, marker.start()) + 1
+    for key in ("ROWS", "COLS"):
+        if key not in header:
+            raise ValueError(f"{name} has no {key} line in its header (lines 1-"
+                             f"{header_lines}); expected "
+                             f"'{key} <number of sensel {key.lower()}>'")
+    rows = integer(header, "ROWS", name, minimum=1)
+    cols = integer(header, "COLS", name, minimum=1)
+    attrs = header_attrs(header, name)
+    first_line = raw.count(b"\n", 0, marker.end()) + 1
+    scan = _scan(f, marker.end(), first_line, cols, name)
+    numbers, times, raw_sums, lines = _check_structure(f, scan, first_line, rows, header,
+                                                       name)
+    _check_lines(f, scan, rows, cols, lines, name, whole)
+    body = marker.end()
+    starts = scan["starts"] if len(scan["starts"]) else np.array([body])
+    stat = os.fstat(f.fileno())
+    return Index(name=name, rows=rows, cols=cols, header=header, attrs=attrs,
+                 first_line=first_line, numbers=numbers, times=times, raw_sums=raw_sums,
+                 lines=lines, starts=np.append(starts, scan["state"][_STATE["end"]]),
+                 spaced=bool(scan["state"][_STATE["spaced"]] == 1),
+                 stat=(stat.st_size, stat.st_mtime_ns),
+                 stray_f=_slot(scan["info"], "stray_f"))
+
+
+def _decode(header_bytes):
+    try:
+        return header_bytes.decode("utf-8")
+    except UnicodeDecodeError:
+        return header_bytes.decode("cp1252", errors="replace")
+
+
+def _read_header(f, name):
+    """Read up to the ``ASCII_DATA @@`` line; return the bytes read and the marker match."""
+    raw = b""
+    while True:
+        chunk = f.read(_HEADER_STEP if len(raw) < 64 * _HEADER_STEP else len(raw))
+        raw += chunk
+        # the marker line may straddle the previous read: search from the last line start
+        marker = _MARKER.search(raw, max(0, raw.rfind(b"\n", 0, len(raw) - len(chunk))))
+        if marker is not None and (marker.end() < len(raw) or not chunk):
+            return raw, marker
+        if not chunk:
+            break
+    if not raw or raw.isspace():
+        raise ValueError(f"{name} is empty; expected a Tekscan ASCII export "
+                         "('KEY value' header, 'ASCII_DATA @@', frames, '@@')")
+    raise ValueError(f"{name} has no 'ASCII_DATA @@' line (after "
+                     f"{len(raw.splitlines())} lines); expected a Tekscan ASCII export")
+
+
+def _scan(f, offset, first_line, cols, name):
+    """Run the index kernel over the file from ``offset``; collect frames and first faults."""
+    state, info = kernels.new_state(first_line)
+    left = os.fstat(f.fileno()).st_size - offset
+    buf = np.empty(max(1, min(BLOCK_BYTES, left + 1)), dtype=np.uint8)  # small files: small
+    f.seek(offset)
+    columns = {key: [] for key in _COLUMNS}  # per block: 48 bytes a frame, nothing per value
+    carry, base, frame_errors = 0, offset, []
+    while True:
+        got = f.readinto(memoryview(buf)[carry:])
+        n = carry + got
+        final = got == 0
+        lf = np.flatnonzero(buf[:n] == 10)
+        if not final and lf.size == 0:  # no whole line yet: read on (a longer buffer if full)
+            if n == buf.size:
+                buf = np.concatenate((buf, np.empty_like(buf)))
+            carry = n
+            continue
+        used, fr, num, val, rows_before = kernels.index_lines(
+            buf, n, lf, base, final, min(cols, 2**62), state, info)
+        if columns["counts"]:  # rows before the block's first frame line: the frame before
+            columns["counts"][-1][-1] += rows_before
+        if len(fr):
+            _python_frame_lines(buf, base, fr, num, val, name, frame_errors)
+            for key, column in (("starts", fr[:, 0]), ("lines", fr[:, 2]),
+                                ("counts", fr[:, 3]), ("numbers", num), ("times", val[:, 0]),
+                                ("raw_sums", val[:, 1])):
+                columns[key].append(column.copy())
+        if final:
+            break
+        buf[:n - used] = buf[used:n]
+        carry, base = n - used, base + used
+    scan = {"state": state, "info": info, "frame_errors": frame_errors}
+    for key, dtype in _COLUMNS.items():  # one column at a time: no second copy of them all
+        scan[key] = np.concatenate(columns.pop(key)) if columns[key] else np.zeros(0, dtype)
+    return scan
+
+
+def _python_frame_lines(buf, base, frames, numbers, values, name, errors):
+    """Parse the frame lines the kernel left (not plain ASCII) with the format's regexes."""
+    for k in np.flatnonzero(frames[:, 4] == 0):
+        start, end, line = frames[k, 0] - base, frames[k, 1] - base, frames[k, 2]
+        text = bytes(buf[start:end]).decode("utf-8", errors="replace")
+        match = _FRAME.match(text)
+        if match is None:
+            errors.append(ValueError(f"line {line} of {name}: {text[:60]!r}; expected "
+                                     "'Frame N' optionally followed by ', <time in s>, ...'"))
+            continue
+        number = int(match.group(1))
+        if not -2**63 <= number < 2**63:
+            errors.append(ValueError(f"line {line} of {name}: frame number {number}; expected "
+                                     "at most 2**63 - 1"))
+            continue
+        numbers[k] = number
+        if match.group(2):
+            try:
+                values[k, 0] = _float(match.group(2), f"the time in line {line} of {name}")
+            except ValueError as exc:
+                errors.append(exc)
+        raw_sum = _RAW_SUM.search(text)
+        if raw_sum:
+            values[k, 1] = float(raw_sum.group(1))
+
+
+def _float(text, where):
+    try:
+        return float(text)
+    except ValueError:
+        raise ValueError(f"{where} is {text!r}; expected a number") from None
+
+
+def line_text(f, offset, length):
+    """Return the first 60 characters of the line at byte ``offset`` (``length`` bytes)."""
+    f.seek(offset)
+    return f.read(length).decode("utf-8", errors="replace")[:60]
+
+
+def _slot(info, key):
+    line, offset, a, b = (int(v) for v in info[_INFO[key]])
+    return (line, offset, a, b) if line >= 0 else None
+
+
+def _check_structure(f, scan, first_line, rows, header, name):
+    """Terminator, lines after it, unknown lines and the frame lines; return the frames."""
+    state, info = scan["state"], scan["info"]
+    if not state[_STATE["stopped"]]:
+        raise ValueError(f"{name} ends at line {state[_STATE['line']] - 1} without the '@@' "
+                         "terminator; expected '@@' after the last frame (truncated file?)")
+    stop_line, stop_offset, length, exact = _slot(info, "terminator")
+    if not exact:
+        raise ValueError(f"line {stop_line} of {name}: "
+                         f"{line_text(f, stop_offset, length)!r}; expected '@@' (end of data)")
+    for key, message in (
+            ("after", f" after the '@@' terminator on line {stop_line}; expected the end of "
+                      "the file (one ASCII_DATA block per file)"),
+            ("other", "; expected a 'Frame N' line, a row of values or '@@'")):
+        found = _slot(info, key)
+        if found:
+            line, offset, length, _ = found
+            raise ValueError(f"line {line} of {name}: "
+                             f"{line_text(f, offset, length)!r}{message}")
+    return _frame_lines(scan, first_line, rows, header, name)
+
+
+def _frame_lines(scan, first_line, rows, header, name):
+    """Check each frame has ``rows`` rows and increasing numbers (main's ``_frame_lines``)."""
+    n_data = int(scan["state"][_STATE["n_data"]])
+    if len(scan["lines"]) == 0:
+        if n_data != rows:
+            raise ValueError(f"{name} has {n_data} rows of values and no 'Frame N' "
+                             f"line; expected {rows} rows (ROWS) for a single frame")
+        number = int(header["START_FRAME"][0]) if "START_FRAME" in header else 1
+        return (np.array([number], dtype=np.int64), np.full(1, np.nan), np.full(1, np.nan),
+                np.array([first_line]))
+    first_data = _slot(scan["info"], "first_data")
+    if first_data and first_data[0] < scan["lines"][0]:
+        raise ValueError(f"line {first_data[0]} of {name}: a row of values before "
+                         "the first 'Frame N' line; expected 'Frame N' first")
+    if scan["frame_errors"]:
+        raise scan["frame_errors"][0]
+    numbers, counts, lines = scan["numbers"], scan["counts"], scan["lines"]
+    bad = np.flatnonzero(counts != rows)
+    if bad.size:
+        k = bad[0]
+        raise ValueError(f"frame {numbers[k]} of {name} (line {lines[k]}) "
+                         f"has {counts[k]} rows of values; expected {rows} (ROWS)"
+                         + (" (truncated file?)" if k == len(numbers) - 1 else ""))
+    order = np.flatnonzero(np.diff(numbers) <= 0)
+    if order.size:
+        k = order[0] + 1
+        raise ValueError(f"line {lines[k]} of {name}: frame {numbers[k]} "
+                         f"follows frame {numbers[k - 1]}; expected increasing frame numbers")
+    return numbers, scan["times"], scan["raw_sums"], lines
+
+
+def _check_lines(f, scan, rows, cols, lines, name, whole):
+    """``_`` inside a value, lone CR, row lengths and the size, in the order of main."""
+    state, info = scan["state"], scan["info"]
+    found = _slot(info, "underscore")
+    if found:
+        line, offset, length, _ = found
+        f.seek(offset)
+        raise ValueError(f"line {line} of {name}: {f.read(length)[:60]!r} has '_' inside a "
+                         "value; expected numbers or 'B' separated by commas")
+    found = _slot(info, "lone_cr")
+    if found:
+        raise ValueError(f"line {found[0]} of {name}: a carriage return (CR) inside the "
+                         "line; expected CR only before the line feed (CRLF line ends)")
+    widest, n_data = int(state[_STATE["widest"]]), int(state[_STATE["n_data"]])
+    row_length = _slot(info, "row_length")
+    if row_length and cols > (widest + 1) // 2:
+        _raise_row_length(row_length, rows, cols, lines, scan, name)
+    if whole:
+        check_size(n_data * cols, name)
+    if row_length:
+        _raise_row_length(row_length, rows, cols, lines, scan, name)
+
+
+def _raise_row_length(found, rows, cols, lines, scan, name):
+    line, _, n_values, k = found
+    where = f"line {line} of {name}"
+    if len(scan["lines"]):
+        frame_line = lines[np.searchsorted(lines, line) - 1]
+        where = (f"row {k % rows} of the frame on line {frame_line} of {name} "
+                 f"(line {line})")
+    raise ValueError(f"{where} has {n_values} values; expected {cols} (COLS)")
+
