@@ -105,33 +105,29 @@ def calibrate(points, method="power", **options):
     (1.2, 0.004)
     """
     points = list(points)
+    if method != "zvyagin":  # resampled, if asked, by calibrate_arrays on the arrays
+        if method not in FITTERS:
+            raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
+        hist, load = points_to_arrays(points)
+        return calibrate_arrays(hist, load, point_meta(points), method=method, **options)
+    zvyagin = import_module("tactilecal.zvyagin").calibrate_zvyagin
     n_params, n_interval, seed = _pop_uncertainty(options)
-    result = _calibrate_points(points, method, options)
+    result = zvyagin(points, **options)
     if n_params or n_interval:
         hist, load = points_to_arrays(points)
-        add_uncertainty(result, lambda idx: _calibrate_points([points[k] for k in idx], method,
-                                                              options),
+        add_uncertainty(result, lambda idx: zvyagin([points[k] for k in idx], **options),
                         hist, load, n_params=n_params, n_interval=n_interval, seed=seed)
     return result
 
 
-def _calibrate_points(points, method, options):
-    """One fit of ``method`` to ``points`` (no resampling)."""
-    if method == "zvyagin":
-        return import_module("tactilecal.zvyagin").calibrate_zvyagin(points, **options)
-    if method not in FITTERS:
-        raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
-    hist, load = points_to_arrays(points)
-    return calibrate_arrays(hist, load, point_meta(points), method=method, **options)
-
-
 def _pop_uncertainty(options):
     """Take ``n_bootstrap``, ``n_interval_resamples`` and ``seed`` out of ``options``."""
-    counts = [options.pop(k, 0) for k in ("n_bootstrap", "n_interval_resamples")]
-    for key, count in zip(("n_bootstrap", "n_interval_resamples"), counts, strict=True):
+    counts = {k: options.pop(k, 0) for k in ("n_bootstrap", "n_interval_resamples")}
+    for key, count in counts.items():
         if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0:
             raise ValueError(f"{key}={count!r}; expected a whole number >= 0")
-    return int(counts[0]), int(counts[1]), options.pop("seed", 0)
+    seed = options.pop("seed", 0)
+    return int(counts["n_bootstrap"]), int(counts["n_interval_resamples"]), seed
 
 
 def add_uncertainty(result, refit, hist, load, *, n_params, n_interval, seed, level=0.95):
