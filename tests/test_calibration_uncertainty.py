@@ -55,6 +55,10 @@ def test_parameter_intervals_reach_json_and_say_when_unbounded(tmp_path):
     assert cal.options["n_bootstrap"] == 20 and "20 refits" in interval["method"]
     cal.to_json(tmp_path / "cal.json")
     assert load_calibration(tmp_path / "cal.json").details["params_interval"] == interval
+    from tactilecal.report import write_report
+
+    html = write_report([tmp_path / "cal.json"], tmp_path / "r.html").read_text()
+    assert "95 % interval" in html and f"{interval['b'][0]:.6g} .. {interval['b'][1]:.6g}" in html
     # three patches: a ninth of the resamples draw one patch thrice and cannot be fitted,
     # more than the 2.5 % tail of a 95 % interval
     clean = [p for p in _points(train) if p.saturated_cells == 0]
