@@ -22,7 +22,8 @@ import warnings
 import numpy as np
 
 from tactilecal import calibrate
-from tactilecal.calibration import PredictionInterval, points_from_frames
+from tactilecal.calibration import points_from_frames
+from tactilecal.calibration._uncertainty import PredictionInterval
 from tactilecal.simulate import FAMILY, family_sessions, true_force_table_N
 
 CANDIDATES = {

@@ -10,11 +10,11 @@ from tactilecal.calibration import (
     calibrate,
     frame_histograms,
     load_calibration,
-    make_result,
     points_from_frames,
-    points_to_arrays,
     validate,
 )
+from tactilecal.calibration._calibrate import make_result
+from tactilecal.calibration._points import points_to_arrays
 
 G = 9.80665
 AREA_5051_MM2 = 1.27 * 1.27
@@ -366,7 +366,7 @@ def test_piecewise_beats_power_on_a_kinked_law():
 
 def test_power_table_with_negative_exponent_has_no_force_at_zero_and_no_warning():
     # a 2-point fit to unlucky points can give b < 0; raw 0 must stay 0 N, not 0 ** b = inf
-    from tactilecal.calibration import force_table
+    from tactilecal.calibration._models import force_table
 
     table = force_table("power", {"A": 2.0, "b": -0.5})
     assert table[0] == 0.0 and table[4] == pytest.approx(1.0)

@@ -11,9 +11,8 @@ from tactilecal.calibration import (
     calibrate_movie,
     frame_histograms,
     header_calibration,
-    movie_points,
-    read_movie_loads,
 )
+from tactilecal.calibration._movie import movie_points, read_movie_loads
 from tactilecal.io import read_tekscan
 from tactilecal.simulate import make_sensor, ramp_hold
 

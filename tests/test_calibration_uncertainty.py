@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from tactilecal import calibrate
-from tactilecal.calibration import points_from_frames, prediction_interval, validate
+from tactilecal.calibration import points_from_frames, validate
+from tactilecal.calibration._uncertainty import prediction_interval
 from tactilecal.simulate import family_sessions
 
 

@@ -7,7 +7,8 @@ import pytest
 from tactilecal.calibration import calibrate, load_calibration, points_from_frames
 from tactilecal.cli import main
 from tactilecal.simulate import deadweight_session, make_sensor
-from tactilecal.zvyagin import as_zvyagin_result, compare_table, plot_pair_chart
+from tactilecal.zvyagin import compare_table, plot_pair_chart
+from tactilecal.zvyagin._plots import as_zvyagin_result
 
 
 @pytest.fixture(scope="module")

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from tactilecal.cli import main
-from tactilecal.demo import BUNDLE, bundle_path, make_bundle
+from tactilecal.demo import bundle_path
+from tactilecal.demo._bundle import BUNDLE, make_bundle
 from tactilecal.io import read_tekscan
 
 

@@ -4,15 +4,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tactilecal.dynamic import (
-    CorrectionFilter,
-    compare_filters,
-    prototype_frequency_hz,
-    row_mean,
-    to_prototype,
-    water_head_factor,
-    water_head_pressure_kPa,
-)
+from tactilecal.dynamic import CorrectionFilter, compare_filters, row_mean, water_head_factor
+from tactilecal.geotech import hydrostatic_pressure_kPa, prototype_frequency_hz, to_prototype
 from tactilecal.simulate import sine_sweep
 
 
@@ -38,7 +31,7 @@ def test_row_mean_skips_nan_and_non_working():
 
 
 def test_water_head_static_calibration_thesis_numbers():
-    p = water_head_pressure_kPa(0.070, 77.0)
+    p = hydrostatic_pressure_kPa(0.070, 77.0)
     assert p == pytest.approx(1000 * 9.80665 * 77 * 0.070 / 1000)
     rec = row_mean(_rec(), 2)
     factor = water_head_factor(rec, 0.070, 77.0)
@@ -78,8 +71,8 @@ def test_centrifuge_errors():
     all_nan[:, 4, :] = np.nan
     with pytest.raises(ValueError, match="row 4 has no working, non-NaN sensel"):
         row_mean(all_nan, 4)
-    with pytest.raises(ValueError, match="expected head >= 0, g-level > 0"):
-        water_head_pressure_kPa(0.07, 0.0)
+    with pytest.raises(ValueError, match="g_level is 0.0; expected finite values > 0"):
+        water_head_factor(row_mean(rec, 2), 0.07, 0.0)
     with pytest.raises(ValueError, match="expected a loaded, non-empty stretch"):
         water_head_factor(row_mean(rec, 2), 0.07, 77, window_s=(5.0, 6.0))
     with pytest.raises(ValueError, match="g_level=-1; expected > 0"):

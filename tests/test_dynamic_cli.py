@@ -8,7 +8,8 @@ import pytest
 
 from tactilecal.cli import main
 from tactilecal.io import read_netcdf, write_netcdf
-from tactilecal.simulate import random_sine_sets, sensel_matrix, sine_sweep
+from tactilecal.simulate import random_sine_sets, sine_sweep
+from tactilecal.simulate._dynamic import sensel_matrix
 
 FAST = {"fs_sensor_hz": 1000.0, "fs_reference_hz": 1250.0, "sensor_noise_N": 0.2,
         "reference_noise_N": 0.05}

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from tactilecal.cli import main
-from tactilecal.dynamic import RationalModel, complex_r2, fit_filter, load_filter
+from tactilecal.dynamic import RationalModel, fit_filter, load_filter
+from tactilecal.dynamic._fit import complex_r2
 from tactilecal.simulate import sine_sweep, through_response
 
 FAST = {"step_hz": 2, "cycles_high": 10, "fs_sensor_hz": 1000.0, "fs_reference_hz": 1250.0,

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from tactilecal.io import G_STANDARD, read_timeseries, unit_from_column
+from tactilecal._units import G_STANDARD, unit_from_column
+from tactilecal.io import read_timeseries
 
 LBF_N = 0.45359237 * G_STANDARD
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from tactilecal.io import (
+from tactilecal._units import (
     G_STANDARD,
     area_to_mm2,
     force_to_N,

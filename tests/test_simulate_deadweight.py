@@ -5,12 +5,9 @@ import re
 import numpy as np
 import pytest
 
-from tactilecal.simulate import (
-    PAD_MASS_G,
-    DeadweightSession,
-    deadweight_session,
-    make_sensor,
-)
+from tactilecal.simulate import deadweight_session, make_sensor
+from tactilecal.simulate._deadweight import DeadweightSession
+from tactilecal.simulate._loads import PAD_MASS_G
 
 G = 9.80665
 

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from tactilecal.simulate import SimulatedSensor, make_sensor, sensor_geometry
+from tactilecal.simulate import make_sensor, sensor_geometry
+from tactilecal.simulate._sensor import SimulatedSensor
 
 ATTRS = ("sensor_type", "units", "row_spacing_mm", "col_spacing_mm", "sensel_area_mm2",
          "seconds_per_frame", "noise_threshold", "source")

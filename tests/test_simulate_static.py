@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from tactilecal.simulate import make_sensor, ramp_hold, ramp_hold_profile, uniform_load
+from tactilecal.simulate import make_sensor, ramp_hold, uniform_load
+from tactilecal.simulate._static import ramp_hold_profile
 
 LBF_N = 4.4482216152605
 

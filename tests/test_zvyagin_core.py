@@ -5,20 +5,16 @@ import itertools
 import numpy as np
 import pytest
 
-from tactilecal.zvyagin import (
+from tactilecal.zvyagin import fit_power_law, minimise_energy, search_separation, solve_pairs
+from tactilecal.zvyagin._approx import (
     CLASS_VALUES,
     approximate_raw_sums,
     class_counts,
-    energy,
-    fit_power_law,
-    minimise_energy,
     patch_discrepancy,
-    polynomial_roots,
-    quartic_coefficients,
-    search_separation,
     separation_domain,
-    solve_pairs,
 )
+from tactilecal.zvyagin._fit import energy
+from tactilecal.zvyagin._pairs import polynomial_roots, quartic_coefficients
 from tactilecal.zvyagin._synthetic import synthetic_patches
 
 

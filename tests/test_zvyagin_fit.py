@@ -8,15 +8,9 @@ import pytest
 
 import tactilecal
 from tactilecal.calibration import load_calibration, points_from_frames
-from tactilecal.zvyagin import (
-    SENSEL_AREA_5051_MM2,
-    ZvyaginResult,
-    calibrate_zvyagin,
-    load_groups,
-    patch_power_sums,
-    saturation_pressure_MPa,
-    zvyagin_fit,
-)
+from tactilecal.zvyagin import ZvyaginResult, calibrate_zvyagin, zvyagin_fit
+from tactilecal.zvyagin._calibrate import SENSEL_AREA_5051_MM2, load_groups
+from tactilecal.zvyagin._fit import patch_power_sums, saturation_pressure_MPa
 from tactilecal.zvyagin._synthetic import synthetic_patches
 
 # Table 2 of Zvyagin (2022) as printed in the source: A0 (as printed), b0, p_s (MPa).

@@ -7,10 +7,10 @@ needs ``calibration=`` (a CalibrationResult or the path of its JSON). Results ar
 vectorised over frames and carry the ``time`` coordinate.
 """
 
+from tactilecal._deprecated import moved_names
 from tactilecal.analysis._maps import (
     centre_of_force,
     contact_area,
-    loaded_mask,
     mean_pressure,
     peak_pressure,
     summary,
@@ -31,33 +31,20 @@ from tactilecal.analysis._regions import (
     row_profile,
     select_region,
 )
-from tactilecal.analysis._time import CreepResult, HysteresisResult, creep, hysteresis
+from tactilecal.analysis._time import creep, hysteresis
 from tactilecal.analysis._units import force_map_N, pressure_map_kPa, saturated_sensels
 
 __all__ = [
-    "CreepResult",
-    "HysteresisResult",
-    "centre_of_force",
-    "column_profile",
-    "contact_area",
-    "creep",
-    "force_map_N",
-    "high_pressure_zones",
-    "hysteresis",
-    "label_zones",
-    "loaded_mask",
-    "max_window_load",
-    "mean_pressure",
-    "peak_frame",
-    "peak_pressure",
-    "plot_cof_path",
-    "plot_force_time",
-    "plot_pressure_map",
-    "plot_profiles",
-    "pressure_map_kPa",
-    "row_profile",
-    "saturated_sensels",
-    "select_region",
-    "summary",
-    "total_force",
+    "total_force", "contact_area", "centre_of_force", "peak_pressure", "mean_pressure",
+    "summary", "pressure_map_kPa", "force_map_N", "saturated_sensels",
+    "row_profile", "column_profile", "select_region", "high_pressure_zones", "label_zones",
+    "max_window_load", "peak_frame",
+    "creep", "hysteresis",
+    "plot_pressure_map", "plot_force_time", "plot_cof_path", "plot_profiles",
 ]
+
+__getattr__ = moved_names(__name__, {
+    "CreepResult": ("_time", "CreepResult", "creep() returns it"),
+    "HysteresisResult": ("_time", "HysteresisResult", "hysteresis() returns it"),
+    "loaded_mask": ("_maps", "loaded_mask", "use pressure_map_kPa(recording) > threshold"),
+})

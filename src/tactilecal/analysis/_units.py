@@ -22,7 +22,7 @@ def _name(recording):
 
 def _units(recording):
     """Return ``(unit, kind)`` of a recording: kind is raw, pressure or force."""
-    from tactilecal.io import normalise_unit, unit_kind
+    from tactilecal._units import normalise_unit, unit_kind
 
     unit = recording.attrs.get("units")
     if unit is None:
@@ -50,7 +50,7 @@ def saturated_sensels(recording):
         Count per frame (int, dim ``frame``; lazy for a dask-backed recording), or None when
         the recording does not say what saturation is; and the rule as text.
     """
-    from tactilecal.io import pressure_to_kPa
+    from tactilecal._units import pressure_to_kPa
 
     unit, kind = _units(recording)
     if kind == "raw":
@@ -151,7 +151,7 @@ def force_map_N(recording, *, calibration=None):
     10.0
     """
     _check_dims(recording)
-    from tactilecal.io import force_to_N, pressure_to_kPa
+    from tactilecal._units import force_to_N, pressure_to_kPa
 
     unit, kind = _units(recording)
     if kind == "raw":
@@ -195,7 +195,7 @@ def pressure_map_kPa(recording, *, calibration=None):
     2000.0
     """
     _check_dims(recording)
-    from tactilecal.io import force_to_N, pressure_to_kPa
+    from tactilecal._units import force_to_N, pressure_to_kPa
 
     unit, kind = _units(recording)
     if kind == "raw":

@@ -7,29 +7,17 @@ uncertainty, the error on every point and a JSON round-trip (:func:`load_calibra
 See ``docs/static-calibration.md``.
 """
 
-from tactilecal.calibration._calibrate import (
-    METHODS,
-    calibrate,
-    make_result,
-    select_points,
-    validate,
-)
+from tactilecal._deprecated import moved_names
+from tactilecal.calibration._calibrate import METHODS, calibrate, validate
 from tactilecal.calibration._header import header_calibration
-from tactilecal.calibration._manifest import find_plateau, load_frames, load_points
-from tactilecal.calibration._methods import OBJECTIVES
-from tactilecal.calibration._models import MODELS, force_table, sensel_force
-from tactilecal.calibration._movie import calibrate_movie, movie_points, read_movie_loads
+from tactilecal.calibration._manifest import load_frames, load_points
+from tactilecal.calibration._movie import calibrate_movie
 from tactilecal.calibration._plots import (
     plot_calibration_curve,
     plot_error_histogram,
     plot_points,
 )
-from tactilecal.calibration._points import (
-    CalibrationPoint,
-    frame_histograms,
-    points_from_frames,
-    points_to_arrays,
-)
+from tactilecal.calibration._points import CalibrationPoint, frame_histograms, points_from_frames
 from tactilecal.calibration._result import CalibrationResult, load_calibration
 from tactilecal.calibration._sensels import (
     Equilibration,
@@ -38,16 +26,30 @@ from tactilecal.calibration._sensels import (
     find_dead_sensels,
     load_equilibration,
 )
-from tactilecal.calibration._uncertainty import PredictionInterval, prediction_interval
 
 __all__ = [
-    "Equilibration", "NonWorkingSensels", "equilibrate", "find_dead_sensels", "load_frames",
-    "load_equilibration", "header_calibration", "calibrate_movie", "movie_points",
-    "read_movie_loads",
-    "METHODS", "MODELS", "OBJECTIVES", "CalibrationPoint", "CalibrationResult", "calibrate",
-    "find_plateau", "force_table", "frame_histograms", "load_calibration", "load_points",
-    "make_result",
-    "plot_calibration_curve", "plot_error_histogram", "plot_points", "points_from_frames",
-    "points_to_arrays", "select_points", "sensel_force", "validate", "PredictionInterval",
-    "prediction_interval",
+    "calibrate", "validate", "METHODS", "CalibrationResult", "load_calibration",
+    "CalibrationPoint", "load_points", "load_frames", "points_from_frames", "frame_histograms",
+    "calibrate_movie", "header_calibration",
+    "equilibrate", "Equilibration", "load_equilibration", "find_dead_sensels",
+    "NonWorkingSensels",
+    "plot_calibration_curve", "plot_points", "plot_error_histogram",
 ]
+
+_RESULT = "use CalibrationResult.force_table() or .predict_sensel_force(raw)"
+__getattr__ = moved_names(__name__, {
+    "MODELS": ("_models", "MODELS", "the model of each method is CalibrationResult.model"),
+    "OBJECTIVES": ("_methods", "OBJECTIVES", "see calibrate()'s objective= docstring"),
+    "force_table": ("_models", "force_table", _RESULT),
+    "sensel_force": ("_models", "sensel_force", _RESULT),
+    "make_result": ("_calibrate", "make_result", "use calibrate()"),
+    "select_points": ("_calibrate", "select_points", "select the points before calibrate()"),
+    "find_plateau": ("_manifest", "find_plateau", "load_points() finds the plateau"),
+    "movie_points": ("_movie", "movie_points", "use calibrate_movie()"),
+    "read_movie_loads": ("_movie", "read_movie_loads", "use calibrate_movie()"),
+    "points_to_arrays": ("_points", "points_to_arrays", "use calibrate()"),
+    "PredictionInterval": ("_uncertainty", "PredictionInterval",
+                           "use calibrate(..., n_interval_resamples=N)"),
+    "prediction_interval": ("_uncertainty", "prediction_interval",
+                            "use calibrate(..., n_interval_resamples=N)"),
+})

@@ -2,9 +2,9 @@
 
 import numpy as np
 
+from tactilecal._units import pressure_to_kPa, unit_kind
 from tactilecal._validate import check_number
 from tactilecal.calibration._calibrate import result_from_arrays
-from tactilecal.io._units import pressure_to_kPa, unit_kind
 
 __all__ = ["header_calibration"]
 

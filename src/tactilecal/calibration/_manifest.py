@@ -99,7 +99,7 @@ def _number(text, column, where, **limits):
 
 def _row_load_N(row, where):
     """Load of one manifest row: ``load_N``, else (mass_kg + pad_mass_g / 1000) * g."""
-    from tactilecal.io import G_STANDARD
+    from tactilecal._units import G_STANDARD
 
     positive = {"minimum": 0.0, "min_inclusive": False, "maximum": _MAX_LOAD_N}
     if row.get("load_N", ""):

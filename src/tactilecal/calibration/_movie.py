@@ -49,7 +49,8 @@ def read_movie_loads(path, *, time_col=None, load_col=None):
     ValueError
         For a load column whose unit is not a force or a mass, or a non-numeric load.
     """
-    from tactilecal.io import force_to_N, mass_to_N, read_timeseries, unit_from_column, unit_kind
+    from tactilecal._units import force_to_N, mass_to_N, unit_from_column, unit_kind
+    from tactilecal.io import read_timeseries
 
     path = Path(path)
     header = pd.read_csv(path, nrows=0, encoding="utf-8-sig").columns

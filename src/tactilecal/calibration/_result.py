@@ -132,7 +132,7 @@ class CalibrationResult:
         recording : xarray.DataArray
             Raw recording in the data model (``units`` attribute ``raw``).
         units : str
-            Output unit: any pressure unit of :func:`tactilecal.io.normalise_unit` (kPa,
+            Output unit: any pressure unit of :func:`tactilecal._units.normalise_unit` (kPa,
             MPa, Pa, psi, bar, mmHg...) or a force unit (N, kN, kgf, lbf: the force on
             each sensel).
 
@@ -148,7 +148,7 @@ class CalibrationResult:
             For an unknown unit, a recording that is not raw, or a missing/inconsistent
             sensel area.
         """
-        from tactilecal.io import force_to_N, normalise_unit, pressure_to_kPa, unit_kind
+        from tactilecal._units import force_to_N, normalise_unit, pressure_to_kPa, unit_kind
 
         source = recording.attrs.get("source", "")
         units = normalise_unit(units, where="units=")

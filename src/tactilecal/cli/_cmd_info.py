@@ -87,7 +87,7 @@ def _max_raw(max_value, attrs):
         return {"max_raw": max_value, "max_raw_source": "file" if max_value is not None else None}
     if units not in ("kPa", "MPa", "Pa", "psi"):
         return {"max_raw": None, "max_raw_source": None}
-    from tactilecal.io import pressure_to_kPa
+    from tactilecal._units import pressure_to_kPa
 
     p_kPa = pressure_to_kPa(max_value, units)
     if "scale_factor" in attrs and "exponent" in attrs:

@@ -10,38 +10,37 @@ on the sensor's clock, positive when the reference record starts later. Recordin
 the data model of ``docs/data-model.md``: time along the first dimension.
 """
 
+from tactilecal._deprecated import moved_names
 from tactilecal.dynamic._align import align, estimate_lag, resample_to
 from tactilecal.dynamic._apply import apply_filter
-from tactilecal.dynamic._calibrate import (
-    Evaluation,
-    compare_filters,
-    dynamic_part,
-    evaluate,
-    fit_filter,
-    static_factor,
-)
-from tactilecal.dynamic._centrifuge import (
-    prototype_frequency_hz,
-    row_mean,
-    to_prototype,
-    water_head_factor,
-    water_head_pressure_kPa,
-)
+from tactilecal.dynamic._calibrate import compare_filters, evaluate, fit_filter, static_factor
+from tactilecal.dynamic._centrifuge import row_mean, water_head_factor
 from tactilecal.dynamic._filter import CorrectionFilter, load_filter
-from tactilecal.dynamic._fit import MODELS, TransferFit, complex_r2, fit_transfer, model_gain
+from tactilecal.dynamic._fit import fit_transfer
 from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
 from tactilecal.dynamic._rational import RationalModel
-from tactilecal.dynamic._transfer import TransferFunction, transfer_function
+from tactilecal.dynamic._transfer import transfer_function
 
 __all__ = [
     "align", "estimate_lag", "resample_to",
-    "TransferFunction", "transfer_function",
-    "MODELS", "TransferFit", "fit_transfer", "model_gain", "complex_r2", "RationalModel",
-    "CorrectionFilter", "load_filter",
-    "apply_filter",
-    "fit_filter", "evaluate", "Evaluation", "compare_filters", "static_factor",
-    "dynamic_part",
-    "row_mean", "water_head_pressure_kPa", "water_head_factor", "to_prototype",
-    "prototype_frequency_hz",
+    "transfer_function", "fit_transfer", "RationalModel",
+    "fit_filter", "CorrectionFilter", "load_filter", "apply_filter",
+    "evaluate", "compare_filters", "static_factor",
+    "row_mean", "water_head_factor",
     "plot_transfer", "plot_time", "plot_spectra", "plot_error",
 ]
+
+__getattr__ = moved_names(__name__, {
+    "MODELS": ("_fit", "MODELS", "fit_transfer()'s docstring lists the models"),
+    "TransferFunction": ("_transfer", "TransferFunction", "transfer_function() returns it"),
+    "TransferFit": ("_fit", "TransferFit", "fit_transfer() returns it"),
+    "Evaluation": ("_calibrate", "Evaluation", "evaluate() returns it"),
+    "model_gain": ("_fit", "model_gain", "use TransferFit.gain(f_hz)"),
+    "complex_r2": ("_fit", "complex_r2", "fit_transfer() reports r2_complex"),
+    "dynamic_part": ("_calibrate", "dynamic_part", "use fit_filter()"),
+    "water_head_pressure_kPa": ("_centrifuge", "water_head_pressure_kPa",
+                                "use tactilecal.geotech.hydrostatic_pressure_kPa"),
+    "to_prototype": ("tactilecal.geotech", "to_prototype", "use tactilecal.geotech.to_prototype"),
+    "prototype_frequency_hz": ("tactilecal.geotech", "prototype_frequency_hz",
+                               "use tactilecal.geotech.prototype_frequency_hz"),
+})

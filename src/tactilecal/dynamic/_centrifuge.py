@@ -2,15 +2,16 @@
 
 The sensel row at a pore-pressure transducer's elevation is averaged (non-working sensels
 left out), the sensor is calibrated statically from the water head above it at the
-g-level, and model records are converted to prototype scale (time x N, frequency / N,
-pressure unchanged).
+g-level (:func:`tactilecal.geotech.hydrostatic_pressure_kPa`); model records go to prototype
+scale with :func:`tactilecal.geotech.to_prototype`.
 """
 
 import numpy as np
 import xarray as xr
 
-__all__ = ["row_mean", "water_head_pressure_kPa", "water_head_factor", "to_prototype",
-           "prototype_frequency_hz", "RHO_WATER_KG_M3"]
+from tactilecal.geotech import hydrostatic_pressure_kPa
+
+__all__ = ["row_mean", "water_head_factor", "RHO_WATER_KG_M3"]
 
 #: Density of water used by default (kg/m3).
 RHO_WATER_KG_M3 = 1000.0
@@ -74,32 +75,8 @@ def row_mean(recording, row, *, working=None):
 
 
 def water_head_pressure_kPa(head_m, g_level, *, rho_kg_m3=RHO_WATER_KG_M3):
-    """Hydrostatic pressure ``p = rho_w g N h`` in kPa (Gillis 2013, 4.4.2).
-
-    Parameters
-    ----------
-    head_m : float
-        Height of water above the sensel row (m); 0.070 m in the thesis.
-    g_level : float
-        Centrifugal acceleration as a multiple ``N`` of g (9.80665 m/s2).
-    rho_kg_m3 : float
-        Water density.
-
-    Returns
-    -------
-    float
-
-    Examples
-    --------
-    >>> round(water_head_pressure_kPa(0.070, 77.0), 2)
-    52.86
-    """
-    from tactilecal.io import G_STANDARD
-
-    if head_m < 0 or g_level <= 0 or rho_kg_m3 <= 0:
-        raise ValueError(f"head_m={head_m}, g_level={g_level}, rho_kg_m3={rho_kg_m3}; "
-                         "expected head >= 0, g-level > 0, density > 0")
-    return rho_kg_m3 * G_STANDARD * g_level * head_m / 1000.0
+    """Return the water-head pressure in kPa (deprecated: use geotech.hydrostatic_pressure_kPa)."""
+    return float(hydrostatic_pressure_kPa(head_m, g_level, density_kg_m3=rho_kg_m3))
 
 
 def water_head_factor(record, head_m, g_level, *, rho_kg_m3=RHO_WATER_KG_M3, window_s=None):
@@ -113,7 +90,8 @@ def water_head_factor(record, head_m, g_level, *, rho_kg_m3=RHO_WATER_KG_M3, win
     record : xarray.DataArray
         1-D with a ``time`` coordinate (e.g. from :func:`row_mean`, in raw units).
     head_m, g_level, rho_kg_m3
-        See :func:`water_head_pressure_kPa`.
+        Water head above the row (m), g-level ``N`` and water density (kg/m3): the
+        pressure is :func:`tactilecal.geotech.hydrostatic_pressure_kPa`.
     window_s : tuple of float, optional
         ``(start, stop)`` in s.
 
@@ -137,46 +115,4 @@ def water_head_factor(record, head_m, g_level, *, rho_kg_m3=RHO_WATER_KG_M3, win
     if not np.isfinite(mean) or mean == 0:
         raise ValueError(f"{record.attrs.get('source', 'record')}: mean reading {mean} over "
                          f"window_s={window_s}; expected a loaded, non-empty stretch")
-    return water_head_pressure_kPa(head_m, g_level, rho_kg_m3=rho_kg_m3) / mean
-
-
-def prototype_frequency_hz(f_model_hz, g_level):
-    """Prototype frequency ``f / N`` of a model frequency (centrifuge scaling).
-
-    Examples
-    --------
-    >>> prototype_frequency_hz(1400.0, 70.0)
-    20.0
-    """
-    return np.asarray(f_model_hz, float) / g_level if np.ndim(f_model_hz) else (
-        float(f_model_hz) / g_level)
-
-
-def to_prototype(record, g_level):
-    """Convert a model-scale record to prototype scale: time x N (pressures unchanged).
-
-    Parameters
-    ----------
-    record : xarray.DataArray
-        With a ``time`` coordinate (s).
-    g_level : float
-        ``N``.
-
-    Returns
-    -------
-    xarray.DataArray
-        Same values, ``time`` multiplied by ``N``, attrs ``g_level`` and
-        ``scale = "prototype"``.
-
-    Examples
-    --------
-    >>> import xarray as xr
-    >>> rec = xr.DataArray([1.0, 2.0], dims="time", coords={"time": [0.0, 0.01]})
-    >>> to_prototype(rec, 50).time.values.tolist()
-    [0.0, 0.5]
-    """
-    if g_level <= 0:
-        raise ValueError(f"g_level={g_level}; expected > 0")
-    out = record.assign_coords(time=record["time"] * float(g_level))
-    out.attrs = {**record.attrs, "g_level": float(g_level), "scale": "prototype"}
-    return out
+    return float(hydrostatic_pressure_kPa(head_m, g_level, density_kg_m3=rho_kg_m3)) / mean

@@ -4,6 +4,7 @@ Model-scale inputs (depth in model metres, g-level N); see the module notes of e
 for the source equation (Gillis 2013, sections 4.4.2, 5.4 and 5.7).
 """
 
+from tactilecal.geotech._centrifuge import prototype_frequency_hz, to_prototype
 from tactilecal.geotech._plots import plot_earth_pressure_profile
 from tactilecal.geotech._soil import (
     at_rest_pressure_kPa,
@@ -16,6 +17,8 @@ from tactilecal.geotech._soil import (
 )
 
 __all__ = [
+    "to_prototype",
+    "prototype_frequency_hz",
     "at_rest_pressure_kPa",
     "dry_unit_weight_kN_m3",
     "hydrostatic_pressure_kPa",

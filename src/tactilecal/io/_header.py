@@ -6,8 +6,7 @@ The header is parsed into the attributes of ``docs/data-model.md``: every line v
 
 import re
 
-from tactilecal._validate import check_number
-from tactilecal.io._units import (
+from tactilecal._units import (
     area_to_mm2,
     force_to_N,
     length_to_mm,
@@ -16,6 +15,7 @@ from tactilecal.io._units import (
     pressure_to_kPa,
     unit_kind,
 )
+from tactilecal._validate import check_number
 
 _KEY = re.compile(r"([A-Za-z][A-Za-z0-9_]*)(:?)(?:[ \t]+(.*))?$")
 _UPPER_KEY = re.compile(r"[A-Z][A-Z0-9_]*:?(?:[ \t]|$)")

@@ -3,8 +3,8 @@
 import numpy as np
 
 from tactilecal._atomic import atomic_path
+from tactilecal._units import area_to_mm2, length_to_mm, normalise_unit
 from tactilecal.io._header import _UPPER_KEY, parse_header_lines
-from tactilecal.io._units import area_to_mm2, length_to_mm, normalise_unit
 
 __all__ = ["write_tekscan"]
 

@@ -8,42 +8,17 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from tactilecal._validate import csv_rows, read_text
-from tactilecal.io._units import (
+from tactilecal._units import (
     force_to_N,
     mass_to_N,
-    normalise_unit,
     pressure_to_kPa,
     time_to_s,
+    unit_from_column,
     unit_kind,
 )
+from tactilecal._validate import csv_rows, read_text
 
-__all__ = ["read_timeseries", "unit_from_column"]
-
-_HINT = re.compile(r"[\(\[]\s*([^\)\]]*?)\s*[\)\]]\s*$")
-
-
-def unit_from_column(column, *, where="column name"):
-    """Return the canonical unit hinted at the end of a column name, or None.
-
-    ``"Load (lbf)"`` -> ``"lbf"``, ``"Force [kN]"`` -> ``"kN"``, ``"Time (ms)"`` -> ``"ms"``,
-    ``"force"`` -> None.
-
-    Raises
-    ------
-    ValueError
-        If the brackets hold an unknown unit.
-
-    Examples
-    --------
-    >>> unit_from_column("Load (lbf)"), unit_from_column("Force [kN]"), unit_from_column("t")
-    ('lbf', 'kN', None)
-    """
-    match = _HINT.search(str(column))
-    if match is None:
-        return None
-    return normalise_unit(match.group(1), where=where)
-
+__all__ = ["read_timeseries"]
 
 def _pick(columns, choice, default, role, name):
     if choice is None:

@@ -1,13 +1,16 @@
 """Sensor catalogue: Tekscan models (5051, 5101, 9500, 6900, 4010N, F-Scan) and custom matrices."""
 
+from tactilecal._deprecated import moved_names
 from tactilecal.sensors._catalogue import (
     CATALOGUE,
-    SensorMatch,
     SensorModel,
     custom_sensor,
     get_sensor,
     match_sensor,
 )
 
-__all__ = ["CATALOGUE", "SensorMatch", "SensorModel", "custom_sensor", "get_sensor",
-           "match_sensor"]
+__all__ = ["CATALOGUE", "SensorModel", "custom_sensor", "get_sensor", "match_sensor"]
+
+__getattr__ = moved_names(__name__, {
+    "SensorMatch": ("_catalogue", "SensorMatch", "match_sensor() returns it"),
+})

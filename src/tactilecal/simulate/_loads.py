@@ -4,7 +4,7 @@ import numpy as np
 from scipy.ndimage import gaussian_filter
 from scipy.optimize import brentq
 
-from tactilecal.io import G_STANDARD
+from tactilecal._units import G_STANDARD
 
 __all__ = ["G_STANDARD", "PAD_MASS_G", "smooth_field", "winkler_contact", "block_sum"]
 

@@ -11,73 +11,48 @@ from calibration points and returns a :class:`tactilecal.calibration.Calibration
 See ``docs/zvyagin.md`` for the choices the paper leaves open.
 """
 
-from tactilecal.zvyagin._approx import (
-    CLASS_VALUES,
-    approximate_raw_sums,
-    class_counts,
-    loaded_cells,
-    patch_discrepancy,
-    raw_sums,
-    search_separation,
-    separation_domain,
-)
-from tactilecal.zvyagin._calibrate import MODES, SENSEL_AREA_5051_MM2, load_groups, zvyagin_fit
-from tactilecal.zvyagin._compare import compare_table, format_compare_table, plot_compare
-from tactilecal.zvyagin._fit import (
-    energy,
-    fit_power_law,
-    minimise_energy,
-    patch_power_sums,
-    saturation_pressure_MPa,
-)
-from tactilecal.zvyagin._pairs import polynomial_roots, quartic_coefficients, solve_pairs
+from tactilecal._deprecated import moved_names
+from tactilecal.zvyagin._approx import search_separation
+from tactilecal.zvyagin._calibrate import MODES, zvyagin_fit
+from tactilecal.zvyagin._compare import compare_table, plot_compare
+from tactilecal.zvyagin._fit import fit_power_law, minimise_energy
+from tactilecal.zvyagin._pairs import solve_pairs
 from tactilecal.zvyagin._plots import (
-    as_zvyagin_result,
     plot_ab_scatter,
     plot_calibration_curves,
     plot_d_map,
     plot_energy,
-    plot_error_histogram,
     plot_pair_chart,
+    plot_patch_errors,
     save_figures,
 )
-from tactilecal.zvyagin._points_api import OPTIONS, calibrate_zvyagin
-from tactilecal.zvyagin._result import PAIR_CATEGORIES, ZvyaginResult
+from tactilecal.zvyagin._points_api import calibrate_zvyagin
+from tactilecal.zvyagin._result import ZvyaginResult
 
 __all__ = [
-    "plot_compare",
-    "format_compare_table",
-    "compare_table",
-    "save_figures",
-    "plot_pair_chart",
-    "plot_error_histogram",
-    "plot_energy",
-    "plot_d_map",
-    "plot_calibration_curves",
-    "plot_ab_scatter",
-    "as_zvyagin_result",
-    "CLASS_VALUES",
-    "MODES",
-    "OPTIONS",
-    "PAIR_CATEGORIES",
-    "SENSEL_AREA_5051_MM2",
-    "ZvyaginResult",
-    "approximate_raw_sums",
-    "calibrate_zvyagin",
-    "class_counts",
-    "energy",
-    "fit_power_law",
-    "load_groups",
-    "loaded_cells",
-    "minimise_energy",
-    "patch_discrepancy",
-    "patch_power_sums",
-    "polynomial_roots",
-    "quartic_coefficients",
-    "raw_sums",
-    "saturation_pressure_MPa",
-    "search_separation",
-    "separation_domain",
-    "solve_pairs",
-    "zvyagin_fit",
+    "zvyagin_fit", "ZvyaginResult", "MODES", "calibrate_zvyagin",
+    "search_separation", "solve_pairs", "fit_power_law", "minimise_energy",
+    "plot_d_map", "plot_pair_chart", "plot_ab_scatter", "plot_calibration_curves",
+    "plot_patch_errors", "plot_energy", "save_figures",
+    "compare_table", "plot_compare",
 ]
+
+_STEP = "an internal of the paper's steps; zvyagin_fit() keeps every intermediate"
+__getattr__ = moved_names(__name__, {
+    **{name: ("_approx", name, _STEP)
+       for name in ("CLASS_VALUES", "approximate_raw_sums", "class_counts", "loaded_cells",
+                    "patch_discrepancy", "raw_sums", "separation_domain")},
+    **{name: ("_fit", name, _STEP)
+       for name in ("energy", "patch_power_sums", "saturation_pressure_MPa")},
+    **{name: ("_pairs", name, _STEP) for name in ("polynomial_roots", "quartic_coefficients")},
+    "load_groups": ("_calibrate", "load_groups", _STEP),
+    "SENSEL_AREA_5051_MM2": ("_calibrate", "SENSEL_AREA_5051_MM2",
+                             "use tactilecal.sensors.get_sensor('5051').sensel_area_mm2"),
+    "OPTIONS": ("_points_api", "OPTIONS", "see calibrate()'s docstring"),
+    "PAIR_CATEGORIES": ("_result", "PAIR_CATEGORIES", "see ZvyaginResult's docstring"),
+    "format_compare_table": ("_compare", "format_compare_table", "print compare_table()"),
+    "as_zvyagin_result": ("_plots", "as_zvyagin_result", "the plots accept a "
+                          "CalibrationResult of method 'zvyagin' directly"),
+    "plot_error_histogram": ("_plots", "plot_patch_errors", "renamed plot_patch_errors (it "
+                             "clashed with tactilecal.calibration.plot_error_histogram)"),
+})

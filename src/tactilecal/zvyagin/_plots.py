@@ -10,7 +10,7 @@ from tactilecal._atomic import atomic_path
 from tactilecal.zvyagin._result import ZvyaginResult
 
 __all__ = ["as_zvyagin_result", "plot_d_map", "plot_pair_chart", "plot_ab_scatter",
-           "plot_calibration_curves", "plot_error_histogram", "plot_energy", "save_figures"]
+           "plot_calibration_curves", "plot_patch_errors", "plot_energy", "save_figures"]
 
 #: colours of the pair chart (Figure 8): valid green, outlier cyan, 10% rule orange
 PAIR_COLOURS = {"V": "#2ca02c", "O": "#17becf", "R": "#ff7f0e", "N": "#ffffff",
@@ -174,7 +174,7 @@ def plot_calibration_curves(result, ax=None):
     return ax
 
 
-def plot_error_histogram(result, ax=None):
+def plot_patch_errors(result, ax=None):
     """Figure 11: per-patch discrepancy (%) between calibrated and applied load, by weight.
 
     Returns
@@ -217,7 +217,7 @@ def plot_energy(result, ax=None):
 
 FIGURES = {"zvyagin_d_map": plot_d_map, "zvyagin_pairs": plot_pair_chart,
            "zvyagin_ab": plot_ab_scatter, "zvyagin_curves": plot_calibration_curves,
-           "zvyagin_errors": plot_error_histogram, "zvyagin_energy": plot_energy}
+           "zvyagin_errors": plot_patch_errors, "zvyagin_energy": plot_energy}
 
 
 def save_figures(result, outdir, *, dpi=120):

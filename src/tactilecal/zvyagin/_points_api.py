@@ -97,7 +97,8 @@ def calibrate_zvyagin(points, **options):
     >>> cal.method, cal.model, sorted(cal.params)
     ('zvyagin', 'power', ['A', 'b'])
     """
-    from tactilecal.calibration import make_result, points_to_arrays
+    from tactilecal.calibration._calibrate import make_result
+    from tactilecal.calibration._points import points_to_arrays
 
     unknown = sorted(set(options) - set(OPTIONS))
     if unknown:

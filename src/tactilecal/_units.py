@@ -8,7 +8,8 @@ Conversion factors are exact by definition (NIST SP 811, appendix B): 1 in = 25.
 import re
 
 __all__ = ["G_STANDARD", "normalise_unit", "length_to_mm", "area_to_mm2", "force_to_N",
-           "mass_to_N", "pressure_to_kPa", "time_to_s", "unit_kind"]
+           "mass_to_N", "pressure_to_kPa", "time_to_s", "unit_kind",
+           "unit_from_column"]
 
 G_STANDARD = 9.80665
 """Standard acceleration of gravity in m/s2 (exact, CGPM 1901)."""
@@ -179,3 +180,28 @@ def time_to_s(value, unit):
     0.25
     """
     return _convert(value, unit, ("time",), "s")
+
+
+_HINT = re.compile(r"[\(\[]\s*([^\)\]]*?)\s*[\)\]]\s*$")
+
+
+def unit_from_column(column, *, where="column name"):
+    """Return the canonical unit hinted at the end of a column name, or None.
+
+    ``"Load (lbf)"`` -> ``"lbf"``, ``"Force [kN]"`` -> ``"kN"``, ``"Time (ms)"`` -> ``"ms"``,
+    ``"force"`` -> None.
+
+    Raises
+    ------
+    ValueError
+        If the brackets hold an unknown unit.
+
+    Examples
+    --------
+    >>> unit_from_column("Load (lbf)"), unit_from_column("Force [kN]"), unit_from_column("t")
+    ('lbf', 'kN', None)
+    """
+    match = _HINT.search(str(column))
+    if match is None:
+        return None
+    return normalise_unit(match.group(1), where=where)
