@@ -167,3 +167,38 @@ def test_summary_matches_the_single_functions():
     assert np.isnan(s.mean_kPa[2]) and np.isnan(s.cof_row_mm[2])
     with pytest.raises(ValueError, match=r"threshold_kPa is -2.0; expected a finite value >= 0"):
         analysis.summary(rec, threshold_kPa=-2.0)
+
+
+def test_centre_of_force_leaves_out_frames_below_a_minimum_force():
+    rec = moving_patch()
+    force = analysis.total_force(rec).values  # 3.6, 7.2, 10.8, 14.4, 18.0, 0 N
+    cof = analysis.centre_of_force(rec, min_force_N=10.0)
+    kept = np.isfinite(cof.cof_row_mm.values)
+    np.testing.assert_array_equal(kept, force > 10.0)
+    np.testing.assert_allclose(cof.cof_row_mm[kept], (np.arange(5)[force[:5] > 10] + 1) * ROW_MM)
+    s = analysis.summary(rec, cof_min_force_N=10.0)
+    np.testing.assert_array_equal(np.isfinite(s.cof_col_mm.values), force > 10.0)
+    assert s.attrs["cof_min_force_N"] == 10.0
+    with pytest.raises(ValueError, match=r"min_force_N is -1.0; expected a finite value >= 0"):
+        analysis.centre_of_force(rec, min_force_N=-1.0)
+    with pytest.raises(ValueError, match=r"cof_min_force_N is nan; expected a finite value"):
+        analysis.summary(rec, cof_min_force_N=float("nan"))
+
+
+def test_cof_path_and_peak_map_figures():
+    rec = moving_patch()
+    s = analysis.summary(rec)
+    # default threshold 5 % of the 18 N peak: the 5 loaded frames of 6
+    ax = analysis.plot_cof_path(s)
+    assert ax.get_title() == "5 of 6 frames with force >= 0.9 N"
+    assert analysis.plot_cof_path(s, min_force_N=10.0).get_title() == (
+        "3 of 6 frames with force >= 10 N")
+    peak = analysis.plot_pressure_map(rec)
+    shown = peak.images[0].get_array()
+    # row r is loaded in frames k = r-2..r at 50 (k + 1) kPa: its peak is 50 (min(r, 4) + 1)
+    expected = 50.0 * (np.minimum(np.arange(7), 4) + 1)
+    np.testing.assert_allclose(shown[:7, 2:6], np.repeat(expected[:, None], 4, axis=1))
+    assert np.nanmax(shown[7:]) == 0.0 and peak.get_title() == "peak over all frames"
+    raw = rec.fillna(0.0).clip(max=255).assign_attrs(units="raw")
+    raw_map = analysis.plot_pressure_map(raw)
+    assert raw_map.images[0].colorbar.ax.get_ylabel() == "raw reading"

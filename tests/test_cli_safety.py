@@ -158,6 +158,19 @@ def test_report_of_a_saturated_recording_says_its_forces_are_lower_bounds(sessio
     assert "4 of 4 frames hold sensels at saturation" in out.read_text()
 
 
+def test_report_cof_threshold_flag(session, tmp_path, capsys):
+    _, cal = session
+    rec = _raw_recording(tmp_path / "r.csv", 40)
+    out = tmp_path / "r.html"
+    assert main(["-q", "report", str(rec), str(cal), "--out", str(out),
+                 "--cof-min-force-n", "1.5"]) == 0
+    assert "<td>centre of force drawn where force &gt;= [N]</td><td>1.5</td>" in out.read_text()
+    out.unlink()
+    assert main(["-q", "report", str(rec), "--out", str(out), "--cof-min-force-n", "-1"]) == 1
+    assert not out.exists()
+    assert "--cof-min-force-n: '-1'; expected a finite number >= 0" in capsys.readouterr().err
+
+
 def test_library_warnings_are_one_line_naming_the_command(tmp_path, capsys):
     folder = tmp_path / "one"
     assert main(["-q", "simulate", "deadweight", str(folder), "--patches", "6"]) == 0

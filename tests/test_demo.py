@@ -2,6 +2,7 @@
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -65,6 +66,13 @@ def test_demo_runs_end_to_end_and_recovers_the_truth(tmp_path, capsys):
     assert dyn["blind_improvement"] >= 3.0
     html = (out / "report.html").read_text()
     assert html.count("<img") >= 5 and "data:image/png;base64," in html
+    # every calibration the demo made is in the report, compared with held-out errors
+    comparison = html[html.index("<h2>Method comparison</h2>"):html.index("<h2>Calibration")]
+    for method in by_method:
+        row = re.search(rf"<tr><td>{method}.json</td><td>{method}</td>.*?</tr>", comparison)
+        held_out = by_method[method]["median_abs_error_pct"]
+        assert row and f"<td>{held_out:.6g}</td>" in row.group(0), method
+    assert "Blind test of a dynamic filter: blind-test.json" in html
     for method in by_method:
         assert (out / "calibrations" / f"{method}.json").is_file()
         assert (out / "validation" / f"{method}.json").is_file()

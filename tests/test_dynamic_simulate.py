@@ -54,3 +54,18 @@ def test_sensel_matrix_sums_to_the_sensor_force():
 def test_bad_log_base():
     with pytest.raises(ValueError, match="log_base='2'; expected 'e' or '10'"):
         sine_sweep(f_stop_hz=3, log_base="2")
+
+
+def test_written_sweep_fits_to_its_truth_from_the_command_line(tmp_path):
+    import json
+
+    from tactilecal.cli import main
+
+    paths = sine_sweep(f_stop_hz=40, seed=2).write(tmp_path / "sweep")
+    truth = json.loads(paths["truth"].read_text())
+    assert main(["-q", "dynamic", "fit", str(paths["sensor"]), str(paths["reference"]),
+                 "--model", "log10", "--out", str(tmp_path / "F.json")]) == 0
+    fitted = json.loads((tmp_path / "F.json").read_text())
+    assert fitted["A"] == pytest.approx(truth["A"], rel=0.05)
+    assert fitted["lag_s"] == pytest.approx(truth["lag_s"], abs=1e-3)
+    assert truth["sets"]["f_hz"] == list(np.arange(1.0, 41.0))

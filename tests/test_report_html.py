@@ -1,6 +1,8 @@
 """The HTML report: sections, embedded figures, provenance, errors, headless Chromium."""
 
+import base64
 import hashlib
+import os
 import re
 import shutil
 import subprocess
@@ -44,7 +46,14 @@ def report(files):
 
 
 def images(text):
-    return re.findall(r'<img alt="([^"]*)" src="([^"]*)"', text)
+    return re.findall(r'<img alt="([^"]*)" width="\d+" src="([^"]*)"', text)
+
+
+def png_width(src):
+    """Pixel width of a base64 PNG data URI (IHDR, bytes 16-20)."""
+    data = base64.b64decode(src.split(",", 1)[1])
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    return int.from_bytes(data[16:20], "big")
 
 
 def test_calibration_filter_and_raw_recording(files, report):
@@ -84,10 +93,60 @@ def test_peak_force_number_is_the_calibrated_peak(files, session, report):
     assert f"<td>peak total force [N]</td><td>{peak:.6g}</td>" in text
 
 
-def test_raw_recording_without_calibration_says_so(session, tmp_path):
-    text = build_report([session.recording(0)])
+def test_raw_recording_without_calibration_is_shown_in_raw_readings(session):
+    recording = session.recording(0)
+    text = build_report([recording])
     assert "holds raw readings and no calibration was given" in text
-    assert images(text) == []
+    captions = [alt for alt, _ in images(text)]
+    assert captions == ["DataArray in memory: sum of raw readings and loaded area against "
+                        "time", "DataArray in memory: peak raw map",
+                        "DataArray in memory: centre of the raw readings"]
+    largest = float(np.nansum(recording.values, axis=(1, 2)).max())
+    assert f"<td>largest sum of raw readings</td><td>{largest:.6g}</td>" in text
+
+
+def test_every_figure_is_drawn_at_twice_its_size_and_says_how_to_read_it(report):
+    text = report.read_text()
+    for width, src in re.findall(r'<img alt="[^"]*" width="(\d+)" src="([^"]*)"', text):
+        assert png_width(src) == pytest.approx(2 * int(width), abs=2)
+    guides = re.findall(r"<figcaption><b>[^<]+\.</b> ([^<]+)</figcaption>", text)
+    assert len(guides) == len(images(text)) == 9  # 3 calibration, 1 filter, 5 recording
+    assert all(len(guide.split()) >= 12 for guide in guides)
+
+
+def test_method_comparison_lists_every_calibration_with_its_held_out_errors(session):
+    from tactilecal.calibration import validate
+
+    points = points_from_frames(session.raw, session.load_N)
+    results = {m: calibrate(points[:20], method=m) for m in ("power", "linear", "lut")}
+    check = validate(results["power"], points[20:])
+    text = build_report([*results.values(), check])
+    heads = re.findall(r"<h2>([^<]*)</h2>", text)
+    assert heads == ["Method comparison", *["Calibration: CalibrationResult in memory"] * 3,
+                     "Validation: validation dict in memory", "Provenance"]
+    table = text[text.index("<h2>Method comparison</h2>"):text.index("<h2>Calibration")]
+    rows = re.findall(r"<tr><td>CalibrationResult in memory</td><td>([\w-]+)</td>", table)
+    assert rows == ["power", "linear", "lut"]
+    held_out = check["summary"]["median_abs_error_pct"]
+    assert f"<td>{held_out:.6g}</td>" in table
+    assert table.count("no validation input") == 2  # linear and lut were not validated
+    assert "Calibration curves of all methods" in table
+
+
+def test_blind_test_section_shows_the_error_before_and_after():
+    f_hz = np.arange(1.0, 41.0)
+    evaluation = {"lag_s": 0.1, "static_factor": 1.0, "fs_hz": 4000.0, "rms_before_N": 8.0,
+                  "rms_after_N": 2.0, "f_hz": f_hz.tolist(),
+                  "error_before_pct": (-0.2 * f_hz).tolist(), "error_after_pct":
+                  (0.01 * f_hz).tolist(), "phase_before_deg": (-f_hz).tolist(),
+                  "phase_after_deg": (0 * f_hz).tolist()}
+    text = build_report([evaluation])
+    assert re.findall(r"<h2>([^<]*)</h2>", text)[0] == ("Blind test of a dynamic filter: "
+                                                        "evaluation dict in memory")
+    assert "<td>improvement (before / after)</td><td>4</td>" in text
+    assert [alt for alt, _ in images(text)] == [
+        "evaluation dict in memory: amplitude and phase error before and after the filter "
+        "(Gillis 2013, Fig. 4.12)"]
 
 
 def test_errors_and_atomic_write(files, tmp_path):
@@ -120,30 +179,62 @@ MARK_IMAGES = ('<script>window.addEventListener("load",()=>{for(const i of docum
                'document.body.setAttribute("data-checked","yes")});</script></body>')
 
 
-def test_report_renders_its_figures_in_chromium(report, tmp_path):
+CHECK_PAGE = (
+    '<script>window.addEventListener("load",()=>{'
+    'for(const i of document.images){i.setAttribute("data-natural-width",i.naturalWidth)}'
+    'const view=document.documentElement.clientWidth;'
+    'const over=[...document.querySelectorAll("body *")]'
+    '.filter(e=>e.getBoundingClientRect().right>view+1).map(e=>e.tagName);'
+    'document.body.setAttribute("data-overflow",over.join(",")||"none");'
+    'document.body.setAttribute("data-checked","yes")});</script></body>')
+
+
+def _chromium():
     browser = shutil.which("chromium") or shutil.which("chromium-browser")
     if browser is None:
+        if os.environ.get("CI") == "true":
+            pytest.fail("CI=true but headless Chromium is not installed; .ci/run installs "
+                        "Debian's 'chromium' package")
         pytest.skip("headless Chromium not installed (Debian package 'chromium'); "
                     "rendering not checked")
-    n_images = len(images(report.read_text()))
+    return browser
+
+
+def test_report_renders_at_1280_px_without_overflow(report, tmp_path):
+    browser = _chromium()
     page = tmp_path / "checked.html"
-    page.write_text(report.read_text().replace("</body>", MARK_IMAGES))
-    run = subprocess.run([browser, *CHROMIUM_FLAGS, f"--user-data-dir={tmp_path / 'profile'}",
-                          page.as_uri()], capture_output=True, text=True, timeout=120)
+    page.write_text(report.read_text().replace("</body>", CHECK_PAGE))
+    common = [browser, *CHROMIUM_FLAGS[:-1], "--window-size=1280,2000",
+              f"--user-data-dir={tmp_path / 'profile'}"]
+    run = subprocess.run([*common, "--dump-dom", page.as_uri()], capture_output=True,
+                         text=True, timeout=120)
     assert 'data-checked="yes"' in run.stdout, run.stderr[-2000:]
+    assert 'data-overflow="none"' in run.stdout  # no element wider than the viewport
     widths = [int(w) for w in re.findall(r'data-natural-width="(\d+)"', run.stdout)]
-    assert len(widths) == n_images == 8
+    assert len(widths) == len(images(report.read_text())) == 9
     assert all(w > 100 for w in widths)  # every embedded PNG decoded to a real image
+    shot = tmp_path / "shot.png"
+    subprocess.run([*common, f"--screenshot={shot}", page.as_uri()], capture_output=True,
+                   timeout=120, check=True)
+    header = shot.read_bytes()[:24]
+    assert header[:8] == b"\x89PNG\r\n\x1a\n" and int.from_bytes(header[16:20], "big") == 1280
 
 
 def test_zvyagin_calibration_shows_its_figures(session):
-    zvyagin_plots = pytest.importorskip("tactilecal.zvyagin._plots",
-                                        reason="Zvyagin figures not in this version")
+    from tactilecal.zvyagin import _plots as zvyagin_plots
+
     result = calibrate(points_from_frames(session.raw, session.load_N), method="zvyagin")
     text = build_report([result])
     captions = [alt for alt, _ in images(text)]
     names = [n for n in zvyagin_plots.__all__ if n.startswith("plot_")]
-    zvyagin = [c for c in captions if "Zvyagin (2022): " in c]
+    zvyagin = [c for c in captions if "Zvyagin (2022) " in c]
     assert len(zvyagin) == len(names) >= 5, re.findall(r'class="note">([^<]*)', text)
-    assert any("Figure 9" in c for c in zvyagin)
-    assert "not drawn" not in text
+    assert any("Fig. 9" in c for c in zvyagin)
+
+
+def test_zvyagin_file_without_intermediates_says_so(session):
+    result = calibrate(points_from_frames(session.raw, session.load_N), method="zvyagin")
+    result.details = {}
+    text = build_report([result])
+    assert "holds no Zvyagin intermediates" in text
+    assert not any("Zvyagin (2022) " in alt for alt, _ in images(text))

@@ -36,6 +36,7 @@ _LAZY = {
     "read_tekscan": "tactilecal.io",
     "write_tekscan": "tactilecal.io",
     "read_timeseries": "tactilecal.io",
+    "write_timeseries": "tactilecal.io",
     "write_netcdf": "tactilecal.io",
     "read_netcdf": "tactilecal.io",
     "load_points": "tactilecal.calibration",

@@ -56,8 +56,7 @@ def loaded_mask(recording, *, threshold_kPa=0.0, calibration=None):
         calibration.
     """
     _check_dims(recording)
-    if not np.isfinite(threshold_kPa) or threshold_kPa < 0:
-        raise ValueError(f"threshold_kPa is {threshold_kPa!r}; expected a finite value >= 0")
+    threshold_kPa = _non_negative("threshold_kPa", threshold_kPa)
     if _units(recording)[1] == "raw" and calibration is None:
         if threshold_kPa != 0:
             raise ValueError(f"threshold_kPa is {threshold_kPa!r} but the recording is raw "
@@ -130,7 +129,7 @@ def contact_area(recording, *, threshold_kPa=0.0, calibration=None):
     return _named(area.astype(float), "contact_area_mm2", "mm2")
 
 
-def centre_of_force(recording, *, calibration=None):
+def centre_of_force(recording, *, calibration=None, min_force_N=0.0):
     """Centre of force in each frame, in mm from the centre of sensel (0, 0).
 
     Parameters
@@ -139,11 +138,15 @@ def centre_of_force(recording, *, calibration=None):
         Recording in the data model with ``row_spacing_mm`` and ``col_spacing_mm``.
     calibration : CalibrationResult or path, optional
         Applied to a raw recording.
+    min_force_N : float, default 0
+        Frames whose total force is not above this are NaN: with almost no load the centre
+        is the mean of noise and jumps across the sensor between steps.
 
     Returns
     -------
     xarray.Dataset
-        ``cof_row_mm`` and ``cof_col_mm`` with dim ``frame``; NaN in frames with no force.
+        ``cof_row_mm`` and ``cof_col_mm`` with dim ``frame``; NaN in frames with no force
+        (or not more than ``min_force_N``).
 
     Notes
     -----
@@ -160,12 +163,13 @@ def centre_of_force(recording, *, calibration=None):
     >>> float(cof.cof_row_mm[0]), float(cof.cof_col_mm[0])
     (2.0, 1.0)
     """
+    min_force_N = _non_negative("min_force_N", min_force_N)
     force = force_map_N(recording, calibration=calibration).fillna(0.0)
     row_mm, col_mm = spacing_mm(recording)
     rows = xr.DataArray(force["row"].values * row_mm, dims="row")
     cols = xr.DataArray(force["col"].values * col_mm, dims="col")
     total = force.sum(_PLANE)
-    total = total.where(total > 0)
+    total = total.where((total > 0) & (total > min_force_N))
     return xr.Dataset({
         "cof_row_mm": _named((force * rows).sum(_PLANE) / total, "cof_row_mm", "mm"),
         "cof_col_mm": _named((force * cols).sum(_PLANE) / total, "cof_col_mm", "mm"),
@@ -222,7 +226,14 @@ def mean_pressure(recording, *, threshold_kPa=0.0, calibration=None):
     return _named(mean, "mean_kPa", "kPa")
 
 
-def summary(recording, *, threshold_kPa=0.0, calibration=None):
+def _non_negative(name, value):
+    """Return ``value`` as a float, checked to be finite and >= 0 (else ValueError)."""
+    if not np.isfinite(value) or value < 0:
+        raise ValueError(f"{name} is {value!r}; expected a finite value >= 0")
+    return float(value)
+
+
+def summary(recording, *, threshold_kPa=0.0, calibration=None, cof_min_force_N=0.0):
     """Per-frame summary of a recording as one :class:`xarray.Dataset`.
 
     Parameters
@@ -233,6 +244,9 @@ def summary(recording, *, threshold_kPa=0.0, calibration=None):
         Loaded-sensel threshold for contact area and mean pressure.
     calibration : CalibrationResult or path, optional
         Applied to a raw recording (once).
+    cof_min_force_N : float, default 0
+        The centre of force is NaN in frames whose force is not above this (see
+        :func:`centre_of_force`).
 
     Returns
     -------
@@ -252,8 +266,8 @@ def summary(recording, *, threshold_kPa=0.0, calibration=None):
     >>> [round(float(s[v][0]), 3) for v in s.data_vars]
     [0.4, 2.0, 0.75, 0.25, 300.0, 200.0]
     """
-    if not np.isfinite(threshold_kPa) or threshold_kPa < 0:
-        raise ValueError(f"threshold_kPa is {threshold_kPa!r}; expected a finite value >= 0")
+    threshold_kPa = _non_negative("threshold_kPa", threshold_kPa)
+    cof_min_force_N = _non_negative("cof_min_force_N", cof_min_force_N)
     pressure = pressure_map_kPa(recording, calibration=calibration)
     area_mm2 = sensel_area_mm2(recording)
     row_mm, col_mm = spacing_mm(recording)
@@ -263,7 +277,7 @@ def summary(recording, *, threshold_kPa=0.0, calibration=None):
     n_loaded = loaded.sum(_PLANE)
     load_kPa = filled.sum(_PLANE)
     force = load_kPa * (area_mm2 * 1e-3)
-    weight = load_kPa.where(load_kPa > 0)
+    weight = load_kPa.where((load_kPa > 0) & (force > cof_min_force_N))
     rows = xr.DataArray(pressure["row"].values * row_mm, dims="row")
     cols = xr.DataArray(pressure["col"].values * col_mm, dims="col")
     ds = xr.Dataset({
@@ -278,7 +292,8 @@ def summary(recording, *, threshold_kPa=0.0, calibration=None):
     })
     ds.attrs = {k: pressure.attrs[k] for k in ("source", "calibration_json", "sensor_type")
                 if k in pressure.attrs}
-    ds.attrs["threshold_kPa"] = float(threshold_kPa)
+    ds.attrs["threshold_kPa"] = threshold_kPa
+    ds.attrs["cof_min_force_N"] = cof_min_force_N
     _mark_saturation(ds, recording)
     return ds
 

@@ -64,29 +64,52 @@ def plot_force_time(summary, *, ax=None):
     return ax
 
 
-def plot_pressure_map(recording, frame, *, calibration=None, ax=None):
-    """Pressure map [kPa] of one frame (0-based position), NaN sensels left blank.
+def plot_pressure_map(recording, frame=None, *, calibration=None, ax=None):
+    """Pressure map [kPa] of one frame, or the peak pressure of every sensel over the recording.
+
+    Parameters
+    ----------
+    recording : xarray.DataArray
+        Recording in the data model. A raw recording without ``calibration`` is drawn in
+        raw readings (0..255).
+    frame : int, optional
+        0-based frame position; default: the peak-pressure map (each sensel's largest value
+        over all frames).
+    calibration : CalibrationResult or path, optional
+        Applied to a raw recording.
 
     Returns
     -------
     matplotlib.axes.Axes
     """
     ax = _axes(ax, figsize=(5, 5))
-    pressure = pressure_map_kPa(recording.isel(frame=[frame]), calibration=calibration)[0]
+    one = recording if frame is None else recording.isel(frame=[frame])
+    raw = recording.attrs.get("units") == "raw" and calibration is None
+    values = one if raw else pressure_map_kPa(one, calibration=calibration)
+    values = values.max("frame", skipna=True)
     row_mm, col_mm = spacing_mm(recording)
-    rows, cols = pressure.shape
+    rows, cols = values.shape
     extent = (-col_mm / 2, (cols - 0.5) * col_mm, (rows - 0.5) * row_mm, -row_mm / 2)
-    image = ax.imshow(np.asarray(pressure.values, dtype=float), extent=extent,
+    image = ax.imshow(np.asarray(values.values, dtype=float), extent=extent,
                       cmap="viridis", interpolation="nearest")
-    ax.figure.colorbar(image, ax=ax, label="pressure [kPa]")
+    ax.figure.colorbar(image, ax=ax, label="raw reading" if raw else "pressure [kPa]")
     ax.set_xlabel("column [mm]")
     ax.set_ylabel("row [mm]")
-    ax.set_title(f"frame {recording['frame'].values[frame]}")
+    ax.set_title("peak over all frames" if frame is None
+                 else f"frame {recording['frame'].values[frame]}")
     return ax
 
 
-def plot_cof_path(summary, *, ax=None):
+def plot_cof_path(summary, *, min_force_N=None, ax=None):
     """Centre-of-force path (column mm across, row mm down), coloured by time.
+
+    Parameters
+    ----------
+    summary : xarray.Dataset
+        From :func:`summary`.
+    min_force_N : float, optional
+        Frames with a total force below this are not drawn (the line breaks there): with
+        almost no load the centre is noise. Default 5 % of the peak force.
 
     Returns
     -------
@@ -94,13 +117,19 @@ def plot_cof_path(summary, *, ax=None):
     """
     ax = _axes(ax, figsize=(5, 5))
     t, label = _time(summary)
-    x = summary["cof_col_mm"].values
-    y = summary["cof_row_mm"].values
+    force = np.asarray(summary["force_N"].values, dtype=float)
+    if min_force_N is None:
+        min_force_N = 0.05 * float(np.nanmax(force)) if np.isfinite(force).any() else 0.0
+    keep = force >= min_force_N
+    x = np.where(keep, summary["cof_col_mm"].values, np.nan)
+    y = np.where(keep, summary["cof_row_mm"].values, np.nan)
     ax.plot(x, y, color="0.7", lw=0.8)
     points = ax.scatter(x, y, c=t, s=10, cmap="plasma")
     ax.figure.colorbar(points, ax=ax, label=label)
     ax.set_xlabel("centre of force, column [mm]")
     ax.set_ylabel("centre of force, row [mm]")
+    ax.set_title(f"{int(np.sum(keep & np.isfinite(x)))} of {force.size} frames with force "
+                 f">= {min_force_N:.3g} N")
     ax.invert_yaxis()
     ax.set_aspect("equal", adjustable="datalim")
     return ax

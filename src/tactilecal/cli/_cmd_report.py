@@ -10,18 +10,24 @@ def register(subparsers):
     """Add the ``report`` command."""
     p = subparsers.add_parser(
         "report", help="write a self-contained HTML report",
-        description="One HTML page with embedded figures for calibration JSONs (curve, "
-                    "points, error histogram, Zvyagin figures), FILTER.json files (transfer "
-                    "function fit) and recordings (force against time, pressure map at the "
-                    "peak frame, centre-of-force path, profiles), and a provenance section.")
+        description="One HTML page with embedded figures for calibration JSONs (a method "
+                    "comparison when there are several; curve, points, error histogram, "
+                    "Zvyagin figures), validation JSONs (held-out errors), FILTER.json files "
+                    "(transfer function), blind-test JSONs (error before and after) and "
+                    "recordings (force and area against time, peak-pressure map, "
+                    "centre-of-force path, profiles), and a provenance section.")
     p.add_argument("inputs", nargs="+", metavar="INPUT",
-                   help="calibration JSON, FILTER.json, Tekscan export or NetCDF recording")
+                   help="calibration or validation JSON, FILTER.json, blind-test JSON, "
+                        "Tekscan export or NetCDF recording")
     p.add_argument("--out", required=True, metavar="report.html", help="output HTML file")
     p.add_argument("--cal", metavar="CAL.json", help="calibration for raw recordings")
     p.add_argument("--filter", metavar="FILTER.json", help="dynamic filter to report")
     p.add_argument("--title", help="page title")
     p.add_argument("--threshold-kpa", type=non_negative_float, default=0.0, metavar="KPA",
                    help="loaded-sensel threshold for contact areas (default 0)")
+    p.add_argument("--cof-min-force-n", type=non_negative_float, metavar="N",
+                   help="draw the centre-of-force path only where the total force is at "
+                        "least N newtons (default 5%% of the peak force)")
     p.set_defaults(func=run)
 
 
@@ -34,6 +40,7 @@ def run(args):
 
     path = write_report(args.inputs, args.out, calibration=args.cal, filter=args.filter,
                         title=args.title, threshold_kPa=args.threshold_kpa,
+                        cof_min_force_N=args.cof_min_force_n,
                         command=shlex.join(["tactilecal", *sys.argv[1:]]), progress=bar)
     info(args, f"report written to {path}")
     return 0

@@ -12,7 +12,8 @@ Steps (each writes its files under ``out_dir``):
    and compared with the true load at every hold.
 4. Dynamic calibration (Gillis 2013, section 4): a simulated sine sweep fits the correction
    filter; a separate blind test (random sine sets) evaluates it (``dynamic/``).
-5. ``report.html`` with all of it, and ``summary.json`` with the headline numbers.
+5. ``report.html`` with all of it (every calibration and their comparison), and
+   ``summary.json`` with the headline numbers.
 """
 
 import shutil
@@ -143,10 +144,11 @@ def run_demo(out_dir="tactilecal-demo", *, quiet=False):
     dynamic = _dynamic(out, quiet)
     _say(quiet, "5. report")
     report = write_report(
-        [out / "calibrations" / "zvyagin.json", out / "calibrations" / "power.json",
-         experiment["recording"]],
-        out / "report.html", filter=dynamic["filter"], title="tactilecal demo",
-        command="tactilecal demo")
+        [*(out / "calibrations" / f"{m}.json" for m in DEMO_METHODS),
+         *(out / "validation" / f"{m}.json" for m in DEMO_METHODS),
+         experiment["recording"], out / "dynamic" / "blind-test.json"],
+        out / "report.html", calibration=out / "calibrations" / "power.json",
+        filter=dynamic["filter"], title="tactilecal demo", command="tactilecal demo")
     headline = {"true_law": {"A_N": sensor.A_N, "b": sensor.b}, "methods": rows,
                 "experiment": experiment, "dynamic": dynamic, "report": report,
                 "seconds": time.perf_counter() - start}

@@ -8,7 +8,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._atomic import write_text_atomic
 from tactilecal._units import (
+    _HINT,
     force_to_N,
     mass_to_N,
     pressure_to_kPa,
@@ -18,7 +20,7 @@ from tactilecal._units import (
 )
 from tactilecal._validate import csv_rows, read_text
 
-__all__ = ["read_timeseries"]
+__all__ = ["read_timeseries", "write_timeseries"]
 
 def _pick(columns, choice, default, role, name):
     if choice is None:
@@ -180,3 +182,70 @@ def _convert_values(values, column, name):
     if kind == "pressure":
         return pressure_to_kPa(values, unit), "kPa"
     return values, unit
+
+
+def write_timeseries(series, path):
+    r"""Write a 1-D time series as a CSV that :func:`read_timeseries` reads back exactly.
+
+    The header is ``Time (s),<name> (<units>)``: ``<name>`` is the series' ``column``
+    attribute (its unit hint dropped) or its name, ``<units>`` its ``units`` attribute
+    (left out when ``unknown``). Numbers are written with 17 significant digits, so the
+    round trip is exact.
+
+    Parameters
+    ----------
+    series : xarray.DataArray
+        1-D with dim ``time`` in seconds (or another dim with a ``time`` coordinate), as
+        returned by :func:`read_timeseries` or the simulators.
+    path : str or os.PathLike
+        Output CSV, written atomically (the folder must exist).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    ValueError
+        Not 1-D, no time coordinate, fewer than 2 samples, a time or value that is not
+        finite (named by its position), times not strictly increasing.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, xarray as xr
+    >>> s = xr.DataArray([1500.0, 2000.0], dims="time", coords={"time": [0.0, 0.25]},
+    ...                  attrs={"units": "N", "column": "Load (kN)"})
+    >>> f = write_timeseries(s, pathlib.Path(tempfile.mkdtemp()) / "lc.csv")
+    >>> f.read_text().splitlines()[0], read_timeseries(f).values.tolist()
+    ('Time (s),Load (N)', [1500.0, 2000.0])
+    """
+    path = Path(path)
+    name = str(series.attrs.get("source", series.name or "series"))
+    if series.ndim != 1 or "time" not in series.coords:
+        raise ValueError(f"{name}: dims {tuple(series.dims)} without a 'time' coordinate; "
+                         f"expected a 1-D series with time in seconds (writing {path})")
+    times = np.asarray(series["time"].values, dtype=np.float64)
+    values = np.asarray(series.values, dtype=np.float64)
+    if times.size < 2:
+        raise ValueError(f"{name}: {times.size} samples; expected at least 2 (writing {path})")
+    for what, array in (("time", times), ("value", values)):
+        bad = np.flatnonzero(~np.isfinite(array))
+        if bad.size:
+            raise ValueError(f"{name}: {what} at position {bad[0]} is {array[bad[0]]}; "
+                             f"expected finite numbers (writing {path})")
+    steps = np.flatnonzero(np.diff(times) <= 0)
+    if steps.size:
+        raise ValueError(f"{name}: time {times[steps[0] + 1]:g} s at position "
+                         f"{steps[0] + 1} follows {times[steps[0]]:g} s; expected strictly "
+                         f"increasing times (writing {path})")
+    write_text_atomic(path, _header(series) + "".join(
+        f"{t!r},{v!r}\n" for t, v in zip(times.tolist(), values.tolist(), strict=True)))
+    return path
+
+
+def _header(series):
+    label = str(series.attrs.get("column") or series.name or "value")
+    label = _HINT.sub("", label).strip() or "value"
+    units = series.attrs.get("units", "unknown")
+    return f"Time (s),{label}" + ("" if units == "unknown" else f" ({units})") + "\n"
+

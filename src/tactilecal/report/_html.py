@@ -9,26 +9,34 @@ from pathlib import Path
 
 from tactilecal._atomic import write_text_atomic
 from tactilecal._version import __version__
+from tactilecal.report._figures import note_html, table_html
 from tactilecal.report._inputs import load_input
 from tactilecal.report._sections import (
     calibration_blocks,
+    comparison_blocks,
+    evaluation_blocks,
     filter_blocks,
-    note_html,
     recording_blocks,
-    table_html,
 )
 
 __all__ = ["build_report", "write_report"]
 
 _CSS = """
-body{font-family:system-ui,sans-serif;max-width:1000px;margin:2em auto;padding:0 1em;color:#222}
+body{font-family:system-ui,sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}
 h1{border-bottom:2px solid #444}h2{margin-top:2em;border-bottom:1px solid #aaa}
-table{border-collapse:collapse;margin:0.8em 0}td,th{border:1px solid #ccc;padding:2px 8px;
-text-align:left;font-size:0.9em}th{background:#eee}figure{margin:1em 0}
-figure{display:inline-block;vertical-align:top;width:47%;margin:0.5em}img{max-width:100%}figcaption{font-size:0.9em;color:#555}
-pre{background:#f6f6f6;padding:0.6em;overflow-x:auto}.note{background:#fff4d6;padding:0.4em}
+div.table{max-width:100%;overflow-x:auto;margin:0.8em 0}
+table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:left;
+font-size:0.9em;vertical-align:top}th{background:#eee}
+div.wide td{overflow-wrap:break-word;max-width:40em}
+figure{display:inline-block;vertical-align:top;max-width:100%;margin:0.5em 1em 1em 0}
+img{max-width:100%;height:auto}figcaption{font-size:0.9em;color:#444;max-width:40em}
+pre{background:#f6f6f6;padding:0.6em;overflow-x:auto;white-space:pre-wrap}
+.note{background:#fff4d6;padding:0.4em}
 """
 _PACKAGES = ("numpy", "scipy", "pandas", "xarray", "matplotlib", "dask")
+_HEADINGS = {"calibration": "Calibration", "validation": "Validation",
+             "filter": "Dynamic filter", "evaluation": "Blind test of a dynamic filter",
+             "recording": "Recording"}
 
 
 def _versions():
@@ -51,14 +59,9 @@ def _pick_calibration(calibration, loaded):
 
 
 def _load_all(inputs, calibration, filter, progress):
-    items = list(inputs)
-    extra = []
-    if calibration is not None:
-        extra.append(calibration)
-    if filter is not None:
-        extra.append(filter)
+    items = [*(x for x in (calibration, filter) if x is not None), *inputs]
     loaded = []
-    for item in progress(extra + items):
+    for item in progress(items):
         kind, obj, prov = load_input(item)
         label = Path(str(item)).name if isinstance(item, str | Path) else prov["input"]
         if any(prov.get("sha256") and prov.get("sha256") == p.get("sha256")
@@ -67,65 +70,90 @@ def _load_all(inputs, calibration, filter, progress):
         loaded.append((kind, obj, prov, label))
     if not loaded:
         raise ValueError("no report inputs; expected at least one calibration JSON, "
-                         "FILTER.json or recording")
+                         "validation JSON, FILTER.json, blind-test JSON or recording")
     return loaded
 
 
+def _of(kind, loaded):
+    return [(label, obj) for k, obj, _, label in loaded if k == kind]
+
+
+def _section(kind, obj, label, context):
+    if kind == "calibration":
+        return calibration_blocks(obj, label)
+    if kind == "validation":
+        return [table_html(sorted(obj["summary"].items()), header=("held-out check", "value"))]
+    if kind == "filter":
+        return filter_blocks(obj, label)
+    if kind == "evaluation":
+        return evaluation_blocks(obj, label)
+    blocks = []
+    if obj.attrs.get("units") == "raw" and context["calibration"] is None \
+            and context["n_calibrations"] > 1:
+        blocks.append(note_html(f"{context['n_calibrations']} calibrations among the inputs: "
+                                "give one with calibration=/--cal to analyse raw recordings"))
+    return blocks + recording_blocks(obj, label, calibration=context["calibration"],
+                                     threshold_kPa=context["threshold_kPa"],
+                                     nonworking=context["nonworking"],
+                                     cof_min_force_N=context["cof_min_force_N"])
+
+
+def _provenance(loaded, command):
+    rows = [(kind, label, prov.get("path", prov.get("input")), prov.get("size_bytes", ""),
+             prov.get("sha256", ""), prov.get("modified_utc", ""))
+            for kind, _, prov, label in loaded]
+    versions = [("report created (UTC)", datetime.now(UTC).isoformat(timespec="seconds")),
+                *_versions()]
+    if command:
+        versions.insert(1, ("command", command))
+    return ["<h2>Provenance</h2>",
+            table_html(rows, header=("kind", "input", "path", "bytes", "sha256",
+                                     "modified (UTC)"), wide=True),
+            table_html(versions, header=("item", "value"), wide=True)]
+
+
 def build_report(inputs, *, calibration=None, filter=None, title=None, threshold_kPa=0.0,
-                 nonworking=None, command=None, progress=None):
+                 nonworking=None, cof_min_force_N=None, command=None, progress=None):
     """Return the HTML text of a report on ``inputs`` (see :func:`write_report`)."""
     progress = progress or (lambda it, **_: it)
     loaded = _load_all(inputs, calibration, filter, progress)
-    cal_obj = None
-    if calibration is not None:
-        cal_obj = load_input(calibration)[1]
-    cal_obj = _pick_calibration(cal_obj, loaded)
-    n_cal = sum(kind == "calibration" for kind, *_ in loaded)
-    heading = {"calibration": "Calibration", "filter": "Dynamic filter",
-               "recording": "Recording"}
+    given = None if calibration is None else load_input(calibration)[1]
+    calibrations = _of("calibration", loaded)
+    context = {"calibration": _pick_calibration(given, loaded),
+               "n_calibrations": len(calibrations), "threshold_kPa": threshold_kPa,
+               "nonworking": nonworking, "cof_min_force_N": cof_min_force_N}
     body = []
+    if len(calibrations) > 1:
+        body += ["<h2>Method comparison</h2>",
+                 *comparison_blocks(calibrations, _of("validation", loaded))]
     for kind, obj, _, label in progress(loaded):
-        body.append(f"<h2>{heading[kind]}: {html.escape(label)}</h2>")
-        if kind == "calibration":
-            body += calibration_blocks(obj, label)
-        elif kind == "filter":
-            body += filter_blocks(obj, label)
-        else:
-            if obj.attrs.get("units") == "raw" and cal_obj is None and n_cal > 1:
-                body.append(note_html(f"{n_cal} calibrations among the inputs: give one "
-                                      "with calibration=/--cal to analyse raw recordings"))
-            body += recording_blocks(obj, label, calibration=cal_obj,
-                                     threshold_kPa=threshold_kPa, nonworking=nonworking)
-    body.append("<h2>Provenance</h2>")
-    body.append(table_html([(kind, label, prov.get("path", prov.get("input")),
-                             prov.get("size_bytes", ""), prov.get("sha256", ""),
-                             prov.get("modified_utc", ""))
-                            for kind, _, prov, label in loaded],
-                           header=("kind", "input", "path", "bytes", "sha256",
-                                   "modified (UTC)")))
-    created = datetime.now(UTC).isoformat(timespec="seconds")
-    rows = [("report created (UTC)", created), *_versions()]
-    if command:
-        rows.insert(1, ("command", command))
-    body.append(table_html(rows, header=("item", "value")))
+        body.append(f"<h2>{_HEADINGS[kind]}: {html.escape(label)}</h2>")
+        body += _section(kind, obj, label, context)
+    body += _provenance(loaded, command)
     title = title or "tactilecal report"
     return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+            f'<meta name="viewport" content="width=device-width, initial-scale=1">'
             f"<title>{html.escape(title)}</title><style>{_CSS}</style></head><body>"
             f"<h1>{html.escape(title)}</h1>" + "\n".join(body) + "</body></html>\n")
 
 
 def write_report(inputs, path, *, calibration=None, filter=None, title=None, threshold_kPa=0.0,
-                 nonworking=None, command=None, progress=None):
-    """Write one self-contained HTML report (figures embedded as base64 PNG).
+                 nonworking=None, cof_min_force_N=None, command=None, progress=None):
+    """Write one self-contained HTML report (figures embedded as 2x PNG).
 
     Parameters
     ----------
     inputs : iterable
         Calibration JSON files or :class:`~tactilecal.calibration.CalibrationResult`
-        objects (curve, points, error histogram, Zvyagin figures for ``method="zvyagin"``),
-        FILTER.json files or filters (parameters and transfer-function fit), recordings
-        (Tekscan ASCII, NetCDF ``.nc`` or DataArrays: force against time, pressure map at
-        the peak-force frame, centre-of-force path, profiles).
+        objects (curve, points, error histogram, Zvyagin figures for ``method="zvyagin"``;
+        with two or more, a method comparison first: parameters, intervals, training and
+        held-out errors, all curves on one plot), validation JSON files (``tactilecal
+        validate --json``: the held-out errors of the comparison), FILTER.json files or
+        filters (parameters and transfer function), blind-test JSON files (``tactilecal
+        dynamic evaluate``: RMS, amplitude and phase error before and after), recordings
+        (Tekscan ASCII, NetCDF ``.nc`` or DataArrays: force and contact area against time,
+        peak-pressure map, pressure map and profiles at the peak-force frame,
+        centre-of-force path; a raw recording without a calibration in raw readings).
     path : str or os.PathLike
         Output ``.html`` file, written atomically.
     calibration : path or CalibrationResult, optional
@@ -139,6 +167,9 @@ def write_report(inputs, path, *, calibration=None, filter=None, title=None, thr
         Loaded-sensel threshold for contact areas.
     nonworking : array_like of bool, optional
         Non-working sensels left out of the profiles.
+    cof_min_force_N : float, optional
+        The centre-of-force path leaves out frames with less force (default 5 % of the
+        recording's peak force).
     command : str, optional
         Command line to record in the provenance section.
     progress : callable, optional
@@ -152,7 +183,7 @@ def write_report(inputs, path, *, calibration=None, filter=None, title=None, thr
     Raises
     ------
     ValueError
-        For an input that is neither a calibration, a filter nor a recording, or no inputs.
+        For an input of no known kind, or no inputs.
     FileNotFoundError
         For a missing input or output folder.
     """
@@ -160,7 +191,7 @@ def write_report(inputs, path, *, calibration=None, filter=None, title=None, thr
     if not path.parent.is_dir():
         raise FileNotFoundError(f"cannot write {path}: folder {path.parent} does not exist")
     text = build_report(inputs, calibration=calibration, filter=filter, title=title,
-                        threshold_kPa=threshold_kPa, nonworking=nonworking, command=command,
-                        progress=progress)
+                        threshold_kPa=threshold_kPa, nonworking=nonworking,
+                        cof_min_force_N=cof_min_force_N, command=command, progress=progress)
     write_text_atomic(path, text)
     return path

@@ -1,4 +1,8 @@
-"""Recognise and load the inputs of a report: calibration JSON, FILTER.json, recordings."""
+"""Recognise and load the inputs of a report.
+
+Calibration and validation JSON, FILTER.json, blind-test JSON (``tactilecal dynamic
+evaluate``) and recordings.
+"""
 
 import hashlib
 from datetime import UTC, datetime
@@ -11,6 +15,7 @@ from tactilecal._jsonutil import read_json_object
 __all__ = ["load_input", "file_provenance"]
 
 _FILTER_KEYS = ("model", "fs_hz", "band_hz")
+_EVALUATION_KEYS = ("rms_before_N", "rms_after_N", "fs_hz")
 
 
 def file_provenance(path):
@@ -35,9 +40,14 @@ def _classify_dict(data, where):
         return "filter", data
     if all(k in data for k in REQUIRED_KEYS):
         return "calibration", CalibrationResult.from_dict(data, source=where)
+    if all(k in data for k in _EVALUATION_KEYS):
+        return "evaluation", data
+    if isinstance(data.get("summary"), dict) and "calibration_method" in data["summary"]:
+        return "validation", data
     raise ValueError(f"{where}: JSON with keys {sorted(data)[:8]} is neither a calibration "
-                     f"(keys {list(REQUIRED_KEYS)}) nor a dynamic filter (keys "
-                     f"{list(_FILTER_KEYS)})")
+                     f"(keys {list(REQUIRED_KEYS)}), a validation (key 'summary'), a dynamic "
+                     f"filter (keys {list(_FILTER_KEYS)}) nor a blind test (keys "
+                     f"{list(_EVALUATION_KEYS)})")
 
 
 def load_input(item, *, what="report input"):
@@ -53,8 +63,9 @@ def load_input(item, *, what="report input"):
 
     Returns
     -------
-    kind : {"calibration", "filter", "recording"}
-    obj : CalibrationResult, dict (FILTER.json content) or xarray.DataArray
+    kind : {"calibration", "validation", "filter", "evaluation", "recording"}
+    obj : CalibrationResult, dict (validation, FILTER.json or blind-test content) or
+        xarray.DataArray
     provenance : dict
         For a file, :func:`file_provenance` plus ``input``; for an object, what it is.
 

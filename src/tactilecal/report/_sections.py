@@ -1,144 +1,172 @@
-"""The sections of a report: calibration, dynamic filter, recording, provenance.
+"""The sections of a report: methods compared, calibration, filter, blind test, recording.
 
-Each builder returns a list of HTML blocks. Figures come from the plot functions of the
-subpackage that owns them; a figure that cannot be drawn (a module absent from this
-version, missing intermediate results) is replaced by a note saying why, never by a
-silent gap.
+Each builder returns a list of HTML blocks. Every figure says under it what it shows and
+how to read it. What a section cannot show is decided from its input before anything is
+drawn (a raw recording without a calibration, a filter file without its fit) and said in a
+note; a figure that fails to draw for any other reason is a bug and raises.
 """
 
-import base64
 import html
-import io
 import json
-from importlib import import_module
+from types import SimpleNamespace
 
 import numpy as np
 
 from tactilecal._jsonutil import to_jsonable
+from tactilecal.report._figures import (
+    figure_html,
+    new_axes,
+    note_html,
+    table_html,
+)
 
-__all__ = ["calibration_blocks", "filter_blocks", "recording_blocks", "figure_html",
-           "table_html", "note_html"]
+__all__ = ["comparison_blocks", "calibration_blocks", "filter_blocks", "evaluation_blocks",
+           "recording_blocks"]
 
-
-def _esc(value):
-    return html.escape(str(value))
-
-
-def note_html(text):
-    """Return a highlighted note (where a figure or number is not available)."""
-    return f'<p class="note">{_esc(text)}</p>'
-
-
-def table_html(rows, header=None):
-    """Return an HTML table built from an iterable of row tuples."""
-    head = "" if header is None else "<tr>" + "".join(f"<th>{_esc(h)}</th>" for h in header) \
-        + "</tr>"
-    body = "".join("<tr>" + "".join(f"<td>{_esc(_fmt(v))}</td>" for v in row) + "</tr>"
-                   for row in rows)
-    return f"<table>{head}{body}</table>"
+#: Share of the peak force (or raw sum) below which the centre-of-force path is not drawn.
+COF_MIN_FORCE_SHARE = 0.05
 
 
-def _fmt(value):
-    if isinstance(value, float | np.floating):
-        return "n/a" if not np.isfinite(value) else f"{value:.6g}"
-    return value
-
-
-def figure_html(fig, caption):
-    """Embed a matplotlib Figure as a base64 PNG ``<figure>`` with a caption."""
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=96)
-    data = base64.b64encode(buf.getvalue()).decode("ascii")
-    return (f'<figure><img alt="{_esc(caption)}" src="data:image/png;base64,{data}">'
-            f"<figcaption>{_esc(caption)}</figcaption></figure>")
-
-
-def _new_axes(figsize=(6, 4)):
-    from matplotlib.figure import Figure
-
-    return Figure(figsize=figsize, layout="constrained").subplots()
-
-
-def _try_figure(caption, draw):
-    """Draw a figure with ``draw()`` (returning a Figure or Axes); a note if it fails."""
-    try:
-        out = draw()
-    except Exception as exc:  # any failure becomes a visible note, never a crash
-        return note_html(f"{caption}: not drawn ({type(exc).__name__}: {exc})")
-    fig = out if hasattr(out, "savefig") else np.ravel(out)[0].figure
-    return figure_html(fig, caption)
-
-
-def _module_plots(module_name, obj, what):
-    """Figures from every public ``plot_*`` function of ``module_name`` called on ``obj``."""
-    try:
-        module = import_module(module_name)
-    except ModuleNotFoundError:
-        return [note_html(f"{what} figures: {module_name} is not part of this tactilecal "
-                          "version, so they are not shown")]
-    names = [n for n in getattr(module, "__all__", dir(module)) if n.startswith("plot_")]
-    plots = [getattr(module, name) for name in names]
-    return [_try_figure(f"{what}: {_first_line(fn)}", lambda fn=fn: fn(obj)) for fn in plots]
-
-
-def _first_line(fn):
-    """Return the first line of a function's docstring (its name if it has none)."""
-    doc = (fn.__doc__ or fn.__name__).strip()
-    return doc.splitlines()[0].rstrip(".")
-
-
-def calibration_blocks(result, label):
-    """Summary, parameters, points table and figures of a calibration result."""
-    from tactilecal.calibration import (
-        plot_calibration_curve,
-        plot_error_histogram,
-        plot_points,
-    )
-
+def _interval(result, name):
     intervals = result.details.get("params_interval") or {}
-    params = [(k, v, result.params_stderr.get(k),
-               " .. ".join(f"{x:.6g}" for x in intervals[k]) if k in intervals
-               else intervals.get("unbounded", "none (no n_bootstrap)"))
-              for k, v in result.params.items() if np.ndim(v) == 0]
-    blocks = [
-        f"<pre>{_esc(result.summary())}</pre>",
-        table_html(params, header=("parameter", "value", "bootstrap standard error",
-                                   "95 % interval")),
-        table_html(sorted(result.metrics.items()), header=("metric", "value")),
-        table_html([("created", getattr(result, "created", "")),
-                    ("tactilecal version", getattr(result, "version", "")),
-                    ("options", json.dumps(to_jsonable(getattr(result, "options", {}))))],
-                   header=("calibration record", "value")),
-        _try_figure(f"{label}: calibration curve",
-                    lambda: plot_calibration_curve(result, ax=_new_axes())),
-        _try_figure(f"{label}: calibrated against applied load",
-                    lambda: plot_points(result, ax=_new_axes())),
-        _try_figure(f"{label}: error histogram",
-                    lambda: plot_error_histogram(result, ax=_new_axes())),
-    ]
-    if result.method == "zvyagin" or result.details:
-        if result.method == "zvyagin":
-            blocks += _module_plots("tactilecal.zvyagin._plots", result,
-                                    f"{label}: Zvyagin (2022)")
-        else:
-            blocks.append(f"<p>Method {_esc(repr(result.method))} keeps intermediate results "
-                          f"under 'details': {_esc(', '.join(sorted(result.details)))}.</p>")
-    return blocks
+    if name in intervals:
+        return " .. ".join(f"{x:.6g}" for x in intervals[name])
+    return intervals.get("unbounded", "none (no n_bootstrap)")
 
 
-def _draw_fit(fit):
-    ax = _new_axes()
-    f = np.asarray(fit["f_hz"], dtype=float)
-    ax.plot(f, np.asarray(fit["measured"], dtype=float), ".", ms=4, label="measured")
-    ax.plot(f, np.asarray(fit["fitted"], dtype=float), "-", label=f"fit ({fit['model']})")
-    ax.set_xlabel("frequency [Hz]")
-    ax.set_ylabel("|load cell| / |sensor|")
-    ax.legend(frameon=False)
+def _scalar_params(result):
+    return [(k, v) for k, v in result.params.items() if np.ndim(v) == 0]
+
+
+# ---------------------------------------------------------------- method comparison
+def comparison_blocks(calibrations, validations):
+    """Every calibration side by side: parameters, intervals, training and held-out errors.
+
+    Parameters
+    ----------
+    calibrations : list of (label, CalibrationResult)
+    validations : list of (label, dict)
+        Outputs of :func:`tactilecal.calibration.validate` (``tactilecal validate --json``);
+        each is matched to the calibration of its ``calibration_method`` when exactly one
+        calibration has that method.
+    """
+    by_method = {}
+    for position, (_, result) in enumerate(calibrations):
+        by_method.setdefault(result.method, []).append(position)
+    held_out = {}
+    for _, check in validations:
+        positions = by_method.get(check["summary"].get("calibration_method"), ())
+        if len(positions) == 1:
+            held_out[positions[0]] = check["summary"]
+    rows = []
+    for position, (label, result) in enumerate(calibrations):
+        params = ", ".join(f"{k} = {v:.5g}" for k, v in _scalar_params(result)) or "table"
+        check = held_out.get(position, {})
+        rows.append((label, result.method, result.model, params, _interval(result, "b"),
+                     f"{result.metrics['n_used']} of {result.metrics['n_points']}",
+                     result.metrics.get("median_abs_error_pct"),
+                     result.metrics.get("within_5pct"),
+                     check.get("median_abs_error_pct", "no validation input"),
+                     check.get("within_5pct", "")))
+    blocks = [table_html(rows, header=(
+        "calibration", "method", "model", "parameters", "95 % interval of b", "points used",
+        "training median |error| %", "training share within 5 %",
+        "held-out median |error| %", "held-out share within 5 %"), wide=True)]
+    if not held_out:
+        blocks.append(note_html("no validation among the inputs: the errors above are on the "
+                                "calibration's own points, which flatter it; add the JSON of "
+                                "'tactilecal validate CAL.json MANIFEST --json' for held-out "
+                                "errors"))
+    return blocks + [figure_html(
+        _draw_curves(calibrations), "Calibration curves of all methods",
+        "Each line is one calibration's pressure on a sensel against its raw reading; where "
+        "the lines part, the methods disagree, most often above the highest calibration "
+        "load, where only the chosen law extrapolates.")]
+
+
+def _draw_curves(calibrations):
+    ax = new_axes((7.5, 4.5))
+    raw = np.arange(256)
+    for label, result in calibrations:
+        pressure_kPa = result.force_table() / result.sensel_area_mm2 * 1e3
+        ax.plot(raw[1:], pressure_kPa[1:], lw=1.2, label=f"{label} ({result.method})")
+    ax.set(xlabel="raw reading (0..255)", ylabel="pressure on a sensel [kPa]")
+    ax.legend(fontsize="small", frameon=False)
     return ax
 
 
+# ---------------------------------------------------------------- one calibration
+def calibration_blocks(result, label):
+    """Summary, parameters, points table and figures of one calibration result."""
+    from tactilecal.calibration import plot_calibration_curve, plot_error_histogram, plot_points
+
+    params = [(k, v, result.params_stderr.get(k), _interval(result, k))
+              for k, v in _scalar_params(result)]
+    blocks = [
+        f"<pre>{html.escape(result.summary())}</pre>",
+        table_html(params, header=("parameter", "value", "bootstrap standard error",
+                                   "95 % interval")),
+        table_html(sorted(result.metrics.items()), header=("metric", "value")),
+        table_html([("created", result.created), ("tactilecal version", result.version),
+                    ("options", json.dumps(to_jsonable(result.options)))],
+                   header=("calibration record", "value"), wide=True),
+        figure_html(plot_calibration_curve(result, ax=new_axes()),
+                    f"{label}: calibration curve",
+                    "The line is the fitted law; each point is one calibration patch's "
+                    "applied load per loaded sensel at its mean raw reading; open points "
+                    "were not used (saturated or rejected)."),
+        figure_html(plot_points(result, ax=new_axes()),
+                    f"{label}: calibrated against applied load",
+                    "Each point is a calibration patch; on the diagonal the calibrated load "
+                    "equals the applied one, and the vertical distance is its error."),
+        figure_html(plot_error_histogram(result, ax=new_axes()),
+                    f"{label}: error histogram",
+                    "How many patches the calibration misses by how much, in percent of the "
+                    "applied load; a narrow peak at 0 is a good calibration."),
+    ]
+    if result.method == "zvyagin":
+        blocks += _zvyagin_blocks(result, label)
+    return blocks
+
+
+_ZVYAGIN_FIGURES = (
+    ("plot_d_map", "d map (Fig. 7)",
+     "Each cell is the discrepancy d of one choice of the class separation; the darkest cell "
+     "is the separation the method keeps."),
+    ("plot_pair_chart", "chart of pairs (Fig. 8)",
+     "Patches sorted by load on both axes; a mark is a pair whose two equations gave an "
+     "(A, b) solution, shaded patches (grey) take part in none."),
+    ("plot_ab_scatter", "(A, b) of the pairs (Fig. 9)",
+     "Each point is one pair's power law; they lie along a ridge because A and b trade off, "
+     "and the cross is the law chosen by the energy minimum; points far off the ridge are "
+     "pairs the 10 % rule should have left out."),
+    ("plot_calibration_curves", "calibration curves (Fig. 10)",
+     "The chosen law against the laws of the terminal points T1 and T2; their spread is how "
+     "far the pair solutions disagree."),
+    ("plot_error_histogram", "error per patch (Fig. 11)",
+     "The misfit of every patch in percent of its applied load, by weight; a weight whose "
+     "bars all lean one way shows a law that bends away from the data at that load."),
+    ("plot_energy", "energy along the power-law curve (eq. 15)",
+     "E against the exponent b0 along the fitted A(b) curve; the minimum is the chosen b0, "
+     "and a flat valley means b0 is poorly determined."),
+)
+
+
+def _zvyagin_blocks(result, label):
+    from tactilecal import zvyagin
+
+    if result.details.get("method") != "zvyagin":
+        return [note_html(f"{label}: the calibration file holds no Zvyagin intermediates "
+                          "(details), so the paper's figures cannot be drawn")]
+    return [figure_html(getattr(zvyagin, name)(result), f"{label}: Zvyagin (2022) {title}",
+                        how) for name, title, how in _ZVYAGIN_FIGURES]
+
+
+# ---------------------------------------------------------------- dynamic filter
 def filter_blocks(data, label):
-    """Parameters and fit figures of a dynamic filter (FILTER.json content)."""
+    """Parameters and transfer-function figure of a dynamic filter (FILTER.json content)."""
+    from tactilecal.dynamic import CorrectionFilter, plot_transfer
+
     keys = ("model", "A", "log_base", "lag_s", "fs_hz", "band_hz", "outside", "n_taps")
     blocks = [table_html([(k, data.get(k)) for k in keys if k in data],
                          header=("key", "value"))]
@@ -146,77 +174,209 @@ def filter_blocks(data, label):
         blocks.append(note_html(f"{label} was written with --force although its model was "
                                 f"refused: {data.get('forced_reason')}"))
     fit = data.get("fit")
-    if not fit:
-        return blocks + [note_html(f"{label}: no fitted transfer function stored (fit is "
-                                   "empty), so no fit figure")]
-    excluded = fit.get("excluded") or {}
-    rows = [(k, fit.get(k)) for k in ("r2", "rmse", "method", "r2_complex")]
-    rows += [(k, excluded[k]) for k in ("model_choice", "model_r2_complex", "rational",
-                                        "sensor_delay_s") if k in excluded]
-    blocks.append(table_html(rows, header=("fit", "value")))
-    try:
-        from tactilecal.dynamic._plots import plot_transfer
-    except ImportError:
-        blocks.append(note_html("tactilecal.dynamic._plots.plot_transfer is not part of this "
-                                "version; the fit is drawn from the filter file's points"))
-        return blocks + [_try_figure(f"{label}: transfer function and fit",
-                                     lambda: _draw_fit(fit))]
-    from tactilecal.dynamic import CorrectionFilter
-
-    blocks.append(_try_figure(
-        f"{label}: transfer function, fitted model and filter gain (Gillis 2013 Fig. 4.9)",
-        lambda: plot_transfer(CorrectionFilter.from_dict(data, where=label))))
-    return blocks + [note_html("time-history, spectra and error figures need the evaluation "
-                               "records, which a FILTER.json does not hold")]
+    if fit:
+        excluded = fit.get("excluded") or {}
+        rows = [(k, fit.get(k)) for k in ("r2", "rmse", "method", "r2_complex")]
+        rows += [(k, excluded[k]) for k in ("model_choice", "model_r2_complex", "rational",
+                                            "sensor_delay_s") if k in excluded]
+        blocks.append(table_html(rows, header=("fit", "value")))
+    else:
+        blocks.append(note_html(f"{label} stores no fitted transfer function (made from a "
+                                "model, not a sweep): the figure shows the filter's gain only"))
+    blocks.append(figure_html(
+        plot_transfer(CorrectionFilter.from_dict(data, where=label)),
+        f"{label}: transfer function, fitted model and filter gain (Gillis 2013, Fig. 4.9)",
+        "Grey points are the measured ratio load cell / sensor per frequency, the line the "
+        "fitted model, red the filter's gain: the filter multiplies each frequency by it, so "
+        "it should follow the points inside the band and fall off outside."))
+    return blocks
 
 
-def recording_blocks(recording, label, *, calibration=None, threshold_kPa=0.0,
-                     nonworking=None):
-    """Key numbers and figures of one recording (force, peak map, centre path, profiles)."""
-    from tactilecal import analysis
+def evaluation_blocks(data, label):
+    """Blind test of a dynamic filter (``tactilecal dynamic evaluate`` output)."""
+    from tactilecal.dynamic import plot_error
 
+    rows = [("RMS error of the dynamic part before the filter [N]", data["rms_before_N"]),
+            ("RMS error after the filter [N]", data["rms_after_N"]),
+            ("improvement (before / after)", data["rms_before_N"] / data["rms_after_N"]),
+            ("lag of the reference [s]", data.get("lag_s")),
+            ("static factor", data.get("static_factor")),
+            ("sampling rate [Hz]", data.get("fs_hz"))]
+    blocks = [table_html(rows, header=("blind test", "value"))]
+    if not data.get("f_hz"):
+        return blocks + [note_html(f"{label} holds no per-frequency errors, so the gain and "
+                                   "phase figure is not drawn")]
+    ev = SimpleNamespace(**{k: None if data.get(k) is None else np.asarray(data[k], float)
+                            for k in ("f_hz", "error_before_pct", "error_after_pct",
+                                      "phase_before_deg", "phase_after_deg")})
+    return blocks + [figure_html(
+        plot_error(ev), f"{label}: amplitude and phase error before and after the filter "
+                        "(Gillis 2013, Fig. 4.12)",
+        "Each point is one coherent frequency of the blind test: orange is the sensor with "
+        "its static calibration only, blue after the dynamic filter; a good filter brings "
+        "the blue points to 0 % and 0 degrees across the band.")]
+
+
+# ---------------------------------------------------------------- recording
+def _record_table(recording):
     attrs = recording.attrs
     info = [(k, attrs[k]) for k in ("source", "sensor_type", "units", "sensel_area_mm2",
                                     "row_spacing_mm", "col_spacing_mm", "seconds_per_frame",
                                     "sensitivity", "calibration_method",
                                     "saturation_pressure_kPa") if k in attrs]
     info.insert(0, ("frames x rows x cols", " x ".join(str(n) for n in recording.shape)))
-    blocks = [table_html(info, header=("property", "value"))]
-    if attrs.get("units") == "raw" and calibration is None:
-        return blocks + [note_html(f"{label} holds raw readings and no calibration was "
-                                   "given, so force and pressure cannot be shown; pass a "
-                                   "calibration JSON (--cal)")]
-    if attrs.get("units") == "raw":
+    return table_html(info, header=("property", "value"), wide=True)
+
+
+def recording_blocks(recording, label, *, calibration=None, threshold_kPa=0.0,
+                     nonworking=None, cof_min_force_N=None):
+    """Key numbers and figures of one recording.
+
+    A calibrated recording (or a raw one with ``calibration``) shows force and contact
+    area against time, the peak-pressure map, the pressure map and the profiles at the
+    peak-force frame and the centre-of-force path where the force is at least
+    ``cof_min_force_N`` (default 5 % of the peak force). A raw recording without a
+    calibration shows the same in raw readings.
+    """
+    blocks = [_record_table(recording)]
+    if recording.attrs.get("units") == "raw" and calibration is None:
+        return blocks + _raw_blocks(recording, label, cof_min_share=COF_MIN_FORCE_SHARE)
+    if recording.attrs.get("units") == "raw":
         recording = calibration.apply(recording, units="kPa")
         blocks.append(note_html(f"raw readings calibrated with method "
                                 f"{calibration.method!r} ({calibration.model})"))
+    return blocks + _calibrated_blocks(recording, label, threshold_kPa, nonworking,
+                                       cof_min_force_N)
+
+
+def _calibrated_blocks(recording, label, threshold_kPa, nonworking, cof_min_force_N):
+    from tactilecal import analysis
+
     s = analysis.summary(recording, threshold_kPa=threshold_kPa).compute()
     i = analysis.peak_frame(s)
     t = s["time"].values if "time" in s.coords else np.arange(s.sizes["frame"])
+    peak_N = float(s.force_N[i])
+    if cof_min_force_N is None:
+        cof_min_force_N = COF_MIN_FORCE_SHARE * peak_N if np.isfinite(peak_N) else 0.0
+    saturated = int((s["saturated_sensels"] > 0).sum()) if "saturated_sensels" in s \
+        else "unknown"
     numbers = [
         ("duration [s]", float(t[-1] - t[0]) if len(t) else float("nan")),
-        ("peak total force [N]", float(s.force_N[i])),
+        ("peak total force [N]", peak_N),
         ("time of peak force [s]", float(t[i])),
         ("frame of peak force", recording["frame"].values[i]),
         ("largest contact area [mm2]", float(s.contact_area_mm2.max())),
         ("largest sensel pressure [kPa]", float(s.peak_kPa.max())),
         ("loaded-sensel threshold [kPa]", float(threshold_kPa)),
+        ("centre of force drawn where force >= [N]", float(cof_min_force_N)),
+        ("frames with saturated sensels", saturated),
     ]
-    saturated = (int((s["saturated_sensels"] > 0).sum()) if "saturated_sensels" in s
-                 else "unknown")
-    numbers.append(("frames with saturated sensels", saturated))
-    blocks.append(table_html(numbers, header=("quantity", "value")))
+    blocks = [table_html(numbers, header=("quantity", "value"))]
     if saturated not in (0, "unknown"):
         blocks.append(note_html(f"{saturated} of {s.sizes['frame']} frames hold sensels at "
                                 f"saturation ({s.attrs['saturation_rule']}): their force "
                                 "and pressures are lower bounds, not measurements"))
-    blocks += [
-        _try_figure(f"{label}: total force and contact area against time",
-                    lambda: analysis.plot_force_time(s)),
-        _try_figure(f"{label}: pressure map at the peak-force frame",
-                    lambda: analysis.plot_pressure_map(recording, i)),
-        _try_figure(f"{label}: centre-of-force path", lambda: analysis.plot_cof_path(s)),
-        _try_figure(f"{label}: row and column profiles at the peak-force frame",
-                    lambda: analysis.plot_profiles(recording, i, nonworking=nonworking)),
+    return blocks + [
+        figure_html(analysis.plot_force_time(s), f"{label}: total force and contact area "
+                    "against time",
+                    "Blue is the total force (left axis), orange the area of sensels above "
+                    "the threshold (right axis); the dotted line marks the peak-force frame."),
+        figure_html(analysis.plot_pressure_map(recording), f"{label}: peak-pressure map",
+                    "Each sensel's largest pressure over the whole recording: where the "
+                    "contact carried load at any time, and how much at most."),
+        figure_html(analysis.plot_pressure_map(recording, i),
+                    f"{label}: pressure map at the peak-force frame",
+                    "The pressure on every sensel at the moment of largest total force; "
+                    "blank cells are sensels without a reading."),
+        figure_html(analysis.plot_cof_path(s, min_force_N=cof_min_force_N),
+                    f"{label}: centre-of-force path",
+                    "The force-weighted centre of the contact, coloured by time; frames "
+                    "with less force than the threshold in the title are left out, because "
+                    "with almost no load the centre is the mean of noise."),
+        figure_html(analysis.plot_profiles(recording, i, nonworking=nonworking),
+                    f"{label}: row and column profiles at the peak-force frame",
+                    "The mean pressure of each sensel row (left, row position downwards) "
+                    "and column (right) at the peak-force frame, blank and non-working "
+                    "sensels left out."),
     ]
-    return blocks
+
+
+def _raw_summary(recording):
+    """Per-frame raw sum, loaded area (raw > 0) and raw-weighted centre of a raw recording."""
+    from tactilecal.analysis import contact_area
+
+    raw = recording.fillna(0.0).astype(float)
+    total = raw.sum(("row", "col"))
+    weight = total.where(total > 0)
+    rows = np.arange(raw.sizes["row"]) * float(recording.attrs["row_spacing_mm"])
+    cols = np.arange(raw.sizes["col"]) * float(recording.attrs["col_spacing_mm"])
+    return SimpleNamespace(
+        time_s=np.asarray(recording["time"].values if "time" in recording.coords
+                          else np.arange(recording.sizes["frame"]), float),
+        raw_sum=np.asarray(total.values, float),
+        area_mm2=np.asarray(contact_area(recording).values, float),
+        row_mm=np.asarray((raw.dot(_coord(rows, "row")).sum("col") / weight).values, float),
+        col_mm=np.asarray((raw.dot(_coord(cols, "col")).sum("row") / weight).values, float))
+
+
+def _coord(values, dim):
+    import xarray as xr
+
+    return xr.DataArray(np.asarray(values, float), dims=dim)
+
+
+def _raw_blocks(recording, label, *, cof_min_share):
+    from tactilecal import analysis
+
+    s = _raw_summary(recording)
+    i = int(np.nanargmax(s.raw_sum)) if np.isfinite(s.raw_sum).any() else 0
+    min_sum = cof_min_share * float(np.nanmax(s.raw_sum)) if s.raw_sum.size else 0.0
+    saturated = int((recording >= 255).any(("row", "col")).sum())
+    numbers = [("duration [s]", float(s.time_s[-1] - s.time_s[0])),
+               ("largest sum of raw readings", float(s.raw_sum[i])),
+               ("frame of the largest sum", recording["frame"].values[i]),
+               ("largest loaded area (raw > 0) [mm2]", float(np.nanmax(s.area_mm2))),
+               ("frames with saturated sensels (255)", saturated)]
+    return [
+        note_html(f"{label} holds raw readings and no calibration was given, so forces and "
+                  "pressures are not shown: the figures are in raw readings, which rise with "
+                  "pressure but not in proportion. Pass a calibration JSON (--cal) for kPa "
+                  "and N."),
+        table_html(numbers, header=("quantity", "value")),
+        figure_html(_draw_raw_time(s), f"{label}: sum of raw readings and loaded area "
+                    "against time",
+                    "Blue is the sum of all raw readings of a frame (a stand-in for load that "
+                    "is not proportional to it), orange the area of sensels reading above 0."),
+        figure_html(analysis.plot_pressure_map(recording), f"{label}: peak raw map",
+                    "Each sensel's largest raw reading over the recording (255 is "
+                    "saturation): where the contact carried load at any time."),
+        figure_html(_draw_raw_centre(s, min_sum), f"{label}: centre of the raw readings",
+                    "The raw-weighted centre of each frame, coloured by time, drawn where the "
+                    "raw sum is at least 5 % of its peak; with a nonlinear sensor law it is "
+                    "near, but not equal to, the centre of force."),
+    ]
+
+
+def _draw_raw_time(s):
+    ax = new_axes()
+    ax.plot(s.time_s, s.raw_sum, color="C0")
+    ax.set(xlabel="time [s]")
+    ax.set_ylabel("sum of raw readings", color="C0")
+    twin = ax.twinx()
+    twin.plot(s.time_s, s.area_mm2, color="C1", lw=1, alpha=0.8)
+    twin.set_ylabel("loaded area [mm2]", color="C1")
+    return ax
+
+
+def _draw_raw_centre(s, min_sum):
+    ax = new_axes((5, 5))
+    keep = s.raw_sum >= min_sum
+    x, y = np.where(keep, s.col_mm, np.nan), np.where(keep, s.row_mm, np.nan)
+    ax.plot(x, y, color="0.7", lw=0.8)
+    points = ax.scatter(x, y, c=s.time_s, s=10, cmap="plasma")
+    ax.figure.colorbar(points, ax=ax, label="time [s]")
+    ax.set(xlabel="column [mm]", ylabel="row [mm]",
+           title=f"{int(np.sum(keep & np.isfinite(x)))} of {keep.size} frames")
+    ax.invert_yaxis()
+    ax.set_aspect("equal", adjustable="datalim")
+    return ax

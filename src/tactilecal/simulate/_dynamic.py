@@ -64,6 +64,43 @@ class DynamicSession:
         """Return the applied load (N) at sensor-clock times ``time_s``."""
         return _load(np.asarray(time_s, float), self.sets, self.offset_N, self._ramp_s)
 
+    def truth(self):
+        """Return the truth as plain values: gain law, lag, offset and the sine sets."""
+        return {"kind": "loading-machine sine sets (Gillis 2013, Table 4.2)",
+                "gain_law": f"Y(f) = 1 + A log_{self.log_base}(f + 1)", "A": self.A,
+                "log_base": self.log_base, "lag_s": self.lag_s,
+                "lag_convention": "add lag_s to the reference's time stamps to put them on "
+                                  "the sensor's clock", "offset_N": self.offset_N,
+                "sets": self.sets.to_dict(orient="list")}
+
+    def write(self, outdir):
+        """Write ``sensor.csv``, ``reference.csv`` (load cell) and ``truth.json``.
+
+        The CSVs are :func:`tactilecal.io.write_timeseries` files (``Time (s),force (N)``),
+        the inputs of ``tactilecal dynamic fit`` and ``evaluate``.
+
+        Parameters
+        ----------
+        outdir : str or os.PathLike
+            Folder, created if missing. Every file is written atomically.
+
+        Returns
+        -------
+        dict
+            Paths written, by role (``sensor``, ``reference``, ``truth``).
+        """
+        from tactilecal._atomic import make_folder
+        from tactilecal._jsonutil import write_json
+        from tactilecal.io import write_timeseries
+
+        outdir = make_folder(outdir)
+        paths = {"sensor": outdir / "sensor.csv", "reference": outdir / "reference.csv",
+                 "truth": outdir / "truth.json"}
+        write_timeseries(self.sensor, paths["sensor"])
+        write_timeseries(self.reference, paths["reference"])
+        write_json(paths["truth"], self.truth())
+        return paths
+
     _ramp_s: float = 1.0
 
 
