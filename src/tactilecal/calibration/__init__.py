@@ -39,6 +39,7 @@ from tactilecal.calibration._sensels import (
     load_equilibration,
 )
 from tactilecal.calibration._uncertainty import PredictionInterval, prediction_interval
+from tactilecal.calibration._validation import ValidationResult
 
 __all__ = [
     "Equilibration", "NonWorkingSensels", "equilibrate", "find_dead_sensels", "load_frames",
@@ -49,5 +50,5 @@ __all__ = [
     "make_result",
     "plot_calibration_curve", "plot_error_histogram", "plot_points", "points_from_frames",
     "points_to_arrays", "select_points", "sensel_force", "validate", "PredictionInterval",
-    "prediction_interval",
+    "prediction_interval", "ValidationResult",
 ]

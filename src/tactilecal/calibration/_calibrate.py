@@ -9,6 +9,7 @@ from tactilecal.calibration._models import force_table
 from tactilecal.calibration._points import points_to_arrays, take_rows
 from tactilecal.calibration._result import CalibrationResult
 from tactilecal.calibration._uncertainty import PredictionInterval, bootstrap_refits
+from tactilecal.calibration._validation import ValidationResult
 
 __all__ = ["METHODS", "META_COLUMNS", "calibrate", "calibrate_arrays", "make_result",
            "point_meta", "result_from_arrays", "select_points", "validate"]
@@ -337,10 +338,11 @@ def validate(result, points, *, include_saturated=False):
 
     Returns
     -------
-    dict
-        ``points`` (file, frame, load_N, predicted_N, error_pct, saturated) and ``summary``
-        (n, within_5pct, within_10pct, median_abs_error_pct, max_abs_error_pct, as
-        fractions in 0..1 for the ``within`` keys, plus n_saturated_excluded).
+    ValidationResult
+        Read as a dict: ``points`` (file, frame, load_N, predicted_N, error_pct, saturated)
+        and ``summary`` (n, within_5pct, within_10pct, median_abs_error_pct,
+        max_abs_error_pct, as fractions in 0..1 for the ``within`` keys, plus
+        n_saturated_excluded); plain Python numbers, ``to_json`` saves it.
 
     Raises
     ------
@@ -372,7 +374,7 @@ def validate(result, points, *, include_saturated=False):
     if inside is not None:
         summary["interval_coverage"] = float(np.mean(inside[keep & ~saturated])) \
             if (keep & ~saturated).any() else float("nan")
-    return {"points": rows, "summary": summary}
+    return ValidationResult(points=rows, metrics=summary)
 
 
 def _interval_columns(result, rows, predicted, load):
