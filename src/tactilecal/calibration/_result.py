@@ -305,7 +305,8 @@ def _method_result(data, source):
         return None
     try:
         return ZvyaginResult.from_details(details)
-    except (KeyError, IndexError, TypeError, ValueError) as exc:
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError, ArithmeticError) \
+            as exc:  # any malformed part of the details: one line naming the key
         raise ValueError(f"key 'details' of {source}: the Zvyagin intermediates cannot be "
                          f"read ({type(exc).__name__}: {exc}); expected those written by "
                          "method='zvyagin'") from None
