@@ -282,3 +282,20 @@ def test_repr_of_a_long_table_is_cut():
     cal = calibrate(points_from_frames(frames, load), method="lut", knots=knots.tolist())
     assert len(cal.params["force_N"]) == 200
     assert len(repr(cal)) < 1000
+
+
+# ---------------------------------------------------------------- the report reads tags
+def test_report_tells_inputs_apart_by_their_tag(calibrations, tmp_path):
+    from tactilecal.report import load_input
+
+    calibrations["power"].to_json(tmp_path / "cal.json")
+    _filters()[0].save(tmp_path / "FILTER.json")
+    _equilibration().to_json(tmp_path / "eq.json")
+    kind, obj, _ = load_input(tmp_path / "cal.json")
+    assert kind == "calibration" and obj.params == calibrations["power"].params
+    kind, obj, _ = load_input(tmp_path / "FILTER.json")
+    assert kind == "filter" and obj["params"] == {"A": 0.11}
+    with pytest.raises(ValueError, match=r"eq.json: JSON with format "
+                                         r"'tactilecal-equilibration/1' is neither a "
+                                         r"calibration .* nor a dynamic filter"):
+        load_input(tmp_path / "eq.json")

@@ -28,16 +28,30 @@ def file_provenance(path):
 
 
 def _classify_dict(data, where):
-    from tactilecal.calibration._result import REQUIRED_KEYS, CalibrationResult
+    """Return ``(kind, object)`` of a JSON object by its format tag (or an untagged filter's keys).
 
-    if str(data.get("format", "")).startswith("tactilecal-dynamic-filter") or all(
-            k in data for k in _FILTER_KEYS):
+    The tag is that of :mod:`tactilecal._result` (``tactilecal.load``); a FILTER.json is
+    passed on as its dict, a calibration as a CalibrationResult.
+    """
+    from tactilecal._result import result_class
+    from tactilecal.calibration import CalibrationResult
+    from tactilecal.dynamic import CorrectionFilter
+
+    if "format" not in data and all(k in data for k in _FILTER_KEYS):
+        return "filter", data  # a filter's dict built in memory, without the tag
+    try:
+        cls = result_class(data, where)
+    except ValueError:
+        cls = None
+    if cls is CorrectionFilter:
         return "filter", data
-    if all(k in data for k in REQUIRED_KEYS):
+    if cls is CalibrationResult:
         return "calibration", CalibrationResult.from_dict(data, source=where)
-    raise ValueError(f"{where}: JSON with keys {sorted(data)[:8]} is neither a calibration "
-                     f"(keys {list(REQUIRED_KEYS)}) nor a dynamic filter (keys "
-                     f"{list(_FILTER_KEYS)})")
+    found = f"format {data['format']!r}" if "format" in data else \
+        f"keys {sorted(data)[:8]}"
+    raise ValueError(f"{where}: JSON with {found} is neither a calibration (format "
+                     f"{CalibrationResult.format_tag()!r}) nor a dynamic filter (format "
+                     f"{CorrectionFilter.format_tag()!r}, or keys {list(_FILTER_KEYS)})")
 
 
 def load_input(item, *, what="report input"):
