@@ -126,8 +126,14 @@ def test_validation_round_trips_through_load(calibrations, points, tmp_path):
 
 
 # ---------------------------------------------------------------- validation as a dict
-def test_validation_reads_like_the_dict_it_was_with_plain_python_values(calibrations, points):
-    out = validate(calibrations["power"], points)
+def test_validation_reads_like_the_dict_it_was_with_plain_python_values():
+    from importlib.resources import files
+
+    from tactilecal.calibration import load_points
+
+    manifest = files("tactilecal") / "data" / "demo" / "session-a" / "manifest.csv"
+    points = load_points(manifest, quiet=True)  # file names, labels, frames from a manifest
+    out = validate(calibrate(points[:40]), points[40:])
     assert set(out) == {"points", "summary"}
     assert out["summary"] is out.metrics and out["points"] is out.points
     assert 0.0 <= out["summary"]["within_5pct"] <= 1.0

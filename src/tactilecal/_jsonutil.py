@@ -39,8 +39,8 @@ def to_jsonable(obj):
 def to_python(obj):
     """Convert NumPy scalars/arrays (recursively) to plain Python numbers and lists.
 
-    Unlike :func:`to_jsonable`, NaN and infinities stay floats (for results used in
-    Python; JSON writing goes through :func:`to_jsonable`).
+    Paths become strings. Unlike :func:`to_jsonable`, NaN and infinities stay floats (for
+    results used in Python; JSON writing goes through :func:`to_jsonable`).
 
     Examples
     --------
@@ -55,6 +55,8 @@ def to_python(obj):
         return obj.tolist()
     if isinstance(obj, np.generic):
         return obj.item()
+    if isinstance(obj, os.PathLike):
+        return os.fspath(obj)
     return obj
 
 
