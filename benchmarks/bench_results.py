@@ -1,5 +1,8 @@
 """Cost of the result base (issue 14): import time and loading a Zvyagin calibration.
 
+Also prints the length of each result's ``repr`` in this tree and in the baseline (the
+issue's goal: every repr under 1,000 characters).
+
 Since issue 14, ``tactilecal.calibration`` imports ``tactilecal.zvyagin`` at module level
 (the adapter for ``method="zvyagin"`` lives on the calibration side, so the import runs one
 way), and ``load_calibration`` of a Zvyagin calibration rebuilds its ``ZvyaginResult``
@@ -27,6 +30,34 @@ IMPORT = ("import time; t = time.perf_counter(); import tactilecal.calibration; 
 LOAD = ("import time, sys; from tactilecal.calibration import load_calibration; "
         "t = time.perf_counter(); load_calibration(sys.argv[1]); "
         "print(time.perf_counter() - t)")
+
+
+REPRS = """
+import numpy as np
+from tactilecal.calibration import calibrate, equilibrate, points_from_frames, validate
+from tactilecal.dynamic import CorrectionFilter
+from tactilecal.simulate import deadweight_session, make_sensor
+from tactilecal.zvyagin import as_zvyagin_result
+s = deadweight_session(make_sensor("5051", seed=1), n_patches=150, seed=2)
+pts = points_from_frames(s.raw, s.load_N)
+z = calibrate(pts, method="zvyagin")
+f_hz = np.linspace(1, 100, 200)
+objs = [("CalibrationResult, zvyagin", z), ("ZvyaginResult", as_zvyagin_result(z)),
+        ("CalibrationResult, lut", calibrate(pts, method="lut")),
+        ("CorrectionFilter, 200-bin response",
+         CorrectionFilter.from_response(f_hz, 1 + f_hz / 100, fs_hz=1000)),
+        ("Equilibration, 44 x 44", equilibrate([np.full((1, 44, 44), 50.0)])),
+        ("validate(), 75 points", validate(calibrate(pts[:75]), pts[75:]))]
+for name, obj in objs:
+    print(f"{name}|{len(repr(obj))}")
+"""
+
+
+def _reprs(src):
+    env = {**os.environ, "PYTHONPATH": str(src)}
+    out = subprocess.run([sys.executable, "-c", REPRS], env=env, check=True,
+                         capture_output=True, text=True).stdout
+    return dict(line.split("|") for line in out.strip().splitlines())
 
 
 def _run(src, code, *args):
@@ -70,6 +101,10 @@ def main(argv=None):
         new, base = np.median(times[what, "new"]), np.median(times[what, "base"])
         print(f"  {label:<34} this tree {new:.3f} s  baseline {base:.3f} s  "
               f"ratio {new / base:.2f}")
+    new, base = _reprs(HERE), _reprs(args.baseline)
+    print("len(repr(...)), 150-patch session: this tree / baseline")
+    for name, length in new.items():
+        print(f"  {name:<36} {length:>7} / {base[name]:>7}")
 
 
 if __name__ == "__main__":
