@@ -5,8 +5,9 @@ import pytest
 from scipy import optimize
 
 from tactilecal import calibrate
+from tactilecal._powerfit import _censored_median
 from tactilecal.calibration import points_from_frames
-from tactilecal.calibration._methods import _censored_median, fit_censored
+from tactilecal.calibration._methods import fit_censored
 from tactilecal.calibration._models import LEVELS
 from tactilecal.simulate import family_sessions, true_force_table_N
 

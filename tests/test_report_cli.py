@@ -14,7 +14,9 @@ def test_report_cli_writes_page(fscan_asf, tmp_path, capsys):
     assert "<title>walk &lt;p10&gt;</title>" in text
     # frame 9: sum of its kPa values x 25.8064 mm2 x 1e-3 = 924.359 N (numpy nansum)
     assert "<td>peak total force [N]</td><td>924.359</td>" in text
-    assert len(re.findall(r'<img alt="[^"]*" src="data:image/png;base64,', text)) == 4
+    # force/area, peak-pressure map, map and profiles at the peak frame, centre of force
+    assert len(re.findall(r'<img alt="[^"]*" width="\d+" src="data:image/png;base64,',
+                          text)) == 5
     assert "<td>command</td><td>tactilecal " in text
     assert capsys.readouterr().err == ""  # --quiet: no bar, no message
 

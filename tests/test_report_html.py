@@ -123,7 +123,7 @@ def test_method_comparison_lists_every_calibration_with_its_held_out_errors(sess
     text = build_report([*results.values(), check])
     heads = re.findall(r"<h2>([^<]*)</h2>", text)
     assert heads == ["Method comparison", *["Calibration: CalibrationResult in memory"] * 3,
-                     "Validation: validation dict in memory", "Provenance"]
+                     "Validation: ValidationResult in memory", "Provenance"]
     table = text[text.index("<h2>Method comparison</h2>"):text.index("<h2>Calibration")]
     rows = re.findall(r"<tr><td>CalibrationResult in memory</td><td>([\w-]+)</td>", table)
     assert rows == ["power", "linear", "lut"]

@@ -8,7 +8,7 @@ import pytest
 
 import tactilecal
 from tactilecal.calibration import load_calibration, points_from_frames
-from tactilecal.zvyagin import ZvyaginResult, calibrate_zvyagin, zvyagin_fit
+from tactilecal.zvyagin import ZvyaginResult, zvyagin_fit
 from tactilecal.zvyagin._calibrate import SENSEL_AREA_5051_MM2, load_groups
 from tactilecal.zvyagin._fit import patch_power_sums, saturation_pressure_MPa
 from tactilecal.zvyagin._synthetic import synthetic_patches
@@ -110,13 +110,21 @@ def test_keep_saturated_alias_and_unknown_option():
     pts = [CalibrationPoint(histogram=hh, load_N=f, raw_sum=float(hh @ np.arange(256)),
                             loaded_cells=int(hh[1:].sum()), saturated_cells=int(hh[255]),
                             sensel_area_mm2=1.6129) for hh, f in zip(h, load, strict=True)]
-    assert calibrate_zvyagin(pts, keep_saturated=False).options["saturated"] == "drop"
+    assert tactilecal.calibrate(pts, method="zvyagin", keep_saturated=False) \
+        .options["saturated"] == "drop"
+    with pytest.raises(ValueError, match=r"unknown options \['extra'\]"):
+        tactilecal.calibrate(pts, method="zvyagin", extra=10)
+    with pytest.warns(DeprecationWarning, match="calibrate_zvyagin is no longer part of the "
+                                                "public API"):
+        from tactilecal.zvyagin import calibrate_zvyagin
+    # the deprecated name keeps its options: calibrate's bootstrap options are refused
     with pytest.raises(ValueError, match=r"unknown options \['n_bootstrap'\]"):
         calibrate_zvyagin(pts, n_bootstrap=10)
+    assert calibrate_zvyagin(pts).params == tactilecal.calibrate(pts, method="zvyagin").params
     for p in pts:
         p.sensel_area_mm2 = float("nan")
     with pytest.warns(UserWarning, match=r"no sensel area .* p_s \(eq. 16\) is unknown"):
-        calibrate_zvyagin(pts)
+        tactilecal.calibrate(pts, method="zvyagin")
 
 
 # ---------------------------------------------------------------- bad input

@@ -26,6 +26,8 @@ Subpackages, one per idea:
     Self-contained HTML reports.
 
 The names below are imported lazily so that ``import tactilecal`` stays fast.
+:func:`load` opens any saved result (calibration, equilibration, non-working sensels,
+dynamic filter, validation) by the format tag in its JSON.
 """
 
 from importlib import import_module
@@ -54,7 +56,49 @@ _LAZY = {
     "calibration": "tactilecal.calibration",
 }
 
-__all__ = ["__version__", *_LAZY]
+__all__ = ["__version__", "load", *_LAZY]
+
+#: The subpackages that define the saved kinds (importing them registers the kinds).
+_SAVED_KINDS_IN = ("tactilecal.calibration", "tactilecal.dynamic")
+
+
+def load(path):
+    """Open a saved result of any kind by the format tag in its JSON.
+
+    The tag is ``"format": "tactilecal-<kind>/<version>"`` (:mod:`tactilecal._result`);
+    files of earlier versions without it (a calibration, ``"kind": "equilibration"``, the
+    output of ``validate --json``) are recognised by their keys.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A JSON file written by a result's ``to_json`` (or ``tactilecal`` commands' ``--out``).
+
+    Returns
+    -------
+    tactilecal.calibration.CalibrationResult, Equilibration, NonWorkingSensels,
+    ValidationResult or tactilecal.dynamic.CorrectionFilter
+
+    Raises
+    ------
+    ValueError, TypeError
+        Not JSON, an unknown tag, or a missing or bad key: one line naming the file and
+        the key.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, numpy as np
+    >>> from tactilecal.calibration import equilibrate
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "eq.json"
+    >>> equilibrate([np.full((1, 2, 2), 50.0)]).to_json(path)
+    >>> load(path).gain.tolist()
+    [[1.0, 1.0], [1.0, 1.0]]
+    """
+    for module in _SAVED_KINDS_IN:
+        import_module(module)
+    from tactilecal._result import load_result
+
+    return load_result(path)
 
 
 def __getattr__(name):

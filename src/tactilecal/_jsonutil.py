@@ -3,6 +3,7 @@
 import json
 import math
 import os
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +21,7 @@ def to_jsonable(obj):
     >>> to_jsonable({"a": np.float64(1.5), "b": np.array([1, 2]), "c": float("nan")})
     {'a': 1.5, 'b': [1, 2], 'c': None}
     """
-    if isinstance(obj, dict):
+    if isinstance(obj, Mapping):  # also a mapping-like result (ValidationResult)
         return {str(k): to_jsonable(v) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
         return [to_jsonable(v) for v in obj]
@@ -32,6 +33,30 @@ def to_jsonable(obj):
         return os.fspath(obj)
     if isinstance(obj, float) and not math.isfinite(obj):
         return None
+    return obj
+
+
+def to_python(obj):
+    """Convert NumPy scalars/arrays (recursively) to plain Python numbers and lists.
+
+    Paths become strings. Unlike :func:`to_jsonable`, NaN and infinities stay floats (for
+    results used in Python; JSON writing goes through :func:`to_jsonable`).
+
+    Examples
+    --------
+    >>> to_python({"a": np.float64(1.5), "b": [np.int64(2)], "c": np.float64("nan")})
+    {'a': 1.5, 'b': [2], 'c': nan}
+    """
+    if isinstance(obj, dict):
+        return {k: to_python(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [to_python(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, os.PathLike):
+        return os.fspath(obj)
     return obj
 
 

@@ -26,6 +26,7 @@ from tactilecal.calibration._sensels import (
     find_dead_sensels,
     load_equilibration,
 )
+from tactilecal.calibration._validation import ValidationResult
 
 __all__ = [
     "calibrate", "validate", "METHODS", "CalibrationResult", "load_calibration",
@@ -33,7 +34,7 @@ __all__ = [
     "calibrate_movie", "header_calibration",
     "equilibrate", "Equilibration", "load_equilibration", "find_dead_sensels",
     "NonWorkingSensels",
-    "plot_calibration_curve", "plot_points", "plot_error_histogram",
+    "plot_calibration_curve", "plot_points", "plot_error_histogram", "ValidationResult",
 ]
 
 _RESULT = "use CalibrationResult.force_table() or .predict_sensel_force(raw)"

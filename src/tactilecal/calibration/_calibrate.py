@@ -1,7 +1,5 @@
 """``calibrate``: choose the points, run a method, build the result; ``validate``."""
 
-from importlib import import_module
-
 import numpy as np
 import pandas as pd
 
@@ -11,6 +9,7 @@ from tactilecal.calibration._models import force_table
 from tactilecal.calibration._points import points_to_arrays, take_rows
 from tactilecal.calibration._result import CalibrationResult
 from tactilecal.calibration._uncertainty import PredictionInterval, bootstrap_refits
+from tactilecal.calibration._validation import ValidationResult
 
 __all__ = ["METHODS", "META_COLUMNS", "calibrate", "calibrate_arrays", "make_result",
            "point_meta", "result_from_arrays", "select_points", "validate"]
@@ -72,7 +71,9 @@ def calibrate(points, method="power", **options):
         option ``objective`` in ``"l2"``, ``"l1"``, ``"relative"``), ``"linear-offset"``
         (Paikowsky & Hajduk), ``"piecewise"`` (power law per raw range, option ``knots``),
         ``"lut"`` (monotone lookup table, option ``knots``), ``"polynomial"`` (option
-        ``degree``), ``"zvyagin"`` (:func:`tactilecal.zvyagin.calibrate_zvyagin`).
+        ``degree``), ``"zvyagin"`` (Zvyagin 2022, :func:`tactilecal.zvyagin.zvyagin_fit` on
+        the points; the result's ``method_result`` is its
+        :class:`tactilecal.zvyagin.ZvyaginResult`).
     **options
         ``saturated`` (``"drop"``, the default of :mod:`tactilecal._saturation`: points
         with sensels at 255 are left out and reported; ``"keep"``; ``keep_saturated`` is
@@ -110,7 +111,7 @@ def calibrate(points, method="power", **options):
             raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
         hist, load = points_to_arrays(points)
         return calibrate_arrays(hist, load, point_meta(points), method=method, **options)
-    zvyagin = import_module("tactilecal.zvyagin").calibrate_zvyagin
+    from tactilecal.calibration._zvyagin import calibrate_zvyagin as zvyagin  # imports us
     n_params, n_interval, seed = _pop_uncertainty(options)
     result = zvyagin(points, **options)
     if n_params or n_interval:
@@ -249,21 +250,23 @@ def _working_fraction(meta):
 
 
 def make_result(points, *, method, model, params, params_stderr, used, reasons, details=None,
-                options=None, sensel_area_mm2=None):
+                options=None, sensel_area_mm2=None, method_result=None):
     """Assemble a :class:`CalibrationResult` with its per-point table and metrics.
 
     Other calibration methods (e.g. :mod:`tactilecal.zvyagin`) use it so that every
-    result has the same table, metrics and saturation pressure.
+    result has the same table, metrics and saturation pressure; ``method_result`` is the
+    method's own result object (:attr:`CalibrationResult.method_result`).
     """
     hist, load = points_to_arrays(points)
     return result_from_arrays(hist, load, point_meta(points), method=method, model=model,
                               params=params, params_stderr=params_stderr, used=used,
                               reasons=reasons, details=details, options=options,
-                              sensel_area_mm2=sensel_area_mm2)
+                              sensel_area_mm2=sensel_area_mm2, method_result=method_result)
 
 
 def result_from_arrays(hist, load, meta, *, method, model, params, params_stderr, used,
-                       reasons, details=None, options=None, sensel_area_mm2=None):
+                       reasons, details=None, options=None, sensel_area_mm2=None,
+                       method_result=None):
     """Assemble a :class:`CalibrationResult` from arrays (see :func:`calibrate_arrays`)."""
     table_N = force_table(model, params)
     predicted = hist @ table_N
@@ -286,7 +289,7 @@ def result_from_arrays(hist, load, meta, *, method, model, params, params_stderr
         method=method, model=model, params=params, params_stderr=params_stderr,
         sensel_area_mm2=area, saturation_pressure_kPa=float(saturation), points=table,
         metrics=_metrics(load[scored], predicted[scored], len(load)), details=details or {},
-        options=options or {},
+        options=options or {}, method_result=method_result,
     )
 
 
@@ -335,10 +338,11 @@ def validate(result, points, *, include_saturated=False):
 
     Returns
     -------
-    dict
-        ``points`` (file, frame, load_N, predicted_N, error_pct, saturated) and ``summary``
-        (n, within_5pct, within_10pct, median_abs_error_pct, max_abs_error_pct, as
-        fractions in 0..1 for the ``within`` keys, plus n_saturated_excluded).
+    ValidationResult
+        Read as a dict: ``points`` (file, frame, load_N, predicted_N, error_pct, saturated)
+        and ``summary`` (n, within_5pct, within_10pct, median_abs_error_pct,
+        max_abs_error_pct, as fractions in 0..1 for the ``within`` keys, plus
+        n_saturated_excluded); plain Python numbers, ``to_json`` saves it.
 
     Raises
     ------
@@ -370,7 +374,7 @@ def validate(result, points, *, include_saturated=False):
     if inside is not None:
         summary["interval_coverage"] = float(np.mean(inside[keep & ~saturated])) \
             if (keep & ~saturated).any() else float("nan")
-    return {"points": rows, "summary": summary}
+    return ValidationResult(points=rows, metrics=summary)
 
 
 def _interval_columns(result, rows, predicted, load):

@@ -5,43 +5,28 @@ returns a :class:`Fit` (model name, parameters, standard errors, details). The c
 fit does not depend on the number of sensels: ``sum_k X_k**b = hist @ arange(256)**b``.
 """
 
-from dataclasses import dataclass, field
-
 import numpy as np
 from scipy import optimize
 
-from tactilecal.calibration._models import LEVELS, force_table
+from tactilecal._powerfit import (
+    B_BOUNDS,
+    DEFAULT_OBJECTIVE,
+    LEVELS,
+    LS_OBJECTIVE,
+    NO_STDERR,
+    OBJECTIVES,
+    Fit,
+    check_unsaturated,
+    fit_power,
+    fit_power_censored,
+)
+from tactilecal._powerfit import objective_weights as _weights
+from tactilecal.calibration._models import force_table
 from tactilecal.calibration._points import take_rows
 
 __all__ = ["Fit", "FITTERS", "EXACT_METHODS", "OBJECTIVES", "DEFAULT_OBJECTIVE",
-           "fit_censored"]
-
-OBJECTIVES = ("l2", "l1", "relative")
-DEFAULT_OBJECTIVE = "l1"
-"""The power method's default: on the simulated family (``benchmarks/bench_static_family.py
---seeds 20 --test-patches 150``) l1 had the best worst case of the three objectives;
-relative and l2 fell to 0.90-0.91 of the true law's worst share on 9500-b1.4."""
-LS_OBJECTIVE = "relative"
-"""Default of the least-squares-only methods (piecewise)."""
-B_BOUNDS = (0.2, 4.0)
-with np.errstate(divide="ignore"):
-    LOG_LEVELS = np.where(LEVELS > 0, np.log(LEVELS), 0.0)
-
-
-@dataclass
-class Fit:
-    """What a method returns before it is wrapped into a CalibrationResult."""
-
-    model: str
-    params: dict
-    params_stderr: dict
-    details: dict = field(default_factory=dict)
-
-
-# ---------------------------------------------------------------------- helpers
-def _check_objective(objective):
-    if objective not in OBJECTIVES:
-        raise ValueError(f"objective={objective!r} is unknown; expected one of {OBJECTIVES}")
+           "fit_censored", "fit_power", "fit_power_censored", "check_unsaturated",
+           "B_BOUNDS"]
 
 
 def _check_ls_objective(objective, method):
@@ -49,121 +34,6 @@ def _check_ls_objective(objective, method):
         raise ValueError(f"objective={objective!r} is not available for {method}; "
                          "expected 'l2' or 'relative'")
 
-
-def _weights(load_N, objective):
-    """Residual weights: 1 for l2/l1, 1/F for ``relative`` (residuals as fractions)."""
-    return 1.0 / load_N if objective == "relative" else np.ones_like(load_N)
-
-
-def _power_sums(hist, b):
-    """S_T(b) = sum_k X_k**b for each frame (Zvyagin 2022, eq. 2) as hist @ levels**b."""
-    return hist @ (LEVELS ** b)
-
-
-def _censored_median(ratio, weight, censored):
-    """Minimiser of ``sum_unc w |A - r| + sum_cens w max(0, A - r)`` over A.
-
-    Without censored terms this is the w-weighted median of r. The cost is convex and
-    piecewise linear; its slope just above the k-th smallest r is
-    ``2 W_unc(<= r_k) + W_cens(<= r_k) - W_unc(all)``, and the minimum is the first r_k
-    where that slope is >= 0.
-    """
-    order = np.argsort(ratio, kind="stable")
-    w, c = weight[order], censored[order]
-    slope = 2.0 * np.cumsum(np.where(c, 0.0, w)) + np.cumsum(np.where(c, w, 0.0)) \
-        - w[~c].sum()
-    return float(ratio[order][np.argmax(slope >= 0)])
-
-
-def _best_A(sums, load_N, objective, censored=None):
-    """Optimal A for fixed b: closed form for l2/relative, weighted median for l1.
-
-    For l1, ``sum |A S - F| = sum S |A - F/S|`` is minimised by the S-weighted median of
-    F/S; censored patches (``censored``, l1 only) add ``S max(0, A - F/S)``.
-    """
-    if objective == "l1":
-        flags = np.zeros(len(load_N), bool) if censored is None else censored
-        return _censored_median(load_N / sums, sums, flags)
-    w2s = _weights(load_N, objective) ** 2 * sums
-    # elementwise products, not BLAS dot: cheaper than a threaded BLAS call on busy cores
-    return float(np.sum(w2s * load_N) / np.sum(w2s * sums))
-
-
-def _power_costs(b_values, hist, load_N, objective, censored=None):
-    """Profiled cost and best A for several exponents in one pass over the histograms.
-
-    One matrix product ``hist @ levels**b`` for all ``b`` reads the histograms once, which
-    is what costs time for tens of thousands of points. ``censored`` (l1 only): patches
-    whose residual counts only when the prediction exceeds the load.
-    """
-    sums = hist @ (LEVELS[:, None] ** np.asarray(b_values)[None, :])
-    w = _weights(load_N, objective)[:, None]
-    if objective == "l1":
-        A = np.array([_best_A(col, load_N, "l1", censored) for col in sums.T])
-        r = A * sums - load_N[:, None]
-        if censored is not None:
-            r = np.where(censored[:, None], np.maximum(r, 0.0), r)
-        return np.abs(w * r).sum(axis=0), A
-    w2s = w ** 2 * sums
-    A = (w2s * load_N[:, None]).sum(axis=0) / (w2s * sums).sum(axis=0)
-    r = w * (A * sums - load_N[:, None])
-    return (r * r).sum(axis=0), A
-
-
-def _cost_slope(b, hist, load_N, w2):
-    """Return d cost / d b of the profiled l2/relative cost ``<F,F> - <S,F>**2 / <S,S>``.
-
-    ``<x, y> = sum w**2 x y``; ``S = hist @ levels**b`` and ``S' = hist @ levels**b ln
-    levels`` come from one matrix product.
-    """
-    v = LEVELS ** b
-    S, dS = (hist @ np.column_stack([v, v * LOG_LEVELS])).T
-    p, q = np.sum(w2 * S * load_N), np.sum(w2 * S * S)
-    dp, dq = np.sum(w2 * dS * load_N), 2.0 * np.sum(w2 * dS * S)
-    return -(2.0 * p * dp * q - p * p * dq) / (q * q)
-
-
-def _minimise_b(hist, load_N, objective, b_bounds, n_grid=13, xtol=1e-10, censored=None):
-    """Minimise the profiled cost over b.
-
-    A grid of ``n_grid`` exponents (one matrix product) brackets the minimum; for l2 and
-    relative the zero of the cost's derivative in that bracket is found by
-    :func:`scipy.optimize.brentq` (each step one product with two columns); for l1, whose
-    cost has no derivative everywhere, the bracket is refined by nested grids.
-    ``censored`` is passed to :func:`_power_costs` (l1 only).
-    Returns ``(b, A, cost, n_evaluations)``.
-    """
-    lo, hi = (float(v) for v in b_bounds)
-    grid = np.linspace(lo, hi, n_grid)
-    cost, _ = _power_costs(grid, hist, load_N, objective, censored)
-    k = int(np.nanargmin(cost))
-    if k in (0, n_grid - 1):
-        raise ValueError(f"power fit: best exponent b = {grid[k]:.3f} is at the edge of "
-                         f"b_bounds {tuple(b_bounds)}; expected an interior optimum "
-                         "(check the loads)")
-    lo, hi, n_eval = grid[k - 1], grid[k + 1], n_grid
-    if objective == "l1":
-        while hi - lo > xtol:
-            grid = np.linspace(lo, hi, n_grid)
-            cost, _ = _power_costs(grid, hist, load_N, objective, censored)
-            k, n_eval = int(np.nanargmin(cost)), n_eval + n_grid
-            lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, n_grid - 1)]
-        b = float(grid[k])
-    else:
-        w2 = _weights(load_N, objective) ** 2
-        slope_lo, slope_hi = (_cost_slope(x, hist, load_N, w2) for x in (lo, hi))
-        if slope_lo < 0 < slope_hi:
-            b, info = optimize.brentq(_cost_slope, lo, hi, args=(hist, load_N, w2),
-                                      xtol=xtol, full_output=True)
-            n_eval += 2 + info.function_calls
-        else:  # flat or kinked cost: keep the grid's best
-            b = float(grid[k])
-    cost, A = _power_costs(np.array([b]), hist, load_N, objective, censored)
-    return float(b), float(A[0]), float(cost[0]), n_eval + 1
-
-
-NO_STDERR = ("none: pass n_bootstrap (a single fit's Jacobian errors held the true b in only "
-             "22-90 % of 50 simulated sessions per family member, issue 12)")
 
 
 # ---------------------------------------------------------------------- methods
@@ -227,89 +97,6 @@ def _choose_pair(load_N, pair):
                          f"into the {len(load_N)} usable points")
     return i, j
 
-
-def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS, **_):
-    """Multi-point power law over every sensel, f = A * raw**b.
-
-    Objectives: ``l2`` minimises ``sum_T (A S_T(b) - F_T)**2`` (Zvyagin 2022, eq. 3),
-    ``l1`` minimises ``sum_T |F_T - A S_T(b)|`` (Gillis 2013, eq. 5.1, I-Scan), and
-    ``relative`` minimises ``sum_T ((A S_T(b) - F_T) / F_T)**2``. ``A`` is profiled out
-    (closed form, or the weighted median for ``l1``) and ``b`` found by nested grids
-    over ``b_bounds`` (each pass one matrix product over the histograms).
-    """
-    _check_objective(objective)
-    hist = np.asarray(hist, dtype=float)  # one conversion, then BLAS products
-    b, A, cost, n_eval = _minimise_b(hist, load_N, objective, b_bounds)
-    details = {"objective": objective, "cost": cost, "n_evaluations": n_eval,
-               "stderr_method": NO_STDERR}
-    return Fit("power", {"A": A, "b": b}, {"A": None, "b": None}, details)
-
-
-def check_unsaturated(censored, name_of=None, kind="patch(es)"):
-    """Raise unless 2 patches are unsaturated: a censored fit starts from them.
-
-    ``name_of(k)`` names the ``k``-th patch in the message (the first 8 saturated ones).
-    """
-    censored = np.asarray(censored, dtype=bool)
-    n_clean = int((~censored).sum())
-    if n_clean >= 2:
-        return
-    listed = ""
-    if name_of is not None:
-        saturated = np.flatnonzero(censored)
-        listed = (f"; saturated: {', '.join(name_of(k) for k in saturated[:8])}"
-                  f"{' ...' if len(saturated) > 8 else ''}")
-    raise ValueError(f"{n_clean} {kind} without a saturated sensel; a censored fit needs at "
-                     f"least 2 to start from (every other one is only a lower bound{listed})")
-
-
-def fit_power_censored(hist, load_N, censored, *, objective=DEFAULT_OBJECTIVE,
-                       b_bounds=B_BOUNDS):
-    """Power law f = A * raw**b where a patch with a sensel at 255 is a lower bound.
-
-    A sensel at 255 carries at least f(255), so for a censored patch the law's prediction
-    (255 counted as 255) is a lower bound of its load: only a prediction above the load is
-    an error (a Tobit-style one-sided residual on the patch load). ``l1`` minimises
-    ``sum_unc |A S_T(b) - F_T| + sum_cens max(0, A S_T(b) - F_T)`` with A profiled out
-    (:func:`_censored_median`) and b by nested grids, as :func:`fit_power`; ``l2`` and
-    ``relative`` minimise the squared form over ``(log A, b)`` with
-    :func:`scipy.optimize.least_squares`, from the fit to the uncensored patches.
-
-    Parameters
-    ----------
-    hist, load_N : array_like
-        Histograms (n, 256) and loads (n,) of the used patches.
-    censored : array_like of bool
-        Patches with at least one sensel at 255.
-    """
-    _check_objective(objective)
-    hist = np.asarray(hist, dtype=float)
-    censored = np.asarray(censored, dtype=bool)
-    check_unsaturated(censored)
-    if objective == "l1":
-        b, A, cost, _ = _minimise_b(hist, load_N, objective, b_bounds, censored=censored)
-    else:
-        A, b, cost = _censored_least_squares(hist, load_N, censored, objective, b_bounds)
-    excess = A * _power_sums(hist, b) - load_N
-    details = {"objective": objective, "censored": int(censored.sum()),
-               "censored_active": int((censored & (excess > 0)).sum()), "cost": cost,
-               "stderr_method": NO_STDERR}
-    return Fit("power", {"A": A, "b": b}, {"A": None, "b": None}, details)
-
-
-def _censored_least_squares(hist, load_N, censored, objective, b_bounds):
-    """Return (A, b, cost) minimising the one-sided squared cost of fit_power_censored."""
-    start = fit_power(hist[~censored], load_N[~censored], objective=objective,
-                      b_bounds=b_bounds)
-    w = _weights(load_N, objective)
-
-    def residuals(x):
-        excess = np.exp(x[0]) * _power_sums(hist, x[1]) - load_N
-        return w * np.where(censored, np.maximum(excess, 0.0), excess)
-
-    sol = optimize.least_squares(residuals, [np.log(start.params["A"]), start.params["b"]],
-                                 bounds=([-np.inf, b_bounds[0]], [np.inf, b_bounds[1]]))
-    return float(np.exp(sol.x[0])), float(sol.x[1]), float(sol.cost)
 
 
 def fit_linear_offset(hist, load_N, *, objective="l2", **_):

@@ -2,17 +2,17 @@
 
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
-from tactilecal._atomic import write_text_atomic
-from tactilecal._jsonutil import dumps, read_json_object, to_jsonable
+from tactilecal._jsonutil import dumps, to_jsonable
+from tactilecal._result import SavedResult
 from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal._version import __version__
 from tactilecal.calibration._models import MODELS, force_table, sensel_force
+from tactilecal.zvyagin import ZvyaginResult
 
 __all__ = ["CalibrationResult", "load_calibration"]
 
@@ -23,9 +23,12 @@ REQUIRED_KEYS = ["method", "model", "params", "sensel_area_mm2", "saturation_pre
                  "points", "metrics"]
 
 
-@dataclass
-class CalibrationResult:
+@dataclass(repr=False)
+class CalibrationResult(SavedResult):
     """A fitted static calibration (force per sensel as a function of its raw reading).
+
+    Saved as ``"format": "tactilecal-calibration/1"`` (:mod:`tactilecal._result`); files of
+    earlier versions, without the tag, load as before.
 
     Attributes
     ----------
@@ -51,7 +54,14 @@ class CalibrationResult:
         Method-specific JSON-serialisable intermediate results.
     options : dict
         The options the method was called with.
+    method_result : tactilecal.zvyagin.ZvyaginResult or None
+        The method's own result with every intermediate: the :class:`ZvyaginResult` for
+        ``method="zvyagin"`` (rebuilt from ``details`` when the JSON is loaded), None for
+        the other methods. Not saved itself: ``details`` holds its JSON form.
     """
+
+    FORMAT_KIND = "calibration"
+    DESCRIPTION = "a calibration JSON"
 
     method: str
     model: str
@@ -65,6 +75,7 @@ class CalibrationResult:
     options: dict = field(default_factory=dict)
     version: str = __version__
     created: str = field(default_factory=lambda: datetime.now(UTC).isoformat(timespec="seconds"))
+    method_result: ZvyaginResult | None = field(default=None, compare=False)
 
     # ------------------------------------------------------------------ predictions
     def force_table(self):
@@ -231,10 +242,15 @@ class CalibrationResult:
             lines.append(f"  parameter intervals: {intervals['method']}")
         return lines
 
-    def __repr__(self):
-        return f"<CalibrationResult {self.method} {self.model} {self.params}>"
+    def _repr_fields(self):
+        used = self.points["used"].to_numpy(bool) if "used" in self.points else []
+        return [("method", self.method), ("model", self.model), ("params", self.params),
+                ("points used", f"{int(np.sum(used))} of {len(self.points)}"),
+                ("sensel_area_mm2", self.sensel_area_mm2),
+                ("saturation_pressure_kPa", self.saturation_pressure_kPa),
+                ("rmse_N", self.metrics.get("rmse_N")), ("created", self.created)]
 
-    def to_dict(self):
+    def _to_dict(self):
         """JSON-ready dictionary (keys of the calibration JSON contract)."""
         return to_jsonable({
             "method": self.method, "model": self.model, "params": self.params,
@@ -253,14 +269,18 @@ class CalibrationResult:
         """
         return dumps(self.to_dict(), indent=2 if len(self.points) <= 1000 else None)
 
-    def to_json(self, path):
-        """Write the calibration JSON atomically to ``path``."""
-        write_text_atomic(path, self.to_json_text() + "\n")
+    @classmethod
+    def check_untagged(cls, data, source):
+        """Calibration JSON files before the tag had none: the key checks speak for them."""
 
     @classmethod
-    def from_dict(cls, data, *, source="calibration"):
+    def is_untagged(cls, data):
+        """Recognise an earlier version's calibration JSON: no tag, a model and its params."""
+        return "format" not in data and "model" in data and "params" in data
+
+    @classmethod
+    def _from_dict(cls, data, source):
         """Rebuild a result from :meth:`to_dict` output (``source`` names it in errors)."""
-        check_type(data, dict, source, expected="a calibration JSON object")
         require_keys(data, REQUIRED_KEYS, source, expected="a calibration JSON")
         check_calibration(data, source)
         table = pd.DataFrame(data["points"], columns=None if data["points"] else POINT_COLUMNS)
@@ -274,8 +294,22 @@ class CalibrationResult:
                                      else float(data["saturation_pressure_kPa"])),
             points=table, metrics=dict(data["metrics"]), details=dict(data.get("details") or {}),
             options=dict(data.get("options") or {}), version=data.get("version", ""),
-            created=data.get("created", ""),
+            created=data.get("created", ""), method_result=_method_result(data, source),
         )
+
+
+def _method_result(data, source):
+    """Rebuild the ZvyaginResult of a Zvyagin calibration from its ``details`` (else None)."""
+    details = data.get("details") or {}
+    if data["method"] != "zvyagin" or details.get("method") != "zvyagin":
+        return None
+    try:
+        return ZvyaginResult.from_details(details)
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError, ArithmeticError) \
+            as exc:  # any malformed part of the details: one line naming the key
+        raise ValueError(f"key 'details' of {source}: the Zvyagin intermediates cannot be "
+                         f"read ({type(exc).__name__}: {exc}); expected those written by "
+                         "method='zvyagin'") from None
 
 
 def check_calibration(data, source):
@@ -323,6 +357,8 @@ def check_calibration(data, source):
 def load_calibration(path):
     """Read a calibration JSON written by :meth:`CalibrationResult.to_json`.
 
+    The same as ``CalibrationResult.from_json(path)``.
+
     Raises
     ------
     ValueError
@@ -332,6 +368,4 @@ def load_calibration(path):
     TypeError
         If a key holds the wrong type (a string where a number belongs).
     """
-    path = Path(path)
-    data = read_json_object(path, "a calibration JSON")
-    return CalibrationResult.from_dict(data, source=str(path))
+    return CalibrationResult.from_json(path)

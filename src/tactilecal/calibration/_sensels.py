@@ -6,13 +6,13 @@ that read zero because they are not loaded, reported, and left out of averages.
 """
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 from scipy import ndimage
 
-from tactilecal._jsonutil import read_json_object, to_jsonable, write_json
-from tactilecal._validate import check_number, check_type
+from tactilecal._jsonutil import to_jsonable
+from tactilecal._result import SavedResult
+from tactilecal._validate import check_number, check_type, require_keys
 
 __all__ = ["NonWorkingSensels", "find_dead_sensels", "Equilibration", "equilibrate",
            "load_equilibration"]
@@ -29,9 +29,12 @@ def _as_frames(raw, name="raw"):
     return values
 
 
-@dataclass
-class NonWorkingSensels:
+@dataclass(repr=False)
+class NonWorkingSensels(SavedResult):
     """Sensels that never respond although their neighbours do.
+
+    Saved as ``"format": "tactilecal-non-working-sensels/1"`` (and inside a calibration
+    JSON as ``details["non_working_sensels"]``).
 
     Attributes
     ----------
@@ -43,8 +46,11 @@ class NonWorkingSensels:
         Frames examined.
     """
 
+    FORMAT_KIND = "non-working-sensels"
+    DESCRIPTION = "a non-working sensels JSON"
+
     mask: np.ndarray
-    evidence_frames: np.ndarray = field(repr=False)
+    evidence_frames: np.ndarray
     n_frames: int = 0
 
     @property
@@ -59,10 +65,66 @@ class NonWorkingSensels:
         return (f"non-working sensels: {int(self.mask.sum())} found over {self.n_frames} frames"
                 + (f" at (row, col) {where}{more}; masked" if self.mask.any() else ""))
 
-    def to_dict(self):
-        """JSON-ready summary (the sensels and how many frames showed each)."""
+    def summary(self):
+        """Return :meth:`report`'s line (how many non-working sensels, and where)."""
+        return self.report()
+
+    def _repr_fields(self):
+        return [("shape", self.mask.shape), ("n_sensels", int(self.mask.sum())),
+                ("sensels", self.sensels), ("n_frames", self.n_frames)]
+
+    def _to_dict(self):
+        """JSON-ready summary (the sensels, how many frames showed each, the frame shape)."""
         return to_jsonable({"sensels": self.sensels, "n_frames": self.n_frames,
-                            "evidence_frames": self.evidence_frames[self.mask].tolist()})
+                            "evidence_frames": self.evidence_frames[self.mask].tolist(),
+                            "shape": list(self.mask.shape)})
+
+    @classmethod
+    def is_untagged(cls, data):
+        """Recognise the untagged form earlier versions stored in a calibration's details."""
+        return "format" not in data and {"sensels", "n_frames", "evidence_frames"} <= set(data)
+
+    @classmethod
+    def _from_dict(cls, data, source):
+        """Rebuild from :meth:`to_dict` output.
+
+        The untagged form of earlier versions has no ``shape``: the mask is then the
+        smallest that holds every listed sensel (the sensels and counts are exact).
+        """
+        require_keys(data, ("sensels", "n_frames", "evidence_frames"), source,
+                     expected=cls.DESCRIPTION)
+        where = f"key '{{}}' of {source}"
+        sensels = check_type(data["sensels"], list, where.format("sensels"),
+                             expected="a list of [row, col]")
+        evidence = check_type(data["evidence_frames"], list, where.format("evidence_frames"),
+                              expected="a list of counts")
+        if len(evidence) != len(sensels) or not all(
+                isinstance(rc, list) and len(rc) == 2 for rc in sensels):
+            raise ValueError(f"{where.format('sensels')} holds {len(sensels)} entries and "
+                             f"evidence_frames {len(evidence)}; expected one [row, col] and "
+                             "one count per sensel")
+        for k, (row, col) in enumerate(sensels):
+            for value in (row, col):
+                check_number(value, f"{where.format('sensels')}, entry {k}", minimum=0,
+                             integer=True)
+        n_frames = check_number(data["n_frames"], where.format("n_frames"), minimum=0,
+                                integer=True)
+        rows_cols = np.array(sensels, dtype=int).reshape(-1, 2)
+        shape = data.get("shape")
+        if shape is None:
+            shape = tuple(rows_cols.max(axis=0) + 1) if len(rows_cols) else (0, 0)
+        else:
+            shape = tuple(check_number(v, where.format("shape"), minimum=0, integer=True)
+                          for v in check_type(shape, list, where.format("shape"),
+                                              expected="[rows, cols]"))
+            if len(shape) != 2 or (len(rows_cols) and np.any(rows_cols.max(axis=0) >= shape)):
+                raise ValueError(f"{where.format('shape')} is {list(shape)}; expected [rows, "
+                                 "cols] holding every listed sensel")
+        mask = np.zeros(shape, dtype=bool)
+        frames = np.zeros(shape, dtype=int)
+        mask[tuple(rows_cols.T)] = True
+        frames[tuple(rows_cols.T)] = evidence
+        return cls(mask=mask, evidence_frames=frames, n_frames=int(n_frames))
 
 
 def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=2048):
@@ -123,9 +185,12 @@ def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=20
 
 
 # ---------------------------------------------------------------------- equilibration
-@dataclass
-class Equilibration:
+@dataclass(repr=False)
+class Equilibration(SavedResult):
     """Per-sensel gains that equalise the raw output under a uniform load.
+
+    Saved as ``"format": "tactilecal-equilibration/1"``; files of earlier versions, tagged
+    ``"kind": "equilibration"``, load as before.
 
     ``apply`` multiplies every reading by its sensel's gain (0 stays 0, 255 stays 255 as a
     saturated reading cannot be corrected, results are clipped to 255, NaN where the gain
@@ -139,6 +204,9 @@ class Equilibration:
         Per load level: frames, mean raw, coefficient of variation before and after.
     """
 
+    FORMAT_KIND = "equilibration"
+    DESCRIPTION = "an equilibration JSON"
+
     gain: np.ndarray
     levels: list = field(default_factory=list)
 
@@ -151,23 +219,54 @@ class Equilibration:
         out = np.clip(values * self.gain, 0.0, 255.0)
         return np.where(values == 255, 255.0, out)
 
-    def to_dict(self):
-        """JSON-ready dictionary (``kind`` = ``"equilibration"``)."""
-        return to_jsonable({"kind": "equilibration", "gain": self.gain, "levels": self.levels})
+    def summary(self):
+        """Describe the gains and each load level's spread before and after (text)."""
+        working = np.isfinite(self.gain)
+        lines = [f"Equilibration of {self.gain.shape[0]} x {self.gain.shape[1]} sensels: "
+                 f"{int(working.sum())} with a gain"
+                 + (f", from {np.nanmin(self.gain):.4g} to {np.nanmax(self.gain):.4g}"
+                    if working.any() else "")]
+        lines += [f"  level {lv.get('level', k)}: {lv.get('n_frames')} frames, mean raw "
+                  f"{_num(lv.get('mean_raw')):.4g}, coefficient of variation "
+                  f"{_num(lv.get('cv_before')):.3g} -> {_num(lv.get('cv_after')):.3g}"
+                  for k, lv in enumerate(self.levels)]
+        return "\n".join(lines)
 
-    def to_json(self, path):
-        """Write the equilibration JSON atomically."""
-        write_json(path, self.to_dict())
+    def _repr_fields(self):
+        working = np.isfinite(self.gain)
+        span = (float(np.nanmin(self.gain)), float(np.nanmax(self.gain))) if working.any() \
+            else None
+        return [("shape", self.gain.shape), ("sensels with a gain", int(working.sum())),
+                ("gain range", span), ("levels", len(self.levels))]
+
+    def _to_dict(self):
+        """JSON-ready dictionary: the ``gain`` table (null: no gain) and the ``levels``."""
+        return to_jsonable({"gain": self.gain, "levels": self.levels})
 
     @classmethod
-    def from_dict(cls, data, *, source="equilibration"):
+    def is_untagged(cls, data):
+        """Recognise an earlier version's equilibration JSON (``"kind": "equilibration"``)."""
+        return "format" not in data and data.get("kind") == "equilibration"
+
+    @classmethod
+    def check_untagged(cls, data, source):
+        """Raise unless untagged ``data`` is an earlier version's equilibration JSON."""
+        if not cls.is_untagged(data):
+            raise ValueError(f"{source} is not an equilibration JSON; expected \"format\": "
+                             f"\"{cls.format_tag()}\" (or \"kind\": \"equilibration\") and a "
+                             "\"gain\" table")
+
+    @classmethod
+    def _from_dict(cls, data, source):
         """Rebuild from :meth:`to_dict` output."""
-        if not isinstance(data, dict) or data.get("kind") != "equilibration":
-            raise ValueError(f"{source} is not an equilibration JSON; expected "
-                             "\"kind\": \"equilibration\" and a \"gain\" table")
         return cls(gain=_gain_table(data.get("gain"), source),
                    levels=check_type(data.get("levels", []), list, f"key 'levels' of {source}",
                                      expected="a list"))
+
+
+def _num(value):
+    """Return a level's number for text (NaN for null, as JSON stores NaN)."""
+    return float("nan") if value is None else float(value)
 
 
 def _gain_table(rows, source):
@@ -186,15 +285,15 @@ def _gain_table(rows, source):
 def load_equilibration(path):
     """Read an equilibration JSON written by :meth:`Equilibration.to_json`.
 
+    The same as ``Equilibration.from_json(path)``.
+
     Raises
     ------
     ValueError, TypeError
         Not JSON, not an equilibration, or a gain that is not a positive number or null;
         the message names the file and the key.
     """
-    path = Path(path)
-    data = read_json_object(path, "an equilibration JSON")
-    return Equilibration.from_dict(data, source=str(path))
+    return Equilibration.from_json(path)
 
 
 def equilibrate(levels):

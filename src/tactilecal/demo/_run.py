@@ -44,7 +44,7 @@ def _static_calibrations(manifests, out, quiet):
         result = calibrate(points_a, method=method)
         result.to_json(out / "calibrations" / f"{method}.json")
         check = validate(result, points_b)
-        write_json(out / "validation" / f"{method}.json", check)
+        check.to_json(out / "validation" / f"{method}.json")
         results[method] = result
         rows.append({"method": method, **check["summary"],
                      "A": result.params.get("A"), "b": result.params.get("b")})

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import fft, signal
 
-from tactilecal._jsonutil import read_json_object, write_json
+from tactilecal._result import SavedResult
 from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
 from tactilecal.dynamic._rational import RationalModel
@@ -37,7 +37,7 @@ __all__ = ["CorrectionFilter", "load_filter", "FORMAT", "zero_phase_fir", "centr
 
 #: Floating-point type of the FFT work for each ``precision`` of ``apply_filter``.
 PRECISIONS = {"single": np.float32, "double": np.float64}
-#: Identifies FILTER.json files.
+#: Identifies FILTER.json files (the format tag of :mod:`tactilecal._result`).
 FORMAT = "tactilecal-dynamic-filter/1"
 _OUTSIDE = ("taper", "hold")
 #: Models whose correction is complex (they undo the sensor's phase as well as its gain).
@@ -99,9 +99,12 @@ def centred_spectrum(taps, n_fft, *, phase=False):
     return spectrum if phase else spectrum.real
 
 
-@dataclass
-class CorrectionFilter:
+@dataclass(repr=False)
+class CorrectionFilter(SavedResult):
     """Zero-phase correction filter; build it with :meth:`from_model` or :meth:`from_response`.
+
+    Saved as FILTER.json, ``"format": "tactilecal-dynamic-filter/1"``
+    (:meth:`to_json`, or :meth:`save`).
 
     Attributes
     ----------
@@ -131,6 +134,9 @@ class CorrectionFilter:
         For ``model="rational"``: the sensor response ``H``; the filter applies ``1 / H``,
         magnitude and phase (offline by the centred FIR, or causally by :meth:`sos`).
     """
+
+    FORMAT_KIND = "dynamic-filter"
+    DESCRIPTION = "a FILTER.json written by 'tactilecal dynamic fit'"
 
     model: str
     params: dict
@@ -330,10 +336,9 @@ class CorrectionFilter:
         return self._spectra[n_fft]
 
     # -- JSON ---------------------------------------------------------------------------
-    def to_dict(self):
+    def _to_dict(self):
         """Return the FILTER.json content (keys of the CLI contract first)."""
         return {
-            "format": FORMAT,
             "model": self.model,
             "A": self.params.get("A"),
             "log_base": MODELS[self.model][0] if self.model in MODELS else None,
@@ -361,14 +366,23 @@ class CorrectionFilter:
         return {"f_hz": f_hz, "gain": np.abs(target), "phase_deg": np.degrees(np.angle(target))}
 
     @classmethod
-    def from_dict(cls, d, *, where="filter"):
-        """Rebuild a filter from :meth:`to_dict` output (``where`` names it in errors)."""
+    def from_dict(cls, d, *, where="filter", source=None):
+        """Rebuild a filter from :meth:`to_dict` output (``source``/``where`` names it)."""
+        return super().from_dict(d, source=source or where)
+
+    @classmethod
+    def check_format(cls, d, source):
+        """Raise unless ``d`` has the filter's tag and keys (FILTER.json always had the tag)."""
+        check_type(d, dict, source, expected=f"{cls.DESCRIPTION} object")
         missing = [k for k in ("model", "fs_hz", "band_hz", "params", "outside", "taper_hz",
                                "n_taps") if k not in d]
         if d.get("format") != FORMAT or missing:
-            raise ValueError(f"{where}: not a tactilecal dynamic filter (format "
+            raise ValueError(f"{source}: not a tactilecal dynamic filter (format "
                              f"{d.get('format')!r}, missing keys {missing}); expected "
                              f"format {FORMAT!r} as written by 'tactilecal dynamic fit'")
+
+    @classmethod
+    def _from_dict(cls, d, where):
         _check_filter_dict(d, where)
         response = d.get("response") or {}
         gain = None if not response else np.asarray(response["gain"], float)
@@ -384,8 +398,13 @@ class CorrectionFilter:
         return filt
 
     def save(self, path):
-        """Write FILTER.json atomically."""
-        write_json(path, self.to_dict())
+        """Write FILTER.json atomically (the same as :meth:`to_json`)."""
+        self.to_json(path)
+
+    def _repr_fields(self):
+        return [("model", self.model), ("params", self.params), ("fs_hz", self.fs_hz),
+                ("band_hz", self.band_hz), ("outside", self.outside),
+                ("n_taps", self.n_taps), ("lag_s", self.lag_s), ("forced", self.forced)]
 
     def summary(self):
         """Return a one-line description."""
@@ -484,10 +503,11 @@ def _check_correction(filt, where):
 def load_filter(path):
     """Read a FILTER.json written by :meth:`CorrectionFilter.save`.
 
+    The same as ``CorrectionFilter.from_json(path)``.
+
     Raises
     ------
     ValueError
         Not JSON, or not a filter file.
     """
-    d = read_json_object(path, "a FILTER.json written by 'tactilecal dynamic fit'")
-    return CorrectionFilter.from_dict(d, where=str(path))
+    return CorrectionFilter.from_json(path)

@@ -33,21 +33,36 @@ def file_provenance(path):
 
 
 def _classify_dict(data, where):
-    from tactilecal.calibration._result import REQUIRED_KEYS, CalibrationResult
+    """Return ``(kind, object)`` of a JSON object by its format tag (or an untagged filter's keys).
 
-    if str(data.get("format", "")).startswith("tactilecal-dynamic-filter") or all(
-            k in data for k in _FILTER_KEYS):
+    The tag is that of :mod:`tactilecal._result` (``tactilecal.load``); a FILTER.json is
+    passed on as its dict, a calibration as a CalibrationResult.
+    """
+    from tactilecal._result import result_class
+    from tactilecal.calibration import CalibrationResult, ValidationResult
+    from tactilecal.dynamic import CorrectionFilter
+
+    if "format" not in data and all(k in data for k in _FILTER_KEYS):
+        return "filter", data  # a filter's dict built in memory, without the tag
+    try:
+        cls = result_class(data, where)
+    except ValueError:
+        cls = None
+    if cls is CorrectionFilter:
         return "filter", data
-    if all(k in data for k in REQUIRED_KEYS):
+    if cls is CalibrationResult:
         return "calibration", CalibrationResult.from_dict(data, source=where)
-    if all(k in data for k in _EVALUATION_KEYS):
-        return "evaluation", data
-    if isinstance(data.get("summary"), dict) and "calibration_method" in data["summary"]:
+    if cls is ValidationResult:
         return "validation", data
-    raise ValueError(f"{where}: JSON with keys {sorted(data)[:8]} is neither a calibration "
-                     f"(keys {list(REQUIRED_KEYS)}), a validation (key 'summary'), a dynamic "
-                     f"filter (keys {list(_FILTER_KEYS)}) nor a blind test (keys "
-                     f"{list(_EVALUATION_KEYS)})")
+    if "format" not in data and all(k in data for k in _EVALUATION_KEYS):
+        return "evaluation", data  # tactilecal dynamic evaluate's JSON (untagged)
+    found = f"format {data['format']!r}" if "format" in data else \
+        f"keys {sorted(data)[:8]}"
+    raise ValueError(f"{where}: JSON with {found} is neither a calibration (format "
+                     f"{CalibrationResult.format_tag()!r}), a validation (format "
+                     f"{ValidationResult.format_tag()!r}), a dynamic filter (format "
+                     f"{CorrectionFilter.format_tag()!r}, or keys {list(_FILTER_KEYS)}) nor "
+                     f"a blind test (keys {list(_EVALUATION_KEYS)})")
 
 
 def load_input(item, *, what="report input"):
@@ -79,6 +94,8 @@ def load_input(item, *, what="report input"):
     if isinstance(item, xr.DataArray):
         return "recording", item, {"input": "DataArray in memory",
                                    "source": str(item.attrs.get("source", ""))}
+    if hasattr(item, "to_dict") and getattr(item, "FORMAT_KIND", None) == "validation":
+        return "validation", item, {"input": "ValidationResult in memory"}
     if isinstance(item, dict):
         kind, obj = _classify_dict(item, "dict input")
         return kind, obj, {"input": f"{kind} dict in memory"}

@@ -143,7 +143,7 @@ _ZVYAGIN_FIGURES = (
     ("plot_calibration_curves", "calibration curves (Fig. 10)",
      "The chosen law against the laws of the terminal points T1 and T2; their spread is how "
      "far the pair solutions disagree."),
-    ("plot_error_histogram", "error per patch (Fig. 11)",
+    ("plot_patch_errors", "error per patch (Fig. 11)",
      "The misfit of every patch in percent of its applied load, by weight; a weight whose "
      "bars all lean one way shows a law that bends away from the data at that load."),
     ("plot_energy", "energy along the power-law curve (eq. 15)",

@@ -22,11 +22,18 @@ from tactilecal.zvyagin._fit import (
 from tactilecal.zvyagin._pairs import solve_pairs
 from tactilecal.zvyagin._result import ZvyaginResult
 
-__all__ = ["zvyagin_fit", "load_groups", "MODES", "DEFAULT_MODE", "SENSEL_AREA_5051_MM2"]
+__all__ = ["zvyagin_fit", "load_groups", "MODES", "DEFAULT_MODE", "SENSEL_AREA_5051_MM2",
+           "OPTIONS"]
 
 G_STANDARD = 9.80665
 #: 5051 sensel: 1.27 mm x 1.27 mm
 SENSEL_AREA_5051_MM2 = 1.27 * 1.27
+
+#: Options of ``calibrate(points, method="zvyagin")``: those of :func:`zvyagin_fit`, the
+#: static methods' ``keep_saturated`` and the sensel area (default: the points').
+OPTIONS = ("mode", "domain", "root_choice", "outliers", "b_range", "saturated", "final",
+           "pair_b_min", "objective", "keep_saturated", "trim", "max_relerr", "grey_share",
+           "group_tolerance", "sensel_area_mm2")
 
 #: Defaults of the two modes; any option passed explicitly overrides them.
 MODES = {

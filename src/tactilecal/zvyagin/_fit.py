@@ -3,6 +3,8 @@
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from tactilecal._powerfit import fit_power, fit_power_censored
+
 __all__ = ["fit_power_law", "patch_power_sums", "energy", "minimise_energy",
            "minimise_energy_free", "saturation_pressure_MPa"]
 
@@ -159,7 +161,7 @@ def minimise_energy_free(histograms, load_N, curve, *, censored=None, objective=
     """Minimise the patch misfit over A and b together (robust mode's step 4).
 
     The misfit is eq. 15's without the constraint A = alpha b**beta, i.e. eq. 3 over every
-    patch: the power method's fit (:func:`tactilecal.calibration._methods.fit_power`, or
+    patch: the power method's fit (:func:`tactilecal._powerfit.fit_power`, or
     ``fit_power_censored`` when ``censored`` is given) with its ``objective`` ("l2" is E
     itself; "l1" and "relative" weigh each patch's error as the power method does) and its
     b bounds. The curve of eq. 14 keeps its optimum as a diagnostic: where the pair cloud
@@ -184,8 +186,6 @@ def minimise_energy_free(histograms, load_N, curve, *, censored=None, objective=
         ``curve_A0``, ``curve_b0`` (the constrained optimum), ``free`` = True and
         ``objective``.
     """
-    from tactilecal.calibration._methods import fit_power, fit_power_censored
-
     h = np.asarray(histograms, dtype=np.float64)
     f = np.asarray(load_N, dtype=np.float64)
     if censored is not None and np.any(censored):

@@ -20,6 +20,9 @@ PAIR_COLOURS = {"V": "#2ca02c", "O": "#17becf", "R": "#ff7f0e", "N": "#ffffff",
 def as_zvyagin_result(obj):
     """Return a :class:`ZvyaginResult` from itself, a CalibrationResult or its details.
 
+    A CalibrationResult's is its ``method_result``; a ``details`` dict is rebuilt with
+    :meth:`ZvyaginResult.from_details`.
+
     Raises
     ------
     ValueError
@@ -27,6 +30,8 @@ def as_zvyagin_result(obj):
     """
     if isinstance(obj, ZvyaginResult):
         return obj
+    if isinstance(getattr(obj, "method_result", None), ZvyaginResult):
+        return obj.method_result
     details = getattr(obj, "details", obj)
     if not isinstance(details, dict) or details.get("method") != "zvyagin":
         method = getattr(obj, "method", type(obj).__name__)

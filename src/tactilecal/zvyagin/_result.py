@@ -4,6 +4,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tactilecal._result import ShortRepr
 from tactilecal.zvyagin._fit import saturation_pressure_MPa
 
 __all__ = ["ZvyaginResult", "PAIR_CATEGORIES", "summarise_d_map"]
@@ -45,8 +46,8 @@ def _as_array(x, dtype=float):
         else np.asarray(x, dtype=dtype)
 
 
-@dataclass
-class ZvyaginResult:
+@dataclass(repr=False)
+class ZvyaginResult(ShortRepr):
     """Everything the Zvyagin (2022) procedure computed, patch by patch and pair by pair.
 
     Attributes mirror the paper: ``separation`` (I*), ``d_min`` (d_{T}(I*)), ``counts``
@@ -112,8 +113,24 @@ class ZvyaginResult:
 
     @property
     def p_s_MPa(self):
-        """Saturation pressure p_s = A0 * 255**b0 / S_sensel in MPa (eq. 16)."""
+        """Saturation pressure p_s = A0 * 255**b0 / S_sensel in MPa (eq. 16).
+
+        In MPa as the paper gives it (Table 2); :attr:`p_s_kPa` is the same pressure in
+        the kPa of the rest of the toolkit (``CalibrationResult.saturation_pressure_kPa``).
+        """
         return saturation_pressure_MPa(self.A0, self.b0, self.sensel_area_mm2)
+
+    @property
+    def p_s_kPa(self):
+        """Saturation pressure p_s of eq. 16 in kPa (1000 x :attr:`p_s_MPa`)."""
+        return 1000.0 * self.p_s_MPa
+
+    def _repr_fields(self):
+        return [("mode", self.mode),
+                ("patches used", f"{int(np.sum(self.usable))} of {len(self.labels)}"),
+                ("separation", self.separation), ("d_min", self.d_min),
+                ("pairs", len(self.pairs["b"])), ("alpha", self.alpha), ("beta", self.beta),
+                ("A0", self.A0), ("b0", self.b0), ("p_s_kPa", self.p_s_kPa)]
 
     @property
     def error_pct(self):

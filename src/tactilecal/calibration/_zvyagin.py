@@ -1,4 +1,9 @@
-"""``calibrate_zvyagin``: Zvyagin (2022) from calibration points to a CalibrationResult."""
+"""``calibrate(points, method="zvyagin")``: Zvyagin (2022) from calibration points.
+
+The adapter between the two subpackages lives here, on the calibration side: it imports
+:mod:`tactilecal.zvyagin` by its public names (Zvyagin's procedure knows nothing of
+calibration points or results), so the import runs one way, calibration -> zvyagin.
+"""
 
 import warnings
 
@@ -6,15 +11,13 @@ import numpy as np
 
 from tactilecal._jsonutil import to_jsonable
 from tactilecal._saturation import resolve_saturated
-from tactilecal.zvyagin._calibrate import zvyagin_fit
+from tactilecal.calibration._calibrate import make_result
+from tactilecal.calibration._points import points_to_arrays
+from tactilecal.zvyagin import zvyagin_fit
+from tactilecal.zvyagin._calibrate import OPTIONS
 from tactilecal.zvyagin._fit import energy
 
-__all__ = ["calibrate_zvyagin", "OPTIONS"]
-
-#: Options accepted by :func:`calibrate_zvyagin` (see :func:`zvyagin_fit`).
-OPTIONS = ("mode", "domain", "root_choice", "outliers", "b_range", "saturated", "final",
-           "pair_b_min", "objective", "keep_saturated", "trim", "max_relerr", "grey_share",
-           "group_tolerance", "sensel_area_mm2")
+__all__ = ["calibrate_zvyagin", "conditional_stderr"]
 
 
 def _point_labels(points):
@@ -38,14 +41,20 @@ def _sensel_area(points, area):
     return float(areas[0])
 
 
-def conditional_stderr(res):
+def conditional_stderr(res, histograms_used):
     """Estimate standard errors of (A0, b0) from the curvature of E along the power-law curve.
 
     var(b0) = 2 s^2 / E''(b0) with s^2 = E(b0) / (n - 1), and se(A0) = |dA0/db0| se(b0):
     conditional on alpha and beta (their own uncertainty is not propagated). With
     ``final="free"`` it is taken at the curve's own optimum (``curve_b0``).
+
+    Parameters
+    ----------
+    res : tactilecal.zvyagin.ZvyaginResult
+    histograms_used : numpy.ndarray
+        (n_usable, 256) histograms of the patches ``res.usable`` marks.
     """
-    h = res._histograms_used
+    h = histograms_used
     f = res.load_N[res.usable]
     b0, step = res.final.get("curve_b0", res.b0), 1e-4
     e = energy(np.array([b0 - step, b0, b0 + step]), h, f, res.alpha, res.beta)
@@ -61,7 +70,8 @@ def conditional_stderr(res):
 def calibrate_zvyagin(points, **options):
     """Calibrate with Zvyagin's (2022) multi-patch method; return a CalibrationResult.
 
-    ``tactilecal.calibrate(points, method="zvyagin", **options)`` calls this.
+    ``tactilecal.calibrate(points, method="zvyagin", **options)`` calls this (and adds the
+    bootstrap options); ``tactilecal.zvyagin.calibrate_zvyagin`` is its deprecated alias.
 
     Parameters
     ----------
@@ -81,7 +91,8 @@ def calibrate_zvyagin(points, **options):
     tactilecal.calibration.CalibrationResult
         Method ``"zvyagin"``, model ``"power"``, params ``{"A": A0, "b": b0}`` (force per
         sensel in N = A * raw**b), and every intermediate of the procedure in ``details``
-        (:meth:`ZvyaginResult.to_details`); ``ZvyaginResult.from_details`` rebuilds it.
+        (:meth:`ZvyaginResult.to_details`); the :class:`ZvyaginResult` itself is
+        ``method_result`` (rebuilt from ``details`` when the JSON is loaded).
 
     Raises
     ------
@@ -97,9 +108,6 @@ def calibrate_zvyagin(points, **options):
     >>> cal.method, cal.model, sorted(cal.params)
     ('zvyagin', 'power', ['A', 'b'])
     """
-    from tactilecal.calibration._calibrate import make_result
-    from tactilecal.calibration._points import points_to_arrays
-
     unknown = sorted(set(options) - set(OPTIONS))
     if unknown:
         raise ValueError(f"calibrate_zvyagin: unknown options {unknown}; expected some of "
@@ -112,17 +120,18 @@ def calibrate_zvyagin(points, **options):
     area = _sensel_area(points, opts.pop("sensel_area_mm2", None))
     hist, load = points_to_arrays(points)
     res = zvyagin_fit(hist, load, labels=_point_labels(points), sensel_area_mm2=area, **opts)
-    res._histograms_used = np.asarray(hist)[res.usable]
     reasons = [res.excluded.get(k, "") for k in range(len(points))]
     details = to_jsonable(res.to_details())
     # The curvature of E(b0) along the fitted curve ignores the uncertainty of alpha and
     # beta: on an independent simulator it was ~100x too small (b = 1.22069 +- 0.00037 for
     # a truth of 1.16, issue 12), so it is kept only as a diagnostic, not as an error.
-    details["conditional_stderr"] = to_jsonable(conditional_stderr(res))
+    used_hist = np.asarray(hist)[res.usable]
+    details["conditional_stderr"] = to_jsonable(conditional_stderr(res, used_hist))
     details["stderr_note"] = ("no parameter errors: the curvature of E(b0) along the power "
                               "law (details.conditional_stderr) is conditional on alpha and "
                               "beta and far too small to quote")
     return make_result(points, method="zvyagin", model="power",
                        params={"A": res.A0, "b": res.b0}, params_stderr={"A": None, "b": None},
                        used=res.usable, reasons=reasons, details=details,
-                       options={"mode": res.mode, **res.options}, sensel_area_mm2=area)
+                       options={"mode": res.mode, **res.options}, sensel_area_mm2=area,
+                       method_result=res)
