@@ -18,6 +18,7 @@ from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
 from tactilecal.calibration._methods import FITTERS
 from tactilecal.calibration._models import force_table
+from tactilecal.calibration._pipeline import as_equilibration
 from tactilecal.calibration._points import (
     _frame_histograms,
     _points_from_histograms,
@@ -329,8 +330,10 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
         Calibration method (see :func:`calibrate`).
     time_col, load_col : str or int, optional
         Columns of the load-cell CSV.
-    lag_s, max_lag_s, equilibration, min_load_fraction, quiet
+    lag_s, max_lag_s, min_load_fraction, quiet
         See :func:`movie_points`.
+    equilibration : Equilibration, str or os.PathLike, optional
+        Gains applied to each frame first (or the path of their JSON).
     mask_dead : bool
         Detect non-working sensels over the movie (:func:`find_dead_sensels`) and mask them.
     **options
@@ -351,6 +354,7 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
                          f"{recording.attrs['units']!r}; expected raw readings")
     if isinstance(loads, str | Path):
         loads = read_movie_loads(loads, time_col=time_col, load_col=load_col)
+    equilibration = as_equilibration(equilibration)
     dead = find_dead_sensels(recording.values) if mask_dead else None
     hist = _histograms(recording.data, None if dead is None else dead.mask, equilibration,
                        quiet)

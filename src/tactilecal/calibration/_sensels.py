@@ -54,10 +54,16 @@ class NonWorkingSensels:
 
     def report(self):
         """One line saying how many sensels were found and where."""
-        where = ", ".join(f"({r}, {c})" for r, c in self.sensels[:20])
-        more = " ..." if self.mask.sum() > 20 else ""
-        return (f"non-working sensels: {int(self.mask.sum())} found over {self.n_frames} frames"
-                + (f" at (row, col) {where}{more}; masked" if self.mask.any() else ""))
+        return self.report_dict(self.to_dict())
+
+    @staticmethod
+    def report_dict(data):
+        """:meth:`report` from :meth:`to_dict` output (e.g. a calibration's ``details``)."""
+        sensels = data["sensels"]
+        where = ", ".join(f"({r}, {c})" for r, c in sensels[:20])
+        more = " ..." if len(sensels) > 20 else ""
+        return (f"non-working sensels: {len(sensels)} found over {data['n_frames']} frames"
+                + (f" at (row, col) {where}{more}; masked" if sensels else ""))
 
     def to_dict(self):
         """JSON-ready summary (the sensels and how many frames showed each)."""

@@ -98,51 +98,34 @@ def _options(args):
     return opts
 
 
-def _manifest_points(args, equilibration):
-    from tactilecal.calibration import find_dead_sensels, load_frames, load_points
-
-    kw = {"equilibration": equilibration, "quiet": args.quiet}
-    if not args.mask_dead:
-        return load_points(args.manifest, **kw), None
-    dead = find_dead_sensels(load_frames(args.manifest, **kw))
-    return load_points(args.manifest, mask=dead.mask, **kw), dead
-
-
 def run(args):
     """Run ``tactilecal calibrate``."""
-    from tactilecal.calibration import METHODS, calibrate, load_equilibration
+    from tactilecal.calibration import METHODS, NonWorkingSensels, calibrate, calibrate_movie
 
     if args.method not in METHODS:  # before any manifest file is read
         raise ValueError(f"--method {args.method!r}; expected one of {', '.join(METHODS)}")
-    equilibration = load_equilibration(args.equilibration) if args.equilibration else None
     if args.movie:
         if args.manifest or not args.loads:
             raise ValueError("--movie needs --loads LOADCELL.csv and no MANIFEST; expected "
                              "'tactilecal calibrate --movie REC --loads LOADCELL.csv'")
-        from tactilecal.calibration import calibrate_movie
-
         result = calibrate_movie(args.movie, args.loads, method=args.method,
                                  time_col=args.time_col, load_col=args.load_col,
                                  lag_s=args.lag, max_lag_s=args.max_lag,
-                                 mask_dead=args.mask_dead,
-                                 equilibration=equilibration, quiet=args.quiet,
-                                 **_options(args))
+                                 mask_dead=args.mask_dead, equilibration=args.equilibration,
+                                 quiet=args.quiet, **_options(args))
         info(args, result.details["movie"]["report"])
     else:
         if not args.manifest:
             raise ValueError("no MANIFEST given; expected 'tactilecal calibrate MANIFEST' "
                              "or '--movie REC --loads LOADCELL.csv'")
-        points, dead = _manifest_points(args, equilibration)
-        info_grouped(args, [f"{p.source}: {p.note}" for p in points if p.note])
-        try:
-            result = calibrate(points, method=args.method, **_options(args))
-        except ValueError as err:  # name the manifest: the points' names are in the text
-            raise ValueError(f"{args.manifest}: {err}") from None
-        if dead is not None:
-            result.details["non_working_sensels"] = dead.to_dict()
-            info(args, dead.report())
-        if equilibration is not None:
-            result.details["equilibration"] = equilibration.to_dict()
+        result = calibrate(args.manifest, method=args.method, quiet=args.quiet,
+                           equilibration=args.equilibration,
+                           mask="detect" if args.mask_dead else None, **_options(args))
+        table = result.points
+        info_grouped(args, [f"{f}: {n}" for f, n in zip(table["file"], table["note"],
+                                                         strict=True) if n])
+        if "non_working_sensels" in result.details:
+            info(args, NonWorkingSensels.report_dict(result.details["non_working_sensels"]))
     if args.out:
         result.to_json(Path(args.out))
         info(args, f"calibration written to {args.out}")
