@@ -26,8 +26,15 @@ Subpackages, one per idea:
     Self-contained HTML reports.
 
 The names below are imported lazily so that ``import tactilecal`` stays fast.
+
+The xarray accessor ``recording.tactile`` (``.force()``, ``.area()``, ``.centre()``,
+``.calibrate(cal)``...) is registered by :mod:`tactilecal.analysis`: at ``import
+tactilecal`` when xarray is already imported, else when a name below is first used, and
+always by ``import tactilecal.analysis``. (Importing xarray here would make ``import
+tactilecal`` about 100 times slower.)
 """
 
+import sys
 from importlib import import_module
 
 from tactilecal._version import __version__
@@ -62,8 +69,18 @@ def __getattr__(name):
     module = import_module(_LAZY[name])
     value = module if module.__name__ == f"tactilecal.{name}" else getattr(module, name)
     globals()[name] = value
+    _register_accessor()
     return value
+
+
+def _register_accessor():
+    """Register ``DataArray.tactile`` (by importing the analysis) once xarray is loaded."""
+    if "xarray" in sys.modules and "tactilecal.analysis" not in sys.modules:
+        import_module("tactilecal.analysis")
 
 
 def __dir__():
     return sorted(__all__)
+
+
+_register_accessor()

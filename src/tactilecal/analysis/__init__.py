@@ -5,8 +5,13 @@ DataArray ``("frame", "row", "col")`` with a ``time`` coordinate and the sensor'
 attributes, in pressure (kPa, MPa, psi) or force (N, kgf, lbf) units. A raw recording
 needs ``calibration=`` (a CalibrationResult or the path of its JSON). Results are
 vectorised over frames and carry the ``time`` coordinate.
+
+Importing this package registers the xarray accessor ``recording.tactile``
+(:class:`TactileAccessor`): ``rec.tactile.force()``, ``.area()``, ``.centre()``,
+``.peak()``, ``.pressure_map()``, ``.calibrate(cal)``...
 """
 
+from tactilecal.analysis._accessor import TactileAccessor
 from tactilecal.analysis._maps import (
     centre_of_force,
     contact_area,
@@ -37,6 +42,7 @@ from tactilecal.analysis._units import force_map_N, pressure_map_kPa, saturated_
 __all__ = [
     "CreepResult",
     "HysteresisResult",
+    "TactileAccessor",
     "centre_of_force",
     "column_profile",
     "contact_area",
