@@ -118,6 +118,8 @@ def test_pipeline_errors(session):
         calibrate(points, mask="detect")
     with pytest.raises(TypeError, match="equilibration is a int; expected an Equilibration"):
         calibrate(session["manifest"], equilibration=3)
+    with pytest.raises(TypeError, match="progress is a bool; expected None or a callable"):
+        calibrate(session["manifest"], progress=True)
     with pytest.raises(TypeError, match="mask is 'dead'; expected 'detect'"):
         calibrate(session["manifest"], mask="dead")
     with pytest.raises(TypeError, match="mask is a bool; expected 'detect'"):

@@ -10,7 +10,12 @@ from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._manifest import load_points
 from tactilecal.calibration._methods import FITTERS, check_unsaturated, fit_censored
 from tactilecal.calibration._models import force_table
-from tactilecal.calibration._pipeline import is_path, manifest_points, record_preprocessing
+from tactilecal.calibration._pipeline import (
+    is_path,
+    manifest_points,
+    reading_options,
+    record_preprocessing,
+)
 from tactilecal.calibration._points import points_to_arrays, take_rows
 from tactilecal.calibration._result import CalibrationResult
 from tactilecal.calibration._sensels import Equilibration
@@ -63,7 +68,7 @@ def point_meta(points):
     return {c: np.array([getattr(p, attrs.get(c, c)) for p in points]) for c in META_COLUMNS}
 
 
-def calibrate(points, method="power", *, equilibration=None, mask=None, quiet=True,
+def calibrate(points, method="power", *, equilibration=None, mask=None, progress=None,
               **options):
     """Fit a static calibration to calibration points, or to a manifest's frames.
 
@@ -89,8 +94,9 @@ def calibrate(points, method="power", *, equilibration=None, mask=None, quiet=Tr
         Manifest only: non-working sensels to leave out; ``"detect"`` finds them over the
         manifest's frames (:func:`find_dead_sensels`, ``--mask-dead`` of the CLI). Stored
         in ``details["non_working_sensels"]`` and masked by ``apply``.
-    quiet : bool
-        Manifest only: no progress bar while reading its files (default True).
+    progress : callable, optional
+        Manifest only: ``progress(iterable, total=, desc=)`` wrapping the reading of long
+        manifests, e.g. a progress bar (default None: none).
     **options
         ``saturated`` (``"drop"``, the default of :mod:`tactilecal._saturation`: points
         with sensels at 255 are left out and reported; ``"keep"``; ``keep_saturated`` is
@@ -132,7 +138,7 @@ def calibrate(points, method="power", *, equilibration=None, mask=None, quiet=Tr
     if is_path(points):
         manifest = points
         points, dead, eq = manifest_points(manifest, equilibration=equilibration, mask=mask,
-                                           quiet=quiet)
+                                           progress=progress)
         try:
             result = _calibrate_points(points, method, options)
         except ValueError as err:  # name the manifest: the points' names are in the text
@@ -365,7 +371,7 @@ def _metrics(load, predicted, n_points):
     }
 
 
-def validate(result, points, *, include_saturated=False, quiet=True):
+def validate(result, points, *, include_saturated=False, progress=None):
     """Compare a calibration's predicted loads with the applied loads of (held-out) points.
 
     Parameters
@@ -379,8 +385,8 @@ def validate(result, points, *, include_saturated=False, quiet=True):
     include_saturated : bool
         Whether points with saturated sensels count in the summary (default False: they
         are listed with ``saturated: true`` and left out of the summary, which says so).
-    quiet : bool
-        Manifest only: no progress bar while reading its files (default True).
+    progress : callable, optional
+        Manifest only: as in :func:`calibrate`.
 
     Returns
     -------
@@ -396,7 +402,8 @@ def validate(result, points, *, include_saturated=False, quiet=True):
     """
     if is_path(points):
         stored = result.details.get("equilibration")
-        points = load_points(points, quiet=quiet, equilibration=None if stored is None
+        points = load_points(points, **reading_options(progress),
+                             equilibration=None if stored is None
                              else Equilibration.from_dict(stored))
     hist, load = points_to_arrays(points)
     predicted = result.predict_histograms(hist)

@@ -20,7 +20,7 @@ from tactilecal.calibration._sensels import (
 )
 
 __all__ = ["MASK_DETECT", "as_equilibration", "is_path", "manifest_points",
-           "record_preprocessing"]
+           "reading_options", "record_preprocessing"]
 
 MASK_DETECT = "detect"
 """``mask="detect"``: find the non-working sensels over the manifest's frames."""
@@ -52,12 +52,26 @@ def as_equilibration(equilibration):
                     "Equilibration, the path of its JSON, or None")
 
 
-def _as_dead(mask, manifest, equilibration, quiet):
+def reading_options(progress):
+    """Keywords of :func:`load_points`/:func:`load_frames` for the ``progress`` protocol.
+
+    ``progress`` is None (no bar) or a callable ``progress(iterable, total=, desc=)``.
+    The manifest readers of this version take ``quiet`` (False: a terminal bar) instead;
+    once they take ``progress`` this is ``{"progress": progress}``.
+    """
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress is a {type(progress).__name__}; expected None or a "
+                        "callable progress(iterable, total=, desc=)")
+    return {"quiet": progress is None}
+
+
+def _as_dead(mask, manifest, equilibration, progress):
     """Return the non-working sensels ``mask`` names (None for none)."""
     if mask is None or isinstance(mask, NonWorkingSensels):
         return mask
     if isinstance(mask, str) and mask == MASK_DETECT:
-        frames = load_frames(manifest, equilibration=equilibration, quiet=quiet)
+        frames = load_frames(manifest, equilibration=equilibration,
+                             **reading_options(progress))
         return find_dead_sensels(frames)
     values = np.asarray(mask) if not isinstance(mask, str | bool) else None
     if values is None or values.dtype != bool or values.ndim != 2:
@@ -75,7 +89,7 @@ def _describe(value):
         f"a {type(value).__name__}"
 
 
-def manifest_points(manifest, *, equilibration=None, mask=None, quiet=True):
+def manifest_points(manifest, *, equilibration=None, mask=None, progress=None):
     """Read a manifest's points with the calibration's preprocessing applied.
 
     Parameters
@@ -88,8 +102,8 @@ def manifest_points(manifest, *, equilibration=None, mask=None, quiet=True):
         Non-working sensels to leave out: ``"detect"`` finds them over the manifest's
         (equilibrated) frames with :func:`find_dead_sensels`, as ``tactilecal calibrate
         --mask-dead`` does.
-    quiet : bool
-        No progress bar while reading.
+    progress : callable, optional
+        ``progress(iterable, total=, desc=)`` shown while reading (None: no bar).
 
     Returns
     -------
@@ -98,9 +112,9 @@ def manifest_points(manifest, *, equilibration=None, mask=None, quiet=True):
     equilibration : Equilibration or None
     """
     equilibration = as_equilibration(equilibration)
-    dead = _as_dead(mask, manifest, equilibration, quiet)
+    dead = _as_dead(mask, manifest, equilibration, progress)
     points = load_points(manifest, mask=None if dead is None else dead.mask,
-                         equilibration=equilibration, quiet=quiet)
+                         equilibration=equilibration, **reading_options(progress))
     return points, dead, equilibration
 
 

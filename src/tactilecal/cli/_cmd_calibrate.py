@@ -10,6 +10,7 @@ from tactilecal.cli._common import (
     positive_float,
     positive_int,
     print_json,
+    progress,
 )
 
 
@@ -118,7 +119,8 @@ def run(args):
         if not args.manifest:
             raise ValueError("no MANIFEST given; expected 'tactilecal calibrate MANIFEST' "
                              "or '--movie REC --loads LOADCELL.csv'")
-        result = calibrate(args.manifest, method=args.method, quiet=args.quiet,
+        result = calibrate(args.manifest, method=args.method,
+                           progress=None if args.quiet else progress,
                            equilibration=args.equilibration,
                            mask="detect" if args.mask_dead else None, **_options(args))
         table = result.points

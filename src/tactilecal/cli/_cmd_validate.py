@@ -1,6 +1,6 @@
 """``tactilecal validate``: compare a calibration's loads with a manifest's applied loads."""
 
-from tactilecal.cli._common import print_json
+from tactilecal.cli._common import print_json, progress
 
 
 def register(subparsers):
@@ -38,7 +38,8 @@ def run(args):
     from tactilecal.calibration import load_calibration, validate
 
     # the manifest's frames get the calibration's equilibration gains, as for the fit
-    out = validate(load_calibration(args.calibration), args.manifest, quiet=args.quiet,
+    out = validate(load_calibration(args.calibration), args.manifest,
+                   progress=None if args.quiet else progress,
                    include_saturated=args.include_saturated)
     if args.json:
         print_json(out)
