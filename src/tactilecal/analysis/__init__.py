@@ -12,6 +12,7 @@ Importing this package registers the xarray accessor ``recording.tactile``
 """
 
 from tactilecal.analysis._accessor import TactileAccessor
+from tactilecal.analysis._describe import FRAME_COLUMNS, describe, frame_table, overview
 from tactilecal.analysis._maps import (
     centre_of_force,
     contact_area,
@@ -41,18 +42,22 @@ from tactilecal.analysis._units import force_map_N, pressure_map_kPa, saturated_
 
 __all__ = [
     "CreepResult",
+    "FRAME_COLUMNS",
     "HysteresisResult",
     "TactileAccessor",
     "centre_of_force",
     "column_profile",
     "contact_area",
     "creep",
+    "describe",
     "force_map_N",
+    "frame_table",
     "high_pressure_zones",
     "hysteresis",
     "label_zones",
     "loaded_mask",
     "max_window_load",
+    "overview",
     "mean_pressure",
     "peak_frame",
     "peak_pressure",
