@@ -27,6 +27,12 @@ from tactilecal.dynamic._centrifuge import (
     water_head_factor,
     water_head_pressure_kPa,
 )
+from tactilecal.dynamic._files import (
+    filter_recording,
+    filter_timeseries_csv,
+    is_timeseries,
+    write_evaluation,
+)
 from tactilecal.dynamic._filter import CorrectionFilter, load_filter
 from tactilecal.dynamic._fit import MODELS, TransferFit, complex_r2, fit_transfer, model_gain
 from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
@@ -44,4 +50,5 @@ __all__ = [
     "row_mean", "water_head_pressure_kPa", "water_head_factor", "to_prototype",
     "prototype_frequency_hz",
     "plot_transfer", "plot_time", "plot_spectra", "plot_error",
+    "filter_recording", "filter_timeseries_csv", "is_timeseries", "write_evaluation",
 ]
