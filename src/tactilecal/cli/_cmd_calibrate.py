@@ -7,6 +7,7 @@ from tactilecal.cli._common import (
     info,
     info_grouped,
     non_negative_int,
+    numbers,
     positive_float,
     positive_int,
     print_json,
@@ -67,36 +68,20 @@ def register(subparsers):
 
 
 def _options(args):
-    opts = {"saturated": resolve_saturated(args.saturated, args.keep_saturated or None)}
-    if args.objective:
-        opts["objective"] = args.objective
-    if args.mode:
-        if args.method != "zvyagin":
-            raise ValueError(f"--mode {args.mode} applies to --method zvyagin only, "
-                             f"not {args.method!r}")
-        opts["mode"] = args.mode
-    if args.degree is not None:
-        opts["degree"] = args.degree
-    if args.knots:
-        try:
-            opts["knots"] = [float(k) for k in args.knots.split(",")]
-        except ValueError:
-            raise ValueError(f"--knots {args.knots!r}: expected comma-separated numbers") \
-                from None
-    if args.point is not None:
-        opts["point"] = args.point
-    if args.pair:
-        try:
-            opts["pair"] = tuple(int(k) for k in args.pair.split(","))
-        except ValueError:
-            raise ValueError(f"--pair {args.pair!r}: expected two integers 'I,J'") from None
-    if args.scale_by_working:
-        opts["scale_by_working"] = True
-    if args.n_bootstrap:
-        opts["n_bootstrap"] = args.n_bootstrap
-    if args.intervals:
-        opts["n_interval_resamples"] = args.intervals
-    return opts
+    """Return the method options of the command line (absent flags: library defaults)."""
+    saturated = resolve_saturated(args.saturated, args.keep_saturated or None)
+    if args.mode and args.method != "zvyagin":
+        raise ValueError(f"--mode {args.mode} applies to --method zvyagin only, "
+                         f"not {args.method!r}")
+    knots = numbers(args.knots, "--knots", float, "comma-separated numbers")
+    pair = numbers(args.pair, "--pair", int, "two integers 'I,J'")
+    opts = {"saturated": saturated, "objective": args.objective or None, "mode": args.mode,
+            "degree": args.degree, "knots": knots, "point": args.point,
+            "pair": None if pair is None else tuple(pair),
+            "scale_by_working": args.scale_by_working or None,
+            "n_bootstrap": args.n_bootstrap or None,
+            "n_interval_resamples": args.intervals or None}
+    return {key: value for key, value in opts.items() if value is not None}
 
 
 def run(args):
