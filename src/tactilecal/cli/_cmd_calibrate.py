@@ -2,17 +2,8 @@
 
 from pathlib import Path
 
-from tactilecal._saturation import SATURATED_CHOICES, SATURATED_DEFAULT, resolve_saturated
-from tactilecal.cli._common import (
-    info,
-    info_grouped,
-    non_negative_int,
-    numbers,
-    positive_float,
-    positive_int,
-    print_json,
-    progress,
-)
+from tactilecal.cli._calibrate_options import add_fit_options, fit_options
+from tactilecal.cli._common import info, info_grouped, positive_float, print_json, progress
 
 
 def register(subparsers):
@@ -23,36 +14,7 @@ def register(subparsers):
                     "load_N or mass_kg [+ pad_mass_g], label), or to every frame of a movie "
                     "paired with a load-cell record (--movie REC --loads CSV).")
     p.add_argument("manifest", nargs="?", help="manifest CSV (not with --movie)")
-    p.add_argument("--method", default="power",
-                   help="linear, power-2pt, power (default), linear-offset, piecewise, lut, "
-                        "polynomial, zvyagin")
-    p.add_argument("--objective", help="power: l2, l1 or relative; others: l2 or relative")
-    p.add_argument("--mode", choices=("faithful", "robust"),
-                   help="zvyagin: follow the paper as written or the robust variant "
-                        "(docs/zvyagin.md; default robust, as in the Python API)")
-    p.add_argument("--degree", type=positive_int, help="polynomial degree (default 3)")
-    p.add_argument("--knots", help="piecewise/lut knots, comma-separated raw values")
-    p.add_argument("--point", type=non_negative_int,
-                   help="linear: index of the one usable point (I-Scan 1-point calibration)")
-    p.add_argument("--pair", help="power-2pt: two usable-point indices 'I,J' (default: the "
-                                  "points nearest 20 %% and 80 %% of the largest load)")
-    p.add_argument("--saturated", choices=SATURATED_CHOICES,
-                   help="patches with a sensel at 255: drop them from the fit or keep them "
-                        f"(default {SATURATED_DEFAULT}, as in the Python API)")
-    p.add_argument("--keep-saturated", action="store_true",
-                   help="same as --saturated keep (older spelling)")
-    p.add_argument("--scale-by-working", action="store_true",
-                   help="linear/power-2pt: scale loads by working / all sensels")
-    p.add_argument("--mask-dead", action="store_true",
-                   help="detect non-working sensels across the frames and leave them out")
-    p.add_argument("--equilibration", metavar="EQ.json",
-                   help="per-sensel gains from 'tactilecal equilibrate', applied first")
-    p.add_argument("--n-bootstrap", type=non_negative_int, default=0,
-                   help="bootstrap refits for the parameters' 95 %% intervals and standard "
-                        "errors (default 0: none)")
-    p.add_argument("--intervals", type=non_negative_int, default=0, metavar="N",
-                   help="bootstrap refits for the 95 %% prediction interval of a new patch's "
-                        "load (stored in the JSON, used by validate; default 0: none)")
+    add_fit_options(p)
     p.add_argument("--movie", metavar="RECORDING", help="raw recording for movie calibration")
     p.add_argument("--loads", metavar="LOADCELL.csv",
                    help="load-cell CSV for --movie (time and load columns, or one load column "
@@ -65,23 +27,6 @@ def register(subparsers):
     p.add_argument("--out", metavar="CAL.json", help="write the calibration JSON here")
     p.add_argument("--json", action="store_true", help="print the calibration JSON")
     p.set_defaults(func=run)
-
-
-def _options(args):
-    """Return the method options of the command line (absent flags: library defaults)."""
-    saturated = resolve_saturated(args.saturated, args.keep_saturated or None)
-    if args.mode and args.method != "zvyagin":
-        raise ValueError(f"--mode {args.mode} applies to --method zvyagin only, "
-                         f"not {args.method!r}")
-    knots = numbers(args.knots, "--knots", float, "comma-separated numbers")
-    pair = numbers(args.pair, "--pair", int, "two integers 'I,J'")
-    opts = {"saturated": saturated, "objective": args.objective or None, "mode": args.mode,
-            "degree": args.degree, "knots": knots, "point": args.point,
-            "pair": None if pair is None else tuple(pair),
-            "scale_by_working": args.scale_by_working or None,
-            "n_bootstrap": args.n_bootstrap or None,
-            "n_interval_resamples": args.intervals or None}
-    return {key: value for key, value in opts.items() if value is not None}
 
 
 def run(args):
@@ -98,7 +43,7 @@ def run(args):
                                  time_col=args.time_col, load_col=args.load_col,
                                  lag_s=args.lag, max_lag_s=args.max_lag,
                                  mask_dead=args.mask_dead, equilibration=args.equilibration,
-                                 quiet=args.quiet, **_options(args))
+                                 quiet=args.quiet, **fit_options(args))
         info(args, result.details["movie"]["report"])
     else:
         if not args.manifest:
@@ -107,7 +52,7 @@ def run(args):
         result = calibrate(args.manifest, method=args.method,
                            progress=None if args.quiet else progress,
                            equilibration=args.equilibration,
-                           mask="detect" if args.mask_dead else None, **_options(args))
+                           mask="detect" if args.mask_dead else None, **fit_options(args))
         table = result.points
         info_grouped(args, [f"{f}: {n}" for f, n in zip(table["file"], table["note"],
                                                          strict=True) if n])
