@@ -1,7 +1,7 @@
 """The fit options of ``tactilecal calibrate``: their flags and the library keywords they give."""
 
 from tactilecal._saturation import SATURATED_CHOICES, SATURATED_DEFAULT, resolve_saturated
-from tactilecal.cli._common import non_negative_int, numbers, positive_int
+from tactilecal.cli._common import non_negative_int, positive_int
 
 __all__ = ["add_fit_options", "fit_options"]
 
@@ -55,3 +55,19 @@ def fit_options(args):
             "n_bootstrap": args.n_bootstrap or None,
             "n_interval_resamples": args.intervals or None}
     return {key: value for key, value in opts.items() if value is not None}
+
+
+def numbers(text, flag, kind, expected):
+    """Parse a comma-separated flag value (``--knots 1,2.5``) into a list, or None if empty.
+
+    Raises
+    ------
+    ValueError
+        ``"--knots '1,a': expected comma-separated numbers"`` (``flag`` and ``expected``).
+    """
+    if not text:
+        return None
+    try:
+        return [kind(item) for item in text.split(",")]
+    except ValueError:
+        raise ValueError(f"{flag} {text!r}: expected {expected}") from None

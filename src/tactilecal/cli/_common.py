@@ -74,31 +74,3 @@ non_negative_int = _number(int, 0, True)
 positive_float = _number(float, 0.0, False)
 non_negative_float = _number(float, 0.0, True)
 share = _number(float, 0.0, True, 1.0)
-
-
-def numbers(text, flag, kind, expected):
-    """Parse a comma-separated flag value (``--knots 1,2.5``) into a list, or None if empty.
-
-    Raises
-    ------
-    ValueError
-        ``"--knots '1,a': expected comma-separated numbers"`` (``flag`` and ``expected``).
-    """
-    if not text:
-        return None
-    try:
-        return [kind(item) for item in text.split(",")]
-    except ValueError:
-        raise ValueError(f"{flag} {text!r}: expected {expected}") from None
-
-
-def print_fields(summary):
-    """Print a summary dict as aligned ``key  value`` lines (a nested dict indented below)."""
-    width = max(map(len, summary))
-    for key, value in summary.items():
-        if isinstance(value, dict):
-            print(f"{key}:")
-            for k, v in value.items():
-                print(f"  {k:<{width}}  {v}")
-        else:
-            print(f"{key:<{width}}  {value}")

@@ -2,7 +2,7 @@
 
 from collections import Counter
 
-from tactilecal.cli._common import info, print_fields, print_json
+from tactilecal.cli._common import info, print_json
 
 __all__ = ["run_deadweight", "run_ramp_hold", "scaled_sensor"]
 
@@ -64,4 +64,16 @@ def _print(args, summary):
     if args.json:
         print_json(summary)
     else:
-        print_fields(summary)
+        _print_fields(summary)
+
+
+def _print_fields(summary):
+    """Print a summary dict as aligned ``key  value`` lines (a nested dict indented below)."""
+    width = max(map(len, summary))
+    for key, value in summary.items():
+        if isinstance(value, dict):
+            print(f"{key}:")
+            for k, v in value.items():
+                print(f"  {k:<{width}}  {v}")
+        else:
+            print(f"{key:<{width}}  {value}")
