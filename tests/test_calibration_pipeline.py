@@ -146,3 +146,21 @@ def test_validate_reads_a_manifest_with_the_recorded_gains(session):
     # the gains matter (5 % spread): without them the predictions differ
     assert not np.allclose(predicted, [p["predicted_N"] for p in without["points"]],
                            rtol=1e-6)
+
+
+def test_movie_takes_the_equilibration_as_a_path_too(tmp_path):
+    from tactilecal.calibration import calibrate_movie
+    from tactilecal.simulate import ramp_hold
+
+    sensor = make_sensor("9500", seed=0)
+    rh = ramp_hold(sensor, seed=2, hold_s=1.0, ramp_s=1.0, lead_s=0.5)
+    # 25.8 mm2 sensels: 10 and 25 kPa read mid-range (150 kPa would saturate)
+    uniform, _ = uniform_load(sensor, [10.0, 25.0], frames_per_level=3, seed=3)
+    eq = equilibrate([uniform[:3], uniform[3:]])
+    eq.to_json(tmp_path / "eq.json")
+    by_path = calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=tmp_path / "eq.json")
+    by_object = calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=eq)
+    _assert_same_params(by_path.params, by_object.params)
+    assert by_path.details["equilibration"] == by_object.details["equilibration"]
+    with pytest.raises(TypeError, match="equilibration is a list; expected an Equilibration"):
+        calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=[1.0])
