@@ -12,6 +12,7 @@ import pytest
 
 from tactilecal.calibration import (
     METHODS,
+    NonWorkingSensels,
     calibrate,
     equilibrate,
     find_dead_sensels,
@@ -87,6 +88,9 @@ def test_preprocessing_is_recorded_and_applied(session):
                         method="power")
     _assert_same_params(by_path.params, by_hand.params)
     assert by_path.details["non_working_sensels"]["sensels"] == dead.sensels
+    # the line the CLI prints, from the recorded details
+    assert NonWorkingSensels.report_dict(by_path.details["non_working_sensels"]) == \
+        dead.report()
     np.testing.assert_array_equal(np.array(by_path.details["equilibration"]["gain"],
                                            dtype=float), eq.gain)
     # apply: gains first, then the dead sensels become NaN, then the law

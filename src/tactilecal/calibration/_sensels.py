@@ -52,18 +52,26 @@ class NonWorkingSensels:
         """List of ``[row, col]`` of the non-working sensels."""
         return np.argwhere(self.mask).tolist()
 
+    @classmethod
+    def report_dict(cls, data):
+        """Return :meth:`report` of :meth:`to_dict` output (e.g. a calibration's details).
+
+        The mask is rebuilt as the smallest that holds the listed sensels (the report
+        names only the sensels and the number of frames examined).
+        """
+        rows_cols = np.array(data["sensels"], dtype=int).reshape(-1, 2)
+        shape = tuple(rows_cols.max(axis=0) + 1) if len(rows_cols) else (0, 0)
+        mask = np.zeros(shape, dtype=bool)
+        mask[tuple(rows_cols.T)] = True
+        return cls(mask=mask, evidence_frames=np.zeros(shape, dtype=int),
+                   n_frames=int(data["n_frames"])).report()
+
     def report(self):
         """One line saying how many sensels were found and where."""
-        return self.report_dict(self.to_dict())
-
-    @staticmethod
-    def report_dict(data):
-        """:meth:`report` from :meth:`to_dict` output (e.g. a calibration's ``details``)."""
-        sensels = data["sensels"]
-        where = ", ".join(f"({r}, {c})" for r, c in sensels[:20])
-        more = " ..." if len(sensels) > 20 else ""
-        return (f"non-working sensels: {len(sensels)} found over {data['n_frames']} frames"
-                + (f" at (row, col) {where}{more}; masked" if sensels else ""))
+        where = ", ".join(f"({r}, {c})" for r, c in self.sensels[:20])
+        more = " ..." if self.mask.sum() > 20 else ""
+        return (f"non-working sensels: {int(self.mask.sum())} found over {self.n_frames} frames"
+                + (f" at (row, col) {where}{more}; masked" if self.mask.any() else ""))
 
     def to_dict(self):
         """JSON-ready summary (the sensels and how many frames showed each)."""
