@@ -320,6 +320,8 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
                     min_load_fraction=0.02, quiet=True, **options):
     """Movie calibration: align, resample, trim saturated frames, fit every frame.
 
+    ``equilibration`` may also be the path of an equilibration JSON.
+
     Parameters
     ----------
     recording : str, os.PathLike or xarray.DataArray
@@ -330,10 +332,8 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
         Calibration method (see :func:`calibrate`).
     time_col, load_col : str or int, optional
         Columns of the load-cell CSV.
-    lag_s, max_lag_s, min_load_fraction, quiet
+    lag_s, max_lag_s, equilibration, min_load_fraction, quiet
         See :func:`movie_points`.
-    equilibration : Equilibration, str or os.PathLike, optional
-        Gains applied to each frame first (or the path of their JSON).
     mask_dead : bool
         Detect non-working sensels over the movie (:func:`find_dead_sensels`) and mask them.
     **options
@@ -345,6 +345,7 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     CalibrationResult
         With ``details["movie"]`` holding the alignment report.
     """
+    equilibration = as_equilibration(equilibration)  # the object, or its JSON's path
     if not isinstance(recording, xr.DataArray):
         from tactilecal.io import read_tekscan
 
@@ -354,7 +355,6 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
                          f"{recording.attrs['units']!r}; expected raw readings")
     if isinstance(loads, str | Path):
         loads = read_movie_loads(loads, time_col=time_col, load_col=load_col)
-    equilibration = as_equilibration(equilibration)
     dead = find_dead_sensels(recording.values) if mask_dead else None
     hist = _histograms(recording.data, None if dead is None else dead.mask, equilibration,
                        quiet)
