@@ -167,9 +167,9 @@ def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path)
         filter_timeseries_csv,
         is_timeseries,
         load_filter,
+        read_record,
         write_evaluation,
     )
-    from tactilecal.dynamic._io import read_record
 
     filt = load_filter(filter_json)
     out = tmp_path / "c.csv"

@@ -24,8 +24,7 @@ def run(args):
     """Run ``tactilecal dynamic evaluate``."""
     import numpy as np
 
-    from tactilecal.dynamic import evaluate, load_filter, write_evaluation
-    from tactilecal.dynamic._io import read_record
+    from tactilecal.dynamic import evaluate, load_filter, read_record, write_evaluation
 
     filt = load_filter(args.filter)
     ev = evaluate(filt, read_record(args.sensor), read_record(args.reference),

@@ -39,8 +39,7 @@ def register(sub):
 
 def run(args):
     """Run ``tactilecal dynamic fit``."""
-    from tactilecal.dynamic import fit_filter
-    from tactilecal.dynamic._io import read_record
+    from tactilecal.dynamic import fit_filter, read_record
 
     sensor, reference = read_record(args.sensor), read_record(args.reference)
     filt = fit_filter(sensor, reference, model=args.model, band_hz=args.band,
