@@ -13,8 +13,7 @@ import numpy as np
 from tactilecal._atomic import atomic_path
 from tactilecal._jsonutil import write_json
 from tactilecal.dynamic._apply import apply_filter
-# s14-core replaces these two with tactilecal.io.recording_format / open_recording
-from tactilecal.dynamic._io import kind_of, read_recording
+from tactilecal.dynamic._io import kind_of, read_recording  # s14-core: io.open_recording
 from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
 
 __all__ = ["filter_recording", "filter_timeseries_csv", "is_timeseries", "write_evaluation"]
