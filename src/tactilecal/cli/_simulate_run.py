@@ -63,14 +63,10 @@ def run_ramp_hold(args):
 
 
 def _print(args, summary):
+    """Print the summary as JSON, or as aligned ``key  value`` lines (a dict indented)."""
     if args.json:
         print_json(summary)
-    else:
-        _print_fields(summary)
-
-
-def _print_fields(summary):
-    """Print a summary dict as aligned ``key  value`` lines (a nested dict indented below)."""
+        return
     width = max(map(len, summary))
     for key, value in summary.items():
         if isinstance(value, dict):
