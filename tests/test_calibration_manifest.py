@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from tactilecal.calibration import load_frames, load_points
-from tactilecal.calibration._manifest import find_plateau
+from tactilecal.calibration import load_points
+from tactilecal.calibration._manifest import find_plateau, load_frames
 from tactilecal.simulate import deadweight_session, make_sensor
 
 G = 9.80665

@@ -157,3 +157,40 @@ def test_apply_method_direct_matches_auto(files):
     a, d = pd.read_csv(auto)["Force (N)"], pd.read_csv(direct)["Force (N)"]
     assert np.abs(a - d).max() < 1e-4 * np.ptp(d)  # two realisations of one filter
     assert np.abs(a - d).max() > 0  # and really two methods
+
+
+def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path):
+    # the library calls behind the CLI: the same numbers as apply_filter on the data
+    from tactilecal.dynamic import (
+        apply_filter,
+        evaluate,
+        filter_recording,
+        filter_timeseries_csv,
+        is_timeseries,
+        load_filter,
+        read_record,
+        write_evaluation,
+    )
+
+    filt = load_filter(filter_json)
+    out = tmp_path / "c.csv"
+    assert is_timeseries(files["blind_sensor"])
+    assert filter_timeseries_csv(filt, files["blind_sensor"], out) == (1, len(
+        pd.read_csv(files["blind_sensor"])))
+    expected = apply_filter(read_record(files["blind_sensor"]), filt).values
+    np.testing.assert_allclose(pd.read_csv(out)["Force (N)"], expected,
+                               atol=1e-9 * np.ptp(expected))  # CSV keeps 10 digits
+    rec = sensel_matrix(files["sweep"], shape=(2, 2))
+    write_netcdf(rec, tmp_path / "r.nc")
+    assert not is_timeseries(tmp_path / "r.nc")
+    lazy = filter_recording(filt, tmp_path / "r.nc", chunk_frames=3000)
+    assert lazy.chunks is not None  # NetCDF streams in chunks
+    np.testing.assert_allclose(lazy.values, apply_filter(rec, filt).values,
+                               atol=5e-6 * float(np.ptp(rec.values)))  # float32 FFTs
+    ev = evaluate(filt, read_record(files["blind_sensor"]), read_record(files["blind_cell"]))
+    written = write_evaluation(ev, filt, tmp_path, extra={"filter": "F"})
+    stored = json.loads((tmp_path / "evaluation.json").read_text())
+    assert set(stored) == set(written) == {*ev.to_dict(), "filter", "figures"}
+    assert stored["filter"] == "F" and stored["figures"] == written["figures"]
+    assert stored["rms_after_N"] == pytest.approx(ev.to_dict()["rms_after_N"], rel=1e-12)
+    assert all((tmp_path / name).stat().st_size > 1000 for name in written["figures"])

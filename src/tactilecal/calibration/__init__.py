@@ -10,7 +10,7 @@ See ``docs/static-calibration.md``.
 from tactilecal._deprecated import moved_names
 from tactilecal.calibration._calibrate import METHODS, calibrate, validate
 from tactilecal.calibration._header import header_calibration
-from tactilecal.calibration._manifest import load_frames, load_points
+from tactilecal.calibration._manifest import load_points
 from tactilecal.calibration._movie import calibrate_movie
 from tactilecal.calibration._plots import (
     plot_calibration_curve,
@@ -30,7 +30,7 @@ from tactilecal.calibration._validation import ValidationResult
 
 __all__ = [
     "calibrate", "validate", "METHODS", "CalibrationResult", "load_calibration",
-    "CalibrationPoint", "load_points", "load_frames", "points_from_frames", "frame_histograms",
+    "CalibrationPoint", "load_points", "points_from_frames", "frame_histograms",
     "calibrate_movie", "header_calibration",
     "equilibrate", "Equilibration", "load_equilibration", "find_dead_sensels",
     "NonWorkingSensels",
@@ -46,6 +46,8 @@ __getattr__ = moved_names(__name__, {
     "make_result": ("_calibrate", "make_result", "use calibrate()"),
     "select_points": ("_calibrate", "select_points", "select the points before calibrate()"),
     "find_plateau": ("_manifest", "find_plateau", "load_points() finds the plateau"),
+    "load_frames": ("_manifest", "load_frames", "calibrate(manifest, mask='detect') finds "
+                    "the non-working sensels over the manifest's frames"),
     "movie_points": ("_movie", "movie_points", "use calibrate_movie()"),
     "read_movie_loads": ("_movie", "read_movie_loads", "use calibrate_movie()"),
     "points_to_arrays": ("_points", "points_to_arrays", "use calibrate()"),

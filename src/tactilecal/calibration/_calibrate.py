@@ -1,13 +1,23 @@
 """``calibrate``: choose the points, run a method, build the result; ``validate``."""
 
+import os
+
 import numpy as np
 import pandas as pd
 
 from tactilecal._saturation import resolve_saturated
+from tactilecal.calibration._manifest import load_points
 from tactilecal.calibration._methods import FITTERS, check_unsaturated, fit_censored
 from tactilecal.calibration._models import force_table
+from tactilecal.calibration._pipeline import (
+    is_path,
+    manifest_points,
+    reading_options,
+    record_preprocessing,
+)
 from tactilecal.calibration._points import points_to_arrays, take_rows
 from tactilecal.calibration._result import CalibrationResult
+from tactilecal.calibration._sensels import Equilibration
 from tactilecal.calibration._uncertainty import PredictionInterval, bootstrap_refits
 from tactilecal.calibration._validation import ValidationResult
 
@@ -58,13 +68,16 @@ def point_meta(points):
     return {c: np.array([getattr(p, attrs.get(c, c)) for p in points]) for c in META_COLUMNS}
 
 
-def calibrate(points, method="power", **options):
-    """Fit a static calibration to calibration points.
+def calibrate(points, method="power", *, equilibration=None, mask=None, progress=None,
+              **options):
+    """Fit a static calibration to calibration points, or to a manifest's frames.
 
     Parameters
     ----------
-    points : sequence of CalibrationPoint
-        From :func:`load_points`, :func:`points_from_frames` or :func:`calibrate_movie`.
+    points : sequence of CalibrationPoint, str or os.PathLike
+        From :func:`load_points`, :func:`points_from_frames` or :func:`calibrate_movie`;
+        or the path of a manifest CSV, whose frames are then read with ``equilibration``
+        and ``mask`` applied (what ``tactilecal calibrate MANIFEST`` does).
     method : str
         ``"linear"`` (I-Scan 1-point / through zero), ``"power-2pt"`` (I-Scan 2-point power
         law on the mean raw reading), ``"power"`` (multi-point power law over every sensel,
@@ -74,6 +87,18 @@ def calibrate(points, method="power", **options):
         ``degree``), ``"zvyagin"`` (Zvyagin 2022, :func:`tactilecal.zvyagin.zvyagin_fit` on
         the points; the result's ``method_result`` is its
         :class:`tactilecal.zvyagin.ZvyaginResult`).
+    equilibration : Equilibration, str or os.PathLike, optional
+        Manifest only: per-sensel gains (or the path of their JSON) applied to every frame
+        before it is counted (Gillis 2013, sec. 3.5); stored in
+        ``details["equilibration"]`` so that :meth:`CalibrationResult.apply` applies them
+        to a recording too.
+    mask : {"detect"}, NonWorkingSensels or array_like of bool, optional
+        Manifest only: non-working sensels to leave out; ``"detect"`` finds them over the
+        manifest's frames (:func:`find_dead_sensels`, ``--mask-dead`` of the CLI). Stored
+        in ``details["non_working_sensels"]`` and masked by ``apply``.
+    progress : callable, optional
+        Manifest only: ``progress(iterable, total=, desc=)`` wrapping the reading of long
+        manifests, e.g. a progress bar (default None: none).
     **options
         ``saturated`` (``"drop"``, the default of :mod:`tactilecal._saturation`: points
         with sensels at 255 are left out and reported; ``"keep"``; ``keep_saturated`` is
@@ -93,7 +118,12 @@ def calibrate(points, method="power", **options):
     Raises
     ------
     ValueError
-        For an unknown method, an option the method does not take, or too few usable points.
+        For an unknown method, an option the method does not take, too few usable points
+        (the message names a manifest given by path), or ``equilibration``/``mask`` given
+        with points (they act on frames: give the manifest's path, or apply them when
+        making the points).
+    TypeError
+        For an ``equilibration`` or ``mask`` of the wrong kind.
 
     Examples
     --------
@@ -105,6 +135,26 @@ def calibrate(points, method="power", **options):
     >>> round(res.params["b"], 6), round(res.params["A"], 6)
     (1.2, 0.004)
     """
+    if method not in METHODS:  # before any manifest file is read
+        raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
+    if is_path(points):
+        manifest = points
+        points, dead, eq = manifest_points(manifest, equilibration=equilibration, mask=mask,
+                                           progress=progress)
+        try:
+            result = _calibrate_points(points, method, options)
+        except ValueError as err:  # name the manifest: the points' names are in the text
+            raise ValueError(f"{os.fspath(manifest)}: {err}") from None
+        return record_preprocessing(result, dead, eq)
+    if equilibration is not None or mask is not None:
+        raise ValueError("equilibration= and mask= act on frames, and points are "
+                         "histograms; expected the manifest's path as points, or "
+                         "load_points(..., equilibration=, mask=)")
+    return _calibrate_points(points, method, options)
+
+
+def _calibrate_points(points, method, options):
+    """:func:`calibrate` on calibration points (no preprocessing left to do)."""
     points = list(points)
     if method != "zvyagin":  # resampled, if asked, by calibrate_arrays on the arrays
         if method not in FITTERS:
@@ -325,16 +375,22 @@ def _metrics(load, predicted, n_points):
     }
 
 
-def validate(result, points, *, include_saturated=False):
+def validate(result, points, *, include_saturated=False, progress=None):
     """Compare a calibration's predicted loads with the applied loads of (held-out) points.
 
     Parameters
     ----------
     result : CalibrationResult
-    points : sequence of CalibrationPoint
+    points : sequence of CalibrationPoint, str or os.PathLike
+        Points, or the path of a manifest CSV whose frames are read with the calibration's
+        equilibration gains (``details["equilibration"]``) applied, as they were for the
+        fit. Its non-working-sensel mask is not needed: a masked sensel reads 0 and
+        ``f(0)`` adds nothing to a frame's force.
     include_saturated : bool
         Whether points with saturated sensels count in the summary (default False: they
         are listed with ``saturated: true`` and left out of the summary, which says so).
+    progress : callable, optional
+        Manifest only: as in :func:`calibrate`.
 
     Returns
     -------
@@ -349,6 +405,11 @@ def validate(result, points, *, include_saturated=False):
     ValueError
         If no point can be summarised.
     """
+    if is_path(points):
+        stored = result.details.get("equilibration")
+        points = load_points(points, **reading_options(progress),
+                             equilibration=None if stored is None
+                             else Equilibration.from_dict(stored))
     hist, load = points_to_arrays(points)
     predicted = result.predict_histograms(hist)
     saturated = np.array([p.saturated_cells > 0 for p in points])

@@ -215,8 +215,18 @@ def load_points(manifest_path, *, mask=None, equilibration=None, quiet=True):
                                                                   quiet):
         total = int(np.isfinite(frame).sum())
         if mask is not None:
-            frame = np.where(np.asarray(mask, bool)[None], np.nan, frame)
+            frame = np.where(_frame_mask(mask, frame.shape[1:], row["file"])[None], np.nan,
+                             frame)
         points.extend(_points_from_histograms(
             frame_histograms(frame), [load], source=row["file"], labels=[row.get("label", "")],
             frames=[number], sensel_area_mm2=area, total_cells=total, notes=[note]))
     return points
+
+
+def _frame_mask(mask, shape, name):
+    """Return ``mask`` as a boolean (rows, cols) array of the frames' shape."""
+    mask = np.asarray(mask, dtype=bool)
+    if mask.shape != tuple(shape):
+        raise ValueError(f"mask has shape {mask.shape}; expected {tuple(shape)}, the frames "
+                         f"of {name}")
+    return mask

@@ -18,6 +18,7 @@ from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
 from tactilecal.calibration._methods import FITTERS
 from tactilecal.calibration._models import force_table
+from tactilecal.calibration._pipeline import as_equilibration
 from tactilecal.calibration._points import (
     _frame_histograms,
     _points_from_histograms,
@@ -320,6 +321,8 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
                     min_load_fraction=0.02, quiet=True, **options):
     """Movie calibration: align, resample, trim saturated frames, fit every frame.
 
+    ``equilibration`` may also be the path of an equilibration JSON.
+
     Parameters
     ----------
     recording : str, os.PathLike or xarray.DataArray
@@ -343,6 +346,7 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     CalibrationResult
         With ``details["movie"]`` holding the alignment report.
     """
+    equilibration = as_equilibration(equilibration)  # the object, or its JSON's path
     if not isinstance(recording, xr.DataArray):
         from tactilecal.io import read_tekscan
 

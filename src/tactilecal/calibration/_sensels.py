@@ -58,6 +58,20 @@ class NonWorkingSensels(SavedResult):
         """List of ``[row, col]`` of the non-working sensels."""
         return np.argwhere(self.mask).tolist()
 
+    @classmethod
+    def report_dict(cls, data):
+        """Return :meth:`report` of :meth:`to_dict` output (e.g. a calibration's details).
+
+        The mask is rebuilt as the smallest that holds the listed sensels (the report
+        names only the sensels and the number of frames examined).
+        """
+        rows_cols = np.array(data["sensels"], dtype=int).reshape(-1, 2)
+        shape = tuple(rows_cols.max(axis=0) + 1) if len(rows_cols) else (0, 0)
+        mask = np.zeros(shape, dtype=bool)
+        mask[tuple(rows_cols.T)] = True
+        return cls(mask=mask, evidence_frames=np.zeros(shape, dtype=int),
+                   n_frames=int(data["n_frames"])).report()
+
     def report(self):
         """One line saying how many sensels were found and where."""
         where = ", ".join(f"({r}, {c})" for r, c in self.sensels[:20])

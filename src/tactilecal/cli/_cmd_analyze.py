@@ -1,10 +1,6 @@
 """``tactilecal analyze RECORDING [--cal CAL.json] [--json] [--out summary.csv]``."""
 
-import numpy as np
-
 from tactilecal.cli._common import info, non_negative_float, print_json, progress, warn_saturated
-
-COLUMNS = ["force_N", "contact_area_mm2", "cof_row_mm", "cof_col_mm", "peak_kPa", "mean_kPa"]
 
 
 def register(subparsers):
@@ -24,48 +20,10 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
-def overview(table, source):
-    """Return the headline numbers of a per-frame table (pandas DataFrame) as a dict."""
-    force = table["force_N"].to_numpy(float)
-    i = int(np.nanargmax(force)) if np.isfinite(force).any() else 0
-    return {
-        "file": source, "frames": len(table),
-        "duration_s": float(table["time_s"].iloc[-1] - table["time_s"].iloc[0])
-        if len(table) else None,
-        "peak_force_N": float(force[i]), "peak_force_frame": int(table["frame"].iloc[i]),
-        "peak_force_time_s": float(table["time_s"].iloc[i]),
-        "mean_force_N": float(np.nanmean(force)),
-        "max_contact_area_mm2": float(table["contact_area_mm2"].max()),
-        "max_pressure_kPa": float(table["peak_kPa"].max()),
-        **_saturation(table, i),
-    }
-
-
-def _saturation(table, i):
-    """Saturated frames, and whether the peak force is a lower bound (None: unknown)."""
-    if "saturated_sensels" not in table:
-        return {"saturated_frames": None, "peak_force_is_lower_bound": None}
-    counts = table["saturated_sensels"].to_numpy()
-    return {"saturated_frames": int((counts > 0).sum()),
-            "peak_force_is_lower_bound": bool(len(counts) and counts[i] > 0)}
-
-
-def per_frame_table(recording, *, calibration=None, threshold_kPa=0.0):
-    """Return :func:`tactilecal.analysis.summary` as a DataFrame with frame and time_s."""
-    from tactilecal.analysis import summary
-
-    ds = summary(recording, calibration=calibration, threshold_kPa=threshold_kPa).compute()
-    table = ds.to_dataframe().reset_index()
-    if "frame" not in table:
-        table["frame"] = np.arange(1, len(table) + 1)
-    table["time_s"] = table["time"] if "time" in table else np.nan
-    extra = ["saturated_sensels"] if "saturated_sensels" in table else []
-    return table[["frame", "time_s", *COLUMNS, *extra]]
-
-
 def run(args):
     """Analyse one recording; print an overview (or JSON) and optionally write the CSV."""
     from tactilecal._atomic import atomic_path
+    from tactilecal.analysis import frame_table, overview
     from tactilecal.report import load_input
 
     bar = progress(total=3, desc="analyze", quiet=args.quiet)
@@ -78,8 +36,7 @@ def run(args):
         kind, calibration, _ = load_input(args.cal, what="--cal")
         if kind != "calibration":
             raise ValueError(f"--cal {args.cal} is a {kind} file; expected a calibration JSON")
-    table = per_frame_table(recording, calibration=calibration,
-                            threshold_kPa=args.threshold_kpa)
+    table = frame_table(recording, calibration=calibration, threshold_kPa=args.threshold_kpa)
     bar.update()
     if args.out:
         with atomic_path(args.out) as tmp:
@@ -87,7 +44,7 @@ def run(args):
         info(args, f"per-frame table written to {args.out}")
     bar.update()
     bar.close()
-    head = overview(table, str(args.recording))
+    head = overview(table, source=str(args.recording))
     if head["saturated_frames"]:
         warn_saturated(head["saturated_frames"], len(table), args.recording)
     if args.json:

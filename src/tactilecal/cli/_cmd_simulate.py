@@ -5,22 +5,10 @@ ASCII file per patch, ``manifest.csv``, ``truth.json``); ``tactilecal simulate r
 OUTDIR`` writes a loading-machine recording, its load-cell CSV and ``truth.json``.
 """
 
-from collections import Counter
+from tactilecal.cli import _simulate_run
+from tactilecal.cli._common import non_negative_int, positive_float, positive_int, share
 
-from tactilecal.cli._common import (
-    info,
-    non_negative_int,
-    positive_float,
-    positive_int,
-    print_json,
-    share,
-)
-
-__all__ = ["register", "run_deadweight", "run_ramp_hold", "scaled_sensor"]
-
-_REF_A_N, _REF_AREA_MM2 = 0.0035, 1.6129
-"""Default law: A_N = 0.0035 N on a 5051 sensel (1.27 mm pitch, Zvyagin 2022 Table 2)."""
-
+__all__ = ["register"]
 
 def register(subparsers):
     """Add the ``simulate`` command and its ``deadweight`` and ``ramp-hold`` sub-commands."""
@@ -38,7 +26,7 @@ def register(subparsers):
     _common_options(dw)
     dw.add_argument("--saturated-share", type=share, default=0.0,
                     help="share of patches with a saturated reading (0)")
-    dw.set_defaults(func=run_deadweight)
+    dw.set_defaults(func=_simulate_run.run_deadweight)
     rh = sub.add_parser(
         "ramp-hold", help="ramp-and-hold loading-machine session (Gillis 2013)",
         description="Write a ramp-and-hold recording (recording.csv, I-Scan ASCII), the load "
@@ -51,7 +39,7 @@ def register(subparsers):
                     help="sensor rate in Hz (100)")
     rh.add_argument("--loadcell-rate", type=positive_float, default=500.0,
                     help="load-cell rate in Hz (500)")
-    rh.set_defaults(func=run_ramp_hold)
+    rh.set_defaults(func=_simulate_run.run_ramp_hold)
 
 
 def _common_options(parser):
@@ -60,67 +48,3 @@ def _common_options(parser):
                         help="sensor model (5051); A_N is scaled by its sensel area so every "
                              "model has the 5051's pressure per raw count")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")
-
-
-def scaled_sensor(model, seed):
-    """Return ``make_sensor(model)`` with ``A_N`` scaled to the 5051's pressure per count.
-
-    ``A_N = 0.0035 N * sensel_area_mm2 / 1.6129 mm2``, so a 9500 (25.8 mm2 sensels) reads
-    the same raw value as a 5051 under the same pressure instead of saturating.
-    """
-    from tactilecal.simulate import make_sensor, sensor_geometry
-
-    area_mm2 = sensor_geometry(model)[5]
-    return make_sensor(model, A_N=_REF_A_N * area_mm2 / _REF_AREA_MM2, seed=seed)
-
-
-def run_deadweight(args):
-    """Write the dead-weight session and print what was written."""
-    from tactilecal.simulate import deadweight_session
-
-    session = deadweight_session(scaled_sensor(args.model, args.seed),
-                                 n_patches=args.patches, saturated_share=args.saturated_share,
-                                 seed=args.seed)
-    info(args, f"writing {len(session)} recordings to {args.outdir} ...")
-    manifest = session.write(args.outdir)
-    combos = Counter(f"{m:g} kg on {s:d} cm" for m, s in zip(session.mass_kg,
-                                                             session.pad_side_cm, strict=True))
-    summary = {"manifest": str(manifest), "truth": str(manifest.parent / "truth.json"),
-               "recordings": len(session), "sensor": session.sensor.sensor_type,
-               "A_N": session.sensor.A_N, "b": session.sensor.b,
-               "saturated_patches": int(session.saturated.sum()),
-               "blank_frame_rows": int(session.blank_frame.sum()),
-               "patches_by_load": dict(sorted(combos.items()))}
-    _print(args, summary)
-    return 0
-
-
-def run_ramp_hold(args):
-    """Write the ramp-and-hold session and print what was written."""
-    from tactilecal.simulate import ramp_hold
-
-    session = ramp_hold(scaled_sensor(args.model, args.seed), hold_s=args.hold,
-                        ramp_s=args.ramp, frame_rate_hz=args.frame_rate,
-                        loadcell_rate_hz=args.loadcell_rate, seed=args.seed)
-    info(args, f"writing {session.raw.sizes['frame']} frames to {args.outdir} ...")
-    paths = session.write(args.outdir)
-    summary = {**{k: str(v) for k, v in paths.items()},
-               "frames": session.raw.sizes["frame"], "loadcell_samples": session.loadcell.size,
-               "loadcell_start_offset_s": session.loadcell_start_offset_s,
-               "loads_N": session.loads_N.tolist()}
-    _print(args, summary)
-    return 0
-
-
-def _print(args, summary):
-    if args.json:
-        print_json(summary)
-        return
-    width = max(map(len, summary))
-    for key, value in summary.items():
-        if isinstance(value, dict):
-            print(f"{key}:")
-            for k, v in value.items():
-                print(f"  {k:<{width}}  {v}")
-        else:
-            print(f"{key:<{width}}  {value}")

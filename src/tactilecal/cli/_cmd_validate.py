@@ -1,6 +1,6 @@
 """``tactilecal validate``: compare a calibration's loads with a manifest's applied loads."""
 
-from tactilecal.cli._common import print_json
+from tactilecal.cli._common import print_json, progress
 
 
 def register(subparsers):
@@ -35,20 +35,12 @@ def _table(out):
 
 def run(args):
     """Run ``tactilecal validate``."""
-    from tactilecal.calibration import (
-        Equilibration,
-        load_calibration,
-        load_points,
-        validate,
-    )
+    from tactilecal.calibration import load_calibration, validate
 
-    result = load_calibration(args.calibration)
-    # Non-working sensels read 0 and f(0) = 0, so their mask does not change a prediction;
-    # equilibration gains do, so the calibration's gains are applied to the frames.
-    eq = result.details.get("equilibration")
-    points = load_points(args.manifest, quiet=args.quiet,
-                         equilibration=Equilibration.from_dict(eq) if eq else None)
-    out = validate(result, points, include_saturated=args.include_saturated)
+    # the manifest's frames get the calibration's equilibration gains, as for the fit
+    out = validate(load_calibration(args.calibration), args.manifest,
+                   progress=None if args.quiet else progress,
+                   include_saturated=args.include_saturated)
     if args.json:
         print_json(out)
     else:

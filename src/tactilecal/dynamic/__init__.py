@@ -15,8 +15,15 @@ from tactilecal.dynamic._align import align, estimate_lag, resample_to
 from tactilecal.dynamic._apply import apply_filter
 from tactilecal.dynamic._calibrate import compare_filters, evaluate, fit_filter, static_factor
 from tactilecal.dynamic._centrifuge import row_mean, water_head_factor
+from tactilecal.dynamic._files import (
+    filter_recording,
+    filter_timeseries_csv,
+    is_timeseries,
+    write_evaluation,
+)
 from tactilecal.dynamic._filter import CorrectionFilter, load_filter
 from tactilecal.dynamic._fit import fit_transfer
+from tactilecal.dynamic._io import read_record
 from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
 from tactilecal.dynamic._rational import RationalModel
 from tactilecal.dynamic._transfer import transfer_function
@@ -24,10 +31,11 @@ from tactilecal.dynamic._transfer import transfer_function
 __all__ = [
     "align", "estimate_lag", "resample_to",
     "transfer_function", "fit_transfer", "RationalModel",
-    "fit_filter", "CorrectionFilter", "load_filter", "apply_filter",
+    "fit_filter", "CorrectionFilter", "load_filter", "apply_filter", "read_record",
     "evaluate", "compare_filters", "static_factor",
     "row_mean", "water_head_factor",
     "plot_transfer", "plot_time", "plot_spectra", "plot_error",
+    "filter_recording", "filter_timeseries_csv", "is_timeseries", "write_evaluation",
 ]
 
 __getattr__ = moved_names(__name__, {

@@ -1,0 +1,183 @@
+"""What a recording holds, and its per-frame table with the headline numbers.
+
+:func:`describe` is the summary ``tactilecal info`` prints; :func:`frame_table` and
+:func:`overview` are the table and headline numbers of ``tactilecal analyze``. Each returns
+plain data (a JSON-ready dict or a DataFrame); the command line only formats it.
+"""
+
+import numpy as np
+
+from tactilecal.analysis._maps import summary
+from tactilecal.analysis._units import saturated_sensels
+
+__all__ = ["FRAME_COLUMNS", "describe", "frame_table", "overview"]
+
+_CALIBRATION_PREFIXES = ("calibration_point_", "calibration_mode_", "saturation_pressure",
+                         "scale_factor", "exponent")
+
+FRAME_COLUMNS = ("force_N", "contact_area_mm2", "cof_row_mm", "cof_col_mm", "peak_kPa",
+                 "mean_kPa")
+"""The per-frame quantities of :func:`frame_table` (after ``frame`` and ``time_s``)."""
+
+
+def describe(recording):
+    """Summarise what a recording holds, as a JSON-ready dict.
+
+    Parameters
+    ----------
+    recording : xarray.DataArray
+        A recording as returned by :func:`tactilecal.io.read_tekscan`.
+
+    Returns
+    -------
+    dict
+        Keys ``file, sensor_type, catalogue_sensor, catalogue_match, rows, cols, sensels,
+        frames, first_frame, last_frame, duration_s, seconds_per_frame, units,
+        row_spacing_mm, col_spacing_mm, sensel_area_mm2, sensitivity, noise_threshold,
+        calibration, blank_sensels, never_loaded_sensels, max_value, max_raw,
+        max_raw_source, saturation_rule, saturated_frames, saturated_frame_numbers``.
+
+    Notes
+    -----
+    A blank sensel is NaN in every frame (outside the sensor shape); a never-loaded sensel
+    exists but never reads above 0. For calibrated files ``max_raw`` is the largest value
+    turned back into raw units through the header's calibration where it can be inverted:
+    ``SCALE_FACTOR``/``EXPONENT`` (p = SCALE_FACTOR x raw^EXPONENT) or a single
+    ``CALIBRATION_POINT_1`` (linear through zero, p = load_N / (raw_sum x sensel_area_mm2)
+    per raw count); else None.
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> rec = xr.DataArray(np.array([[[0.0, 7.0], [np.nan, 255.0]]]),
+    ...                    dims=("frame", "row", "col"),
+    ...                    coords={"frame": [1], "time": ("frame", [0.0])},
+    ...                    attrs={"units": "raw"})
+    >>> d = describe(rec)
+    >>> d["blank_sensels"], d["never_loaded_sensels"], d["max_raw"], d["saturated_frames"]
+    (1, 1, 255.0, 1)
+    """
+    from tactilecal.sensors import match_sensor
+
+    attrs, values = recording.attrs, recording.values
+    blank = np.isnan(values).all(axis=0)
+    never_loaded = ~blank & ~(np.nan_to_num(values, nan=0.0) > 0).any(axis=0)
+    times, frames, sizes = recording.time.values, recording.frame, recording.sizes
+    counts, rule = saturated_sensels(recording)
+    saturated = None if counts is None else counts.values > 0
+    match = match_sensor(attrs.get("sensor_type"), rows=sizes["row"], cols=sizes["col"],
+                         row_spacing_mm=attrs.get("row_spacing_mm"),
+                         col_spacing_mm=attrs.get("col_spacing_mm"))
+    finite = values[np.isfinite(values)]
+    max_value = float(finite.max()) if finite.size else None
+    return {
+        "file": attrs.get("source"), "sensor_type": attrs.get("sensor_type"),
+        "catalogue_sensor": None if match.entry is None else match.entry.name,
+        "catalogue_match": match.how, "rows": sizes["row"], "cols": sizes["col"],
+        "sensels": sizes["row"] * sizes["col"], "frames": sizes["frame"],
+        "first_frame": int(frames[0]) if sizes["frame"] else None,
+        "last_frame": int(frames[-1]) if sizes["frame"] else None,
+        "duration_s": float(times[-1] - times[0]) if times.size else None,
+        **{key: attrs.get(key) for key in (
+            "seconds_per_frame", "units", "row_spacing_mm", "col_spacing_mm",
+            "sensel_area_mm2", "sensitivity", "noise_threshold")},
+        "calibration": {k: v for k, v in attrs.items() if k.startswith(_CALIBRATION_PREFIXES)},
+        "blank_sensels": int(blank.sum()), "never_loaded_sensels": int(never_loaded.sum()),
+        "max_value": max_value, **_max_raw(max_value, attrs), "saturation_rule": rule,
+        "saturated_frames": None if saturated is None else int(saturated.sum()),
+        "saturated_frame_numbers": (None if saturated is None
+                                    else frames.values[saturated].tolist()),
+    }
+
+
+def _max_raw(max_value, attrs):
+    """Return the largest value in raw units and how it was found (see :func:`describe`)."""
+    units = attrs.get("units")
+    if max_value is None or units == "raw":
+        return {"max_raw": max_value, "max_raw_source": "file" if max_value is not None else None}
+    if units not in ("kPa", "MPa", "Pa", "psi"):
+        return {"max_raw": None, "max_raw_source": None}
+    from tactilecal._units import pressure_to_kPa
+
+    p_kPa = pressure_to_kPa(max_value, units)
+    if "scale_factor" in attrs and "exponent" in attrs:
+        raw = (p_kPa / pressure_to_kPa(attrs["scale_factor"], units)) ** (1 / attrs["exponent"])
+        return {"max_raw": float(raw), "max_raw_source": "inverted SCALE_FACTOR x raw^EXPONENT"}
+    points = {k for k in attrs if k.startswith("calibration_point_") and k.endswith("_raw_sum")}
+    if points == {"calibration_point_1_raw_sum"} and "calibration_point_1_load_N" in attrs \
+            and "sensel_area_mm2" in attrs:
+        kPa_per_raw = (attrs["calibration_point_1_load_N"] * 1000.0
+                       / (attrs["calibration_point_1_raw_sum"] * attrs["sensel_area_mm2"]))
+        return {"max_raw": p_kPa / kPa_per_raw,
+                "max_raw_source": "inverted 1-point linear calibration (CALIBRATION_POINT_1)"}
+    return {"max_raw": None, "max_raw_source": None}
+
+
+def frame_table(recording, *, calibration=None, threshold_kPa=0.0):
+    """Return :func:`summary` as a DataFrame, one row per frame.
+
+    Parameters
+    ----------
+    recording : xarray.DataArray
+        Recording in the data model (raw needs ``calibration``).
+    calibration : CalibrationResult or path, optional
+        Applied to a raw recording.
+    threshold_kPa : float, default 0
+        Loaded-sensel threshold for contact area and mean pressure.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``frame``, ``time_s`` (NaN without a time coordinate), then
+        :data:`FRAME_COLUMNS`, then ``saturated_sensels`` when the recording says what
+        saturation is (:func:`saturated_sensels`).
+    """
+    ds = summary(recording, calibration=calibration, threshold_kPa=threshold_kPa).compute()
+    table = ds.to_dataframe().reset_index()
+    if "frame" not in table:
+        table["frame"] = np.arange(1, len(table) + 1)
+    table["time_s"] = table["time"] if "time" in table else np.nan
+    extra = ["saturated_sensels"] if "saturated_sensels" in table else []
+    return table[["frame", "time_s", *FRAME_COLUMNS, *extra]]
+
+
+def overview(table, *, source=None):
+    """Return the headline numbers of a :func:`frame_table` as a JSON-ready dict.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        From :func:`frame_table`.
+    source : str, optional
+        The recording's name, stored under ``file``.
+
+    Returns
+    -------
+    dict
+        ``file, frames, duration_s, peak_force_N, peak_force_frame, peak_force_time_s,
+        mean_force_N, max_contact_area_mm2, max_pressure_kPa, saturated_frames,
+        peak_force_is_lower_bound`` (the last two None when saturation is unknown; a frame
+        with saturated sensels gives lower bounds of its force and pressures).
+    """
+    force = table["force_N"].to_numpy(float)
+    i = int(np.nanargmax(force)) if np.isfinite(force).any() else 0
+    return {
+        "file": source, "frames": len(table),
+        "duration_s": float(table["time_s"].iloc[-1] - table["time_s"].iloc[0])
+        if len(table) else None,
+        "peak_force_N": float(force[i]), "peak_force_frame": int(table["frame"].iloc[i]),
+        "peak_force_time_s": float(table["time_s"].iloc[i]),
+        "mean_force_N": float(np.nanmean(force)),
+        "max_contact_area_mm2": float(table["contact_area_mm2"].max()),
+        "max_pressure_kPa": float(table["peak_kPa"].max()),
+        **_saturation(table, i),
+    }
+
+
+def _saturation(table, i):
+    """Saturated frames, and whether the peak force is a lower bound (None: unknown)."""
+    if "saturated_sensels" not in table:
+        return {"saturated_frames": None, "peak_force_is_lower_bound": None}
+    counts = table["saturated_sensels"].to_numpy()
+    return {"saturated_frames": int((counts > 0).sum()),
+            "peak_force_is_lower_bound": bool(len(counts) and counts[i] > 0)}

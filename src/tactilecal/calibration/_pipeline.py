@@ -1,0 +1,127 @@
+"""The preprocessing of a static calibration: equilibration gains and non-working sensels.
+
+Gillis (2013), sec. 3.5: the raw frames are equilibrated (per-sensel gains) and the
+non-working sensels left out *before* the calibration law is fitted, and a recording is
+treated the same way before the law is applied. :func:`calibrate` does the first step for
+a manifest and records both on the result (``details["equilibration"]`` and
+``details["non_working_sensels"]``), where :meth:`CalibrationResult.apply` finds them.
+"""
+
+import os
+
+import numpy as np
+
+from tactilecal.calibration._manifest import load_frames, load_points
+from tactilecal.calibration._sensels import (
+    Equilibration,
+    NonWorkingSensels,
+    find_dead_sensels,
+    load_equilibration,
+)
+
+__all__ = ["MASK_DETECT", "as_equilibration", "is_path", "manifest_points",
+           "reading_options", "record_preprocessing"]
+
+MASK_DETECT = "detect"
+"""``mask="detect"``: find the non-working sensels over the manifest's frames."""
+
+
+def is_path(value):
+    """Whether ``value`` names a file (str or os.PathLike), not data."""
+    return isinstance(value, str | os.PathLike)
+
+
+def as_equilibration(equilibration):
+    """Return ``equilibration`` as an :class:`Equilibration` (None stays None).
+
+    Parameters
+    ----------
+    equilibration : Equilibration, str, os.PathLike or None
+        The gains, or the path of their JSON (:func:`load_equilibration`).
+
+    Raises
+    ------
+    TypeError
+        For anything else.
+    """
+    if equilibration is None or isinstance(equilibration, Equilibration):
+        return equilibration
+    if is_path(equilibration):
+        return load_equilibration(equilibration)
+    raise TypeError(f"equilibration is a {type(equilibration).__name__}; expected an "
+                    "Equilibration, the path of its JSON, or None")
+
+
+def reading_options(progress):
+    """Keywords of :func:`load_points`/:func:`load_frames` for the ``progress`` protocol.
+
+    ``progress`` is None (no bar) or a callable ``progress(iterable, total=, desc=)``.
+    The manifest readers of this version take ``quiet`` (False: a terminal bar) instead;
+    once they take ``progress`` this is ``{"progress": progress}``.
+    """
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress is a {type(progress).__name__}; expected None or a "
+                        "callable progress(iterable, total=, desc=)")
+    return {"quiet": progress is None}
+
+
+def _as_dead(mask, manifest, equilibration, progress):
+    """Return the non-working sensels ``mask`` names (None for none)."""
+    if mask is None or isinstance(mask, NonWorkingSensels):
+        return mask
+    if isinstance(mask, str) and mask == MASK_DETECT:
+        frames = load_frames(manifest, equilibration=equilibration,
+                             **reading_options(progress))
+        return find_dead_sensels(frames)
+    values = np.asarray(mask) if not isinstance(mask, str | bool) else None
+    if values is None or values.dtype != bool or values.ndim != 2:
+        raise TypeError(f"mask is {_describe(mask)}; expected {MASK_DETECT!r}, a "
+                        "NonWorkingSensels, a 2-d boolean array (rows, cols) or None")
+    return NonWorkingSensels(mask=values, evidence_frames=np.zeros(values.shape, int),
+                             n_frames=0)
+
+
+def _describe(value):
+    if isinstance(value, str):
+        return repr(value)
+    shape = getattr(np.asarray(value, dtype=object), "shape", ())
+    return f"a {type(value).__name__} of shape {shape}" if shape else \
+        f"a {type(value).__name__}"
+
+
+def manifest_points(manifest, *, equilibration=None, mask=None, progress=None):
+    """Read a manifest's points with the calibration's preprocessing applied.
+
+    Parameters
+    ----------
+    manifest : str or os.PathLike
+        Calibration manifest CSV (:func:`load_points`).
+    equilibration : Equilibration, str, os.PathLike or None
+        Gains applied to every frame first (or the path of their JSON).
+    mask : {"detect"}, NonWorkingSensels, array_like of bool or None
+        Non-working sensels to leave out: ``"detect"`` finds them over the manifest's
+        (equilibrated) frames with :func:`find_dead_sensels`, as ``tactilecal calibrate
+        --mask-dead`` does.
+    progress : callable, optional
+        ``progress(iterable, total=, desc=)`` shown while reading (None: no bar).
+
+    Returns
+    -------
+    points : list of CalibrationPoint
+    dead : NonWorkingSensels or None
+    equilibration : Equilibration or None
+    """
+    equilibration = as_equilibration(equilibration)
+    dead = _as_dead(mask, manifest, equilibration, progress)
+    points = load_points(manifest, mask=None if dead is None else dead.mask,
+                         equilibration=equilibration, **reading_options(progress))
+    return points, dead, equilibration
+
+
+def record_preprocessing(result, dead, equilibration):
+    """Store the preprocessing on ``result.details`` (the keys ``apply`` reads); return it."""
+    if dead is not None:
+        result.details["non_working_sensels"] = dead.to_dict()
+    if equilibration is not None:
+        result.details["equilibration"] = equilibration.to_dict()
+    return result

@@ -1,0 +1,71 @@
+"""``tactilecal dynamic apply``: correct a time-series CSV or every sensel of a recording."""
+
+import sys
+from functools import partial
+
+from tactilecal.cli._common import info, positive_int, progress
+
+
+def register(sub):
+    """Add the ``apply`` action to the ``dynamic`` command's actions."""
+    a = sub.add_parser("apply", help="correct a record or every sensel of a recording",
+                       description="INPUT a time-series CSV (output CSV with the same "
+                                   "columns, every value column filtered) or a Tekscan "
+                                   "recording / NetCDF (every sensel filtered along time, "
+                                   "NetCDF out; NetCDF is streamed in chunks).")
+    a.add_argument("filter", metavar="FILTER.json")
+    a.add_argument("input", metavar="INPUT")
+    a.add_argument("--out", required=True, metavar="OUTPUT")
+    a.add_argument("--chunk-frames", type=positive_int, default=65536,
+                   help="frames per chunk when streaming NetCDF (default 65536)")
+    a.add_argument("--causal", action="store_true",
+                   help="apply a rational filter's causal inverse (IIR, second-order "
+                        "sections; streaming) instead of the offline one over the whole "
+                        "record; a zero-phase (log) filter has no causal form")
+    a.add_argument("--method", default="auto", choices=["auto", "direct"],
+                   help="auto (default): multirate when the correction is band-limited "
+                        "well below Nyquist, else direct; direct: the FIR at the full rate")
+    a.set_defaults(func=run)
+
+
+def run(args):
+    """Run ``tactilecal dynamic apply``."""
+    from tactilecal.dynamic import (
+        filter_recording,
+        filter_timeseries_csv,
+        is_timeseries,
+        load_filter,
+    )
+
+    filt = load_filter(args.filter)
+    options = {"method": args.method, "causal": args.causal,
+               "progress": partial(progress, desc="filtering", quiet=args.quiet)}
+    if is_timeseries(args.input):
+        columns, rows = filter_timeseries_csv(filt, args.input, args.out, **options)
+        what = f"{columns} column(s) x {rows} rows"
+    else:
+        out = filter_recording(filt, args.input, chunk_frames=args.chunk_frames, **options)
+        _write(out, args)
+        what = f"{out.shape[0]} frames x {out[0].size} sensels{_jitter(out.attrs)}"
+    info(args, f"{args.input}: {what} corrected with {args.filter} -> {args.out}")
+    return 0
+
+
+def _write(out, args):
+    """Write the NetCDF, with dask's progress bar while a lazy recording is computed."""
+    from tactilecal.io import write_netcdf
+
+    if out.chunks is not None and not args.quiet:
+        from dask.diagnostics import ProgressBar
+
+        with ProgressBar(out=sys.stderr):
+            write_netcdf(out, args.out)
+    else:
+        write_netcdf(out, args.out)
+
+
+def _jitter(attrs):
+    if attrs["time_jitter_s"] * attrs["sampling_rate_hz"] <= 0.01:
+        return ""
+    return (f" (frame times up to {attrs['time_jitter_s']:.3g} s off a uniform "
+            f"{attrs['sampling_rate_hz']:.6g} Hz grid: filtered at that mean rate)")

@@ -1,0 +1,126 @@
+"""Dynamic correction of files: a time-series CSV, a recording, an evaluation folder.
+
+What ``tactilecal dynamic apply`` and ``tactilecal dynamic evaluate --out`` do with files,
+as library calls: every value column of a CSV or every sensel of a recording is filtered
+with :func:`apply_filter`; an evaluation is written as ``evaluation.json`` plus its figures
+(Gillis 2013, Figs 4.9-4.14).
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+from tactilecal._atomic import atomic_path
+from tactilecal._jsonutil import write_json
+from tactilecal.dynamic._apply import apply_filter
+from tactilecal.dynamic._io import kind_of, read_recording  # s14-core: io.open_recording
+from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
+
+__all__ = ["filter_recording", "filter_timeseries_csv", "is_timeseries", "write_evaluation"]
+
+
+def is_timeseries(path):
+    """Whether ``path`` is a time-series CSV rather than a recording (Tekscan or NetCDF)."""
+    return kind_of(path) == "timeseries"
+
+
+def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progress=None):
+    """Filter every numeric value column of a time-series CSV; write the same columns.
+
+    Parameters
+    ----------
+    filt : CorrectionFilter
+        The correction filter (:func:`load_filter`).
+    path : str or os.PathLike
+        Time-series CSV (:func:`tactilecal.io.read_timeseries` checks its time column).
+    out : str or os.PathLike
+        Output CSV, written atomically: the input's columns, the numeric value columns
+        filtered along time, numbers with 10 significant digits.
+    method, causal, progress
+        As in :func:`apply_filter`.
+
+    Returns
+    -------
+    tuple of int
+        ``(columns, rows)``: how many value columns were filtered, over how many rows.
+    """
+    import pandas as pd
+    import xarray as xr
+
+    from tactilecal.io import read_timeseries
+
+    series = read_timeseries(path)  # checks the time column, units, numbers
+    table = pd.read_csv(path, encoding="utf-8-sig", skipinitialspace=True)
+    table.columns = [str(c).strip() for c in table.columns]
+    time_col = series.attrs["time_column"]
+    value_cols = [c for c in table.columns
+                  if c != time_col and pd.api.types.is_numeric_dtype(table[c])]
+    data = xr.DataArray(table[value_cols].to_numpy(float), dims=("time", "column"),
+                        coords={"time": series["time"].values}, attrs={"source": str(path)})
+    filtered = apply_filter(data, filt, progress=progress, method=method, causal=causal)
+    table[value_cols] = np.asarray(filtered.values)
+    with atomic_path(out) as tmp:
+        table.to_csv(tmp, index=False, float_format="%.10g")
+    return len(value_cols), len(table)
+
+
+def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=False,
+                     progress=None):
+    """Filter every sensel of a recording along time (lazily, by chunks, for NetCDF).
+
+    Parameters
+    ----------
+    filt : CorrectionFilter
+        The correction filter.
+    path : str or os.PathLike
+        Tekscan export (read whole) or NetCDF (opened lazily in chunks of ``chunk_frames``
+        frames, so a recording larger than memory streams through).
+    chunk_frames : int
+        Frames per chunk for NetCDF.
+    method, causal, progress
+        As in :func:`apply_filter`.
+
+    Returns
+    -------
+    xarray.DataArray
+        The corrected recording (dask-backed for NetCDF: write it with
+        :func:`tactilecal.io.write_netcdf`), with ``time_jitter_s`` and
+        ``sampling_rate_hz`` attributes.
+    """
+    lazy = kind_of(path) == "netcdf"
+    data = read_recording(path, chunks={"frame": chunk_frames} if lazy else None)
+    if lazy and data.dims and data.dims[0] in data.chunksizes:
+        data = data.chunk({data.dims[0]: chunk_frames})
+    return apply_filter(data, filt, progress=progress, method=method, causal=causal)
+
+
+def write_evaluation(evaluation, filt, folder, *, extra=None):
+    """Write ``evaluation.json`` and the figures of an evaluation into ``folder``.
+
+    Parameters
+    ----------
+    evaluation : Evaluation
+        From :func:`evaluate`.
+    filt : CorrectionFilter
+        The evaluated filter (its transfer-function figure).
+    folder : str or os.PathLike
+        An existing folder; ``time.png``, ``spectra.png``, ``error.png``,
+        ``transfer.png`` and ``evaluation.json`` are written atomically.
+    extra : dict, optional
+        More keys for the JSON (e.g. the input file names).
+
+    Returns
+    -------
+    dict
+        What ``evaluation.json`` holds: :meth:`Evaluation.to_dict`, ``extra`` and
+        ``figures`` (the figure file names).
+    """
+    folder = Path(folder)
+    figures = {"time.png": plot_time(evaluation), "spectra.png": plot_spectra(evaluation),
+               "error.png": plot_error(evaluation), "transfer.png": plot_transfer(filt)}
+    for name, fig in figures.items():
+        with atomic_path(folder / name) as tmp:
+            fig.savefig(tmp, dpi=120)
+    result = {**evaluation.to_dict(), **(extra or {}), "figures": sorted(figures)}
+    write_json(folder / "evaluation.json", result)
+    return result

@@ -1,0 +1,100 @@
+"""The ``.tactile`` xarray accessor delegates to the analysis functions, number for number."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tactilecal import analysis
+from tactilecal.calibration import calibrate, points_from_frames
+
+AREA_MM2 = 6.0
+
+
+def patch(unit="kPa"):
+    """Frames 0..3: a 3 x 4 patch at rows k..k+2, cols 2..5, 50 (k + 1) (in ``unit``)."""
+    p = np.zeros((4, 10, 8))
+    for k in range(4):
+        p[k, k:k + 3, 2:6] = 50.0 * (k + 1)
+    p[:, 0, 7] = np.nan  # outside the sensor
+    return xr.DataArray(
+        p, dims=("frame", "row", "col"),
+        coords={"frame": np.arange(1, 5), "time": ("frame", np.arange(4) * 0.01)},
+        attrs={"units": unit, "sensel_area_mm2": AREA_MM2, "row_spacing_mm": 2.0,
+               "col_spacing_mm": 3.0, "source": "patch"},
+    )
+
+
+@pytest.fixture(scope="module")
+def raw_and_cal():
+    raw = patch("raw")
+    frames = raw.values[:, 1:, :7]  # the NaN-free part, for the points
+    load_N = 0.004 * (frames ** 1.2).sum(axis=(1, 2))  # a known power law, A = 0.004 N
+    cal = calibrate(points_from_frames(frames, load_N, sensel_area_mm2=AREA_MM2),
+                    method="power", objective="l2")
+    np.testing.assert_allclose([cal.params["A"], cal.params["b"]], [0.004, 1.2], rtol=1e-6)
+    return raw, cal
+
+
+CASES = [  # accessor method, function, keyword arguments
+    ("force", analysis.total_force, {}),
+    ("area", analysis.contact_area, {"threshold_kPa": 60.0}),
+    ("centre", analysis.centre_of_force, {}),
+    ("peak", analysis.peak_pressure, {}),
+    ("mean_pressure", analysis.mean_pressure, {"threshold_kPa": 60.0}),
+    ("pressure_map", analysis.pressure_map_kPa, {}),
+    ("force_map", analysis.force_map_N, {}),
+    ("summary", analysis.summary, {"threshold_kPa": 60.0}),
+]
+
+
+@pytest.mark.parametrize(("method", "function", "kwargs"), CASES)
+def test_accessor_matches_the_function_on_pressure(method, function, kwargs):
+    rec = patch("kPa")
+    xr.testing.assert_identical(getattr(rec.tactile, method)(**kwargs),
+                                function(rec, **kwargs))
+
+
+@pytest.mark.parametrize(("method", "function", "kwargs"), CASES)
+def test_accessor_matches_the_function_on_raw(raw_and_cal, method, function, kwargs):
+    raw, cal = raw_and_cal
+    xr.testing.assert_identical(getattr(raw.tactile, method)(calibration=cal, **kwargs),
+                                function(raw, calibration=cal, **kwargs))
+
+
+def test_calibrate_is_apply(raw_and_cal, tmp_path):
+    raw, cal = raw_and_cal
+    xr.testing.assert_identical(raw.tactile.calibrate(cal), cal.apply(raw))
+    xr.testing.assert_identical(raw.tactile.calibrate(cal, units="N"), cal.apply(raw, units="N"))
+    path = tmp_path / "cal.json"
+    cal.to_json(path)
+    xr.testing.assert_identical(raw.tactile.calibrate(path), cal.apply(raw))
+    # known truth: the patch's force at frame k is the law over its 12 sensels
+    force = raw.tactile.calibrate(cal).tactile.force()
+    np.testing.assert_allclose(force, 12 * 0.004 * (50.0 * np.arange(1, 5)) ** 1.2, rtol=1e-6)
+
+
+def test_raw_without_calibration_says_so():
+    with pytest.raises(ValueError, match="patch: units are 'raw'; give a calibration"):
+        patch("raw").tactile.force()
+
+
+def _run(code):
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    return out.stdout.split()
+
+
+def test_registration_without_slowing_import_tactilecal():
+    # import tactilecal alone does not load xarray (it would cost ~30 times the import)
+    assert _run("import sys, tactilecal; print('xarray' in sys.modules)") == ["False"]
+    # xarray already loaded: registered at import
+    assert _run("import xarray, tactilecal; print(hasattr(xarray.DataArray, 'tactile'))") \
+        == ["True"]
+    # a recording read through the top-level names: registered
+    assert _run("import tactilecal, xarray; tactilecal.read_tekscan; "
+                "print(hasattr(xarray.DataArray, 'tactile'))") == ["True"]
+    assert _run("import tactilecal.analysis, xarray; "
+                "print(hasattr(xarray.DataArray, 'tactile'))") == ["True"]

@@ -1,0 +1,66 @@
+"""describe, frame_table, overview: the library behind ``tactilecal info`` and ``analyze``."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tactilecal import analysis
+
+
+def _rec(values, **attrs):
+    n = values.shape[0]
+    return xr.DataArray(values, dims=("frame", "row", "col"),
+                        coords={"frame": np.arange(3, 3 + n),
+                                "time": ("frame", np.arange(n) * 0.5)},
+                        attrs={"source": "x.csv", **attrs})
+
+
+def test_describe_counts_blank_never_loaded_and_saturated():
+    raw = np.zeros((4, 3, 5))
+    raw[:, 0, 0] = np.nan                   # blank: outside the sensor
+    raw[1, 1, 1], raw[3, 2, 4] = 255, 255   # frames 4 and 6 saturate
+    raw[2, 1, 2] = 40                       # 15 - 1 blank - 3 loaded = 11 never loaded
+    d = analysis.describe(_rec(raw, units="raw"))
+    assert (d["rows"], d["cols"], d["sensels"], d["frames"]) == (3, 5, 15, 4)
+    assert (d["first_frame"], d["last_frame"], d["duration_s"]) == (3, 6, 1.5)
+    assert (d["blank_sensels"], d["never_loaded_sensels"]) == (1, 11)
+    assert d["max_raw"] == 255.0 and d["max_raw_source"] == "file"
+    assert d["saturated_frames"] == 2 and d["saturated_frame_numbers"] == [4, 6]
+    assert d["calibration"] == {}
+
+
+def test_describe_inverts_the_header_power_law():
+    scale, exponent = 0.9, 1.164  # p = scale * raw ** exponent (kPa)
+    p = np.zeros((2, 2, 2))
+    p[1, 0, 0] = scale * 200.0 ** exponent
+    d = analysis.describe(_rec(p, units="kPa", scale_factor=scale, exponent=exponent))
+    assert d["max_raw"] == pytest.approx(200.0, rel=1e-12)
+    assert d["max_raw_source"] == "inverted SCALE_FACTOR x raw^EXPONENT"
+    assert d["calibration"] == {"scale_factor": scale, "exponent": exponent}
+    assert d["saturated_frames"] is None  # no saturation pressure: unknown
+
+
+def test_frame_table_and_overview_on_a_known_patch():
+    p = np.zeros((3, 6, 6))
+    for k in range(3):  # 2 x 2 patch at 100 (k + 1) kPa; 4 mm2 sensels
+        p[k, k:k + 2, 1:3] = 100.0 * (k + 1)
+    rec = _rec(p, units="kPa", sensel_area_mm2=4.0, row_spacing_mm=2.0, col_spacing_mm=2.0)
+    table = analysis.frame_table(rec)
+    assert list(table.columns[:2]) == ["frame", "time_s"]
+    assert tuple(table.columns[2:8]) == ("force_N", "contact_area_mm2", "cof_row_mm", "cof_col_mm",
+                                         "peak_kPa", "mean_kPa")
+    # 4 sensels x 4 mm2 x 100 (k + 1) kPa x 1e-3 N per kPa mm2
+    np.testing.assert_allclose(table["force_N"], 1.6 * np.arange(1, 4), rtol=1e-12)
+    head = analysis.overview(table, source="x.csv")
+    assert head["file"] == "x.csv" and head["frames"] == 3
+    assert (head["peak_force_frame"], head["peak_force_time_s"]) == (5, 1.0)
+    assert head["peak_force_N"] == pytest.approx(4.8, rel=1e-12)
+    assert head["mean_force_N"] == pytest.approx(3.2, rel=1e-12)
+    assert head["max_contact_area_mm2"] == pytest.approx(16.0)
+    assert head["max_pressure_kPa"] == pytest.approx(300.0)
+    assert head["saturated_frames"] is None and head["peak_force_is_lower_bound"] is None
+
+
+def test_frame_table_of_a_raw_recording_needs_a_calibration():
+    with pytest.raises(ValueError, match="x.csv: units are 'raw'; give a calibration"):
+        analysis.frame_table(_rec(np.zeros((1, 2, 2)), units="raw"))
