@@ -10,6 +10,7 @@ from tactilecal.cli._common import (
     positive_float,
     positive_int,
     print_json,
+    progress_for,
 )
 
 
@@ -101,7 +102,7 @@ def _options(args):
 def _manifest_points(args, equilibration):
     from tactilecal.calibration import find_dead_sensels, load_frames, load_points
 
-    kw = {"equilibration": equilibration, "quiet": args.quiet}
+    kw = {"equilibration": equilibration, "progress": progress_for(args)}
     if not args.mask_dead:
         return load_points(args.manifest, **kw), None
     dead = find_dead_sensels(load_frames(args.manifest, **kw))
@@ -125,7 +126,7 @@ def run(args):
                                  time_col=args.time_col, load_col=args.load_col,
                                  lag_s=args.lag, max_lag_s=args.max_lag,
                                  mask_dead=args.mask_dead,
-                                 equilibration=equilibration, quiet=args.quiet,
+                                 equilibration=equilibration, progress=progress_for(args),
                                  **_options(args))
         info(args, result.details["movie"]["report"])
     else:

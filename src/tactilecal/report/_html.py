@@ -8,6 +8,7 @@ from importlib import metadata
 from pathlib import Path
 
 from tactilecal._atomic import write_text_atomic
+from tactilecal._progress import resolve
 from tactilecal._version import __version__
 from tactilecal.report._inputs import load_input
 from tactilecal.report._sections import (
@@ -58,7 +59,8 @@ def _load_all(inputs, calibration, filter, progress):
     if filter is not None:
         extra.append(filter)
     loaded = []
-    for item in progress(extra + items):
+    todo = extra + items
+    for item in progress(todo, total=len(todo), desc="report"):
         kind, obj, prov = load_input(item)
         label = Path(str(item)).name if isinstance(item, str | Path) else prov["input"]
         if any(prov.get("sha256") and prov.get("sha256") == p.get("sha256")
@@ -74,7 +76,7 @@ def _load_all(inputs, calibration, filter, progress):
 def build_report(inputs, *, calibration=None, filter=None, title=None, threshold_kPa=0.0,
                  nonworking=None, command=None, progress=None):
     """Return the HTML text of a report on ``inputs`` (see :func:`write_report`)."""
-    progress = progress or (lambda it, **_: it)
+    progress = resolve(progress)
     loaded = _load_all(inputs, calibration, filter, progress)
     cal_obj = None
     if calibration is not None:
@@ -84,7 +86,7 @@ def build_report(inputs, *, calibration=None, filter=None, title=None, threshold
     heading = {"calibration": "Calibration", "filter": "Dynamic filter",
                "recording": "Recording"}
     body = []
-    for kind, obj, _, label in progress(loaded):
+    for kind, obj, _, label in progress(loaded, total=len(loaded), desc="report"):
         body.append(f"<h2>{heading[kind]}: {html.escape(label)}</h2>")
         if kind == "calibration":
             body += calibration_blocks(obj, label)
@@ -142,7 +144,8 @@ def write_report(inputs, path, *, calibration=None, filter=None, title=None, thr
     command : str, optional
         Command line to record in the provenance section.
     progress : callable, optional
-        Wraps iterables for a progress bar (e.g. ``tactilecal.cli._common.progress``).
+        ``progress(iterable, total=, desc=)`` wrapping the inputs, e.g. a progress bar (the
+        protocol of :mod:`tactilecal._progress`); None: no bar.
 
     Returns
     -------

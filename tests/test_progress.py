@@ -1,0 +1,86 @@
+"""The progress protocol: library loops call the ``progress`` they are given, never the CLI's."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tactilecal._progress import from_quiet, no_progress, resolve, terminal_bar
+from tactilecal.calibration import load_frames, load_points
+from tactilecal.io import write_tekscan
+from tactilecal.report import build_report
+
+
+class Recorder:
+    """A progress callable that records its calls and passes the items through."""
+
+    def __init__(self):
+        self.calls = []
+
+    def __call__(self, iterable, *, total=None, desc=None):
+        items = list(iterable)
+        self.calls.append((len(items), total, desc))
+        return items
+
+
+@pytest.fixture
+def manifest_of(tmp_path):
+    """A manifest of ``n`` rows all pointing at one raw 3 x 4 frame carrying 2 N."""
+    frame = xr.DataArray(np.arange(12.0).reshape(1, 3, 4), dims=("frame", "row", "col"),
+                         coords={"frame": [1], "time": ("frame", [0.0])},
+                         attrs={"units": "raw", "sensel_area_mm2": 1.6129})
+    write_tekscan(frame, tmp_path / "rec.csv")
+
+    def make(n):
+        path = tmp_path / f"manifest{n}.csv"
+        path.write_text("file,frame,load_N\n" + "rec.csv,1,2.0\n" * n)
+        return path
+    return make
+
+
+def test_long_manifest_calls_progress_once_with_its_total(manifest_of):
+    bar = Recorder()
+    points = load_points(manifest_of(50), progress=bar)
+    assert len(points) == 50
+    assert bar.calls == [(50, 50, "reading manifest50.csv")]
+    bar = Recorder()
+    assert load_frames(manifest_of(60), progress=bar).shape == (60, 3, 4)
+    assert bar.calls == [(60, 60, "reading manifest60.csv")]
+
+
+def test_short_manifest_reads_without_progress(manifest_of):
+    bar = Recorder()
+    assert len(load_points(manifest_of(49), progress=bar)) == 49
+    assert bar.calls == []
+
+
+def test_quiet_keyword_is_deprecated_but_still_works(manifest_of):
+    with pytest.warns(DeprecationWarning, match=r"load_points\(quiet=\.\.\.\) is deprecated"):
+        assert len(load_points(manifest_of(2), quiet=True)) == 2
+    with pytest.warns(DeprecationWarning, match=r"load_frames\(quiet=\.\.\.\) is deprecated"):
+        assert load_frames(manifest_of(2), quiet=False).shape == (2, 3, 4)
+    with pytest.warns(DeprecationWarning, match="deprecated"):
+        assert from_quiet(None, False, "f") is terminal_bar
+    with pytest.warns(DeprecationWarning, match="deprecated"):
+        assert from_quiet(None, True, "f") is no_progress
+
+
+def test_resolve_and_no_progress():
+    assert resolve(None) is no_progress
+    assert resolve(print) is print
+    assert list(no_progress(iter("ab"), total=2, desc="x")) == ["a", "b"]
+    with pytest.raises(TypeError, match="progress of type int; expected None or a callable"):
+        resolve(3)
+
+
+def test_terminal_bar_passes_items_through_off_a_terminal():
+    # pytest captures standard error, which is then no terminal: the bar is disabled
+    assert list(terminal_bar(range(4), total=4, desc="t")) == [0, 1, 2, 3]
+
+
+def test_report_passes_total_and_desc():
+    bar = Recorder()
+    frame = xr.DataArray(np.ones((2, 3, 4)), dims=("frame", "row", "col"),
+                         coords={"frame": [1, 2], "time": ("frame", [0.0, 0.1])},
+                         attrs={"units": "raw"})
+    build_report([frame], progress=bar)
+    assert bar.calls == [(1, 1, "report"), (1, 1, "report")]
