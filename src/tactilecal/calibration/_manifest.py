@@ -118,12 +118,12 @@ def _row_load_N(row, where):
 
 
 def _read_recording(path, where, cache):
-    from tactilecal.io import read_tekscan
+    from tactilecal.io import open_recording
 
     if path not in cache:
-        if not path.is_file():
+        if not path.exists():
             raise ValueError(f"{where}: file {path} does not exist")
-        rec = read_tekscan(path)
+        rec = open_recording(path)
         units = rec.attrs.get("units", "raw")
         if units != "raw":
             raise ValueError(f"{where}: {path.name} has units {units!r}; expected raw "

@@ -329,7 +329,7 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     Parameters
     ----------
     recording : str, os.PathLike or xarray.DataArray
-        Raw movie (a path is read with :func:`tactilecal.io.read_tekscan`).
+        Raw movie (a path is read with :func:`tactilecal.io.open_recording`).
     loads : str, os.PathLike, xarray.DataArray or array_like
         Load-cell record (a path is read with :func:`read_movie_loads`).
     method : str
@@ -350,9 +350,9 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
         With ``details["movie"]`` holding the alignment report.
     """
     if not isinstance(recording, xr.DataArray):
-        from tactilecal.io import read_tekscan
+        from tactilecal.io import open_recording
 
-        recording = read_tekscan(recording)
+        recording = open_recording(recording)
     if recording.attrs.get("units", "raw") != "raw":
         raise ValueError(f"recording {recording.attrs.get('source', '')!r} has units "
                          f"{recording.attrs['units']!r}; expected raw readings")

@@ -82,8 +82,7 @@ def _bar(args, desc):
 
 def run_fit(args):
     """Run ``tactilecal dynamic fit``."""
-    from tactilecal.dynamic import fit_filter
-    from tactilecal.dynamic._io import read_record
+    from tactilecal.dynamic import fit_filter, read_record
 
     sensor, reference = read_record(args.sensor), read_record(args.reference)
     filt = fit_filter(sensor, reference, model=args.model, band_hz=args.band,
@@ -134,11 +133,10 @@ def _apply_csv(filt, args):
 
 def _apply_recording(filt, args):
     from tactilecal.dynamic import apply_filter
-    from tactilecal.dynamic._io import kind_of, read_recording
-    from tactilecal.io import write_netcdf
+    from tactilecal.io import open_recording, recording_format, write_netcdf
 
-    lazy = kind_of(args.input) == "netcdf"
-    data = read_recording(args.input, chunks={"frame": args.chunk_frames} if lazy else None)
+    lazy = recording_format(args.input) in ("netcdf", "zarr")
+    data = open_recording(args.input, chunks=args.chunk_frames if lazy else None)
     if lazy and data.dims and data.dims[0] in data.chunksizes:
         data = data.chunk({data.dims[0]: args.chunk_frames})
     out = apply_filter(data, filt, progress=_bar(args, "filtering"), method=args.method,
@@ -159,10 +157,10 @@ def _apply_recording(filt, args):
 def run_apply(args):
     """Run ``tactilecal dynamic apply``."""
     from tactilecal.dynamic import load_filter
-    from tactilecal.dynamic._io import kind_of
+    from tactilecal.io import recording_format
 
     filt = load_filter(args.filter)
-    if kind_of(args.input) == "timeseries":
+    if recording_format(args.input) is None:
         what = _apply_csv(filt, args)
     else:
         what = _apply_recording(filt, args)
@@ -171,10 +169,10 @@ def run_apply(args):
 
 
 def _write_figures(ev, filt, folder):
-    from tactilecal.dynamic import _plots
+    from tactilecal.dynamic import plot_error, plot_spectra, plot_time, plot_transfer
 
-    figures = {"time.png": _plots.plot_time(ev), "spectra.png": _plots.plot_spectra(ev),
-               "error.png": _plots.plot_error(ev), "transfer.png": _plots.plot_transfer(filt)}
+    figures = {"time.png": plot_time(ev), "spectra.png": plot_spectra(ev),
+               "error.png": plot_error(ev), "transfer.png": plot_transfer(filt)}
     from tactilecal._atomic import atomic_path
 
     for name, fig in figures.items():
@@ -188,8 +186,7 @@ def run_evaluate(args):
     import numpy as np
 
     from tactilecal._jsonutil import write_json
-    from tactilecal.dynamic import evaluate, load_filter
-    from tactilecal.dynamic._io import read_record
+    from tactilecal.dynamic import evaluate, load_filter, read_record
 
     filt = load_filter(args.filter)
     ev = evaluate(filt, read_record(args.sensor), read_record(args.reference),

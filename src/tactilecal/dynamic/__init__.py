@@ -29,6 +29,7 @@ from tactilecal.dynamic._centrifuge import (
 )
 from tactilecal.dynamic._filter import CorrectionFilter, load_filter
 from tactilecal.dynamic._fit import MODELS, TransferFit, complex_r2, fit_transfer, model_gain
+from tactilecal.dynamic._io import read_record
 from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
 from tactilecal.dynamic._rational import RationalModel
 from tactilecal.dynamic._transfer import TransferFunction, transfer_function
@@ -37,7 +38,7 @@ __all__ = [
     "align", "estimate_lag", "resample_to",
     "TransferFunction", "transfer_function",
     "MODELS", "TransferFit", "fit_transfer", "model_gain", "complex_r2", "RationalModel",
-    "CorrectionFilter", "load_filter",
+    "CorrectionFilter", "load_filter", "read_record",
     "apply_filter",
     "fit_filter", "evaluate", "Evaluation", "compare_filters", "static_factor",
     "dynamic_part",
