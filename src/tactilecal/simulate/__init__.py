@@ -2,7 +2,8 @@
 
 Power-law sensels with gain spread, read noise, noise threshold, saturation and dead sensels
 (:func:`make_sensor`); dead-weight calibration sessions on uneven pads like Zvyagin (2022)
-(:func:`deadweight_session`); uniform loads for equilibration (:func:`uniform_load`);
+(:func:`deadweight_session`), or only their histograms under a known law
+(:func:`patch_histograms`); uniform loads for equilibration (:func:`uniform_load`);
 ramp-and-hold loading-machine sessions with a load-cell record like Gillis (2013)
 (:func:`ramp_hold`); sine sweeps and blind tests of Gillis (2013) Table 4.2 seen by a sensor
 with a known frequency-dependent gain (:func:`sine_sweep`, :func:`random_sine_sets`); a
@@ -29,6 +30,7 @@ from tactilecal.simulate._family import (
     true_force_table_N,
 )
 from tactilecal.simulate._loads import PAD_MASS_G
+from tactilecal.simulate._patches import patch_histograms
 from tactilecal.simulate._sensor import SimulatedSensor, make_sensor, sensor_geometry
 from tactilecal.simulate._static import (
     RampHold,
@@ -47,6 +49,7 @@ __all__ = [
     "deadweight_session",
     "MANIFEST_COLUMNS",
     "PAD_MASS_G",
+    "patch_histograms",
     "UniformLoad",
     "uniform_load",
     "RampHold",
