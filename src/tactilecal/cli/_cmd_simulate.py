@@ -18,7 +18,7 @@ from tactilecal.cli._common import (
 
 __all__ = ["register", "run_deadweight", "run_ramp_hold", "scaled_sensor"]
 
-_REF_A_N, _REF_AREA_MM2 = 0.0035, 1.6129
+_REF_A_N = 0.0035
 """Default law: A_N = 0.0035 N on a 5051 sensel (1.27 mm pitch, Zvyagin 2022 Table 2)."""
 
 
@@ -68,10 +68,12 @@ def scaled_sensor(model, seed):
     ``A_N = 0.0035 N * sensel_area_mm2 / 1.6129 mm2``, so a 9500 (25.8 mm2 sensels) reads
     the same raw value as a 5051 under the same pressure instead of saturating.
     """
+    from tactilecal.sensors import get_sensor
     from tactilecal.simulate import make_sensor, sensor_geometry
 
     area_mm2 = sensor_geometry(model)[5]
-    return make_sensor(model, A_N=_REF_A_N * area_mm2 / _REF_AREA_MM2, seed=seed)
+    reference_mm2 = get_sensor("5051").sensel_area_mm2
+    return make_sensor(model, A_N=_REF_A_N * area_mm2 / reference_mm2, seed=seed)
 
 
 def run_deadweight(args):

@@ -8,11 +8,10 @@ same as at prototype depth ``N z`` under 1 g (Gillis 2013, section 5.4).
 
 import numpy as np
 
+from tactilecal._units import G_STANDARD
+
 __all__ = ["k0_jaky", "void_ratio", "dry_unit_weight_kN_m3", "unit_weight_from_relative_density",
            "vertical_stress_kPa", "hydrostatic_pressure_kPa", "at_rest_pressure_kPa"]
-
-G_STANDARD = 9.80665
-"""Standard gravity [m/s2]."""
 
 WATER_UNIT_WEIGHT_KN_M3 = 1000.0 * G_STANDARD / 1000.0
 """Unit weight of water at 1 g: 1000 kg/m3 x 9.80665 m/s2 = 9.80665 kN/m3."""

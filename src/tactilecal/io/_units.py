@@ -7,25 +7,21 @@ Conversion factors are exact by definition (NIST SP 811, appendix B): 1 in = 25.
 
 import re
 
+from tactilecal._units import G_STANDARD, LBF_N, PSI_TO_KPA
+
 __all__ = ["G_STANDARD", "normalise_unit", "length_to_mm", "area_to_mm2", "force_to_N",
            "mass_to_N", "pressure_to_kPa", "time_to_s", "unit_kind"]
-
-G_STANDARD = 9.80665
-"""Standard acceleration of gravity in m/s2 (exact, CGPM 1901)."""
-
-_LB_KG = 0.45359237
-_LBF_N = _LB_KG * G_STANDARD
 
 # canonical unit -> (kind, factor to the kind's internal unit)
 _UNITS = {
     "raw": ("raw", 1.0),
     "kPa": ("pressure", 1.0), "MPa": ("pressure", 1000.0), "Pa": ("pressure", 1e-3),
-    "psi": ("pressure", _LBF_N / 645.16 * 1000.0), "bar": ("pressure", 100.0),
+    "psi": ("pressure", PSI_TO_KPA), "bar": ("pressure", 100.0),
     "mmHg": ("pressure", 0.133322387415), "kgf/cm2": ("pressure", G_STANDARD * 10.0),
     "N/cm2": ("pressure", 10.0), "g/cm2": ("pressure", G_STANDARD * 1e-2),
     "N": ("force", 1.0), "kN": ("force", 1000.0), "kgf": ("force", G_STANDARD),
-    "lbf": ("force", _LBF_N),
-    "kg": ("mass", G_STANDARD), "g": ("mass", G_STANDARD * 1e-3), "lb": ("mass", _LBF_N),
+    "lbf": ("force", LBF_N),
+    "kg": ("mass", G_STANDARD), "g": ("mass", G_STANDARD * 1e-3), "lb": ("mass", LBF_N),
     "mm": ("length", 1.0), "cm": ("length", 10.0), "m": ("length", 1000.0),
     "in": ("length", 25.4),
     "mm2": ("area", 1.0), "cm2": ("area", 100.0), "m2": ("area", 1e6), "in2": ("area", 645.16),

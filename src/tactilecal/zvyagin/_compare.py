@@ -4,6 +4,8 @@ from pathlib import Path
 
 import numpy as np
 
+from tactilecal._units import N_PER_MM2_TO_KPA
+
 __all__ = ["compare_table", "format_compare_table", "plot_compare"]
 
 COLUMNS = ("name", "method", "points", "I1", "I2", "I3", "I4", "d", "A0", "b0", "p_s_MPa")
@@ -85,7 +87,7 @@ def plot_compare(calibrations, names, ax=None):
     pressure = bool(np.all(np.isfinite(areas) & (areas > 0)))
     raw = np.arange(256)
     for cal, name, area in zip(calibrations, names, areas, strict=True):
-        y = cal.force_table() * (1000.0 / area if pressure else 1.0)
+        y = cal.force_table() * (N_PER_MM2_TO_KPA / area if pressure else 1.0)
         ax.plot(raw, y, label=f"{name} ({cal.method})")
     ax.set_xlim(0, 255)
     ax.set_xlabel("raw reading")
