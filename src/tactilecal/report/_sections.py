@@ -155,9 +155,9 @@ def filter_blocks(data, label):
                                         "sensor_delay_s") if k in excluded]
     blocks.append(table_html(rows, header=("fit", "value")))
     try:
-        from tactilecal.dynamic._plots import plot_transfer
+        from tactilecal.dynamic import plot_transfer
     except ImportError:
-        blocks.append(note_html("tactilecal.dynamic._plots.plot_transfer is not part of this "
+        blocks.append(note_html("tactilecal.dynamic.plot_transfer is not part of this "
                                 "version; the fit is drawn from the filter file's points"))
         return blocks + [_try_figure(f"{label}: transfer function and fit",
                                      lambda: _draw_fit(fit))]

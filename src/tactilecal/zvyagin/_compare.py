@@ -1,7 +1,5 @@
 """Compare calibrations like Zvyagin (2022) Table 2 and Figure 10."""
 
-from pathlib import Path
-
 import numpy as np
 
 from tactilecal._units import N_PER_MM2_TO_KPA
@@ -94,10 +92,3 @@ def plot_compare(calibrations, names, ax=None):
     ax.set_ylabel("pressure (kPa)" if pressure else "force per sensel (N)")
     ax.legend(fontsize=8)
     return ax
-
-
-def default_names(paths):
-    """Row names from file names, made unique with their folder when stems repeat."""
-    paths = [Path(p) for p in paths]
-    stems = [p.stem for p in paths]
-    return [f"{p.parent.name}/{p.stem}" if stems.count(p.stem) > 1 else p.stem for p in paths]
