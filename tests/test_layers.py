@@ -18,6 +18,7 @@ because it found nothing.
 """
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
@@ -51,6 +52,8 @@ KNOWN_UNTIL_MERGE = {
 }
 """(importing module, imported module) pairs tolerated until the issue-14 branches merge."""
 
+MODULE_PATH = re.compile(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)+")
+
 
 def module_name(path, root):
     """Dotted module name of ``path`` in the package rooted at folder ``root``."""
@@ -73,8 +76,9 @@ def imports_of(path, root):
     """Yield ``(line, imported module, how)`` for every import in the file ``path``.
 
     ``from a.b import c`` yields ``a.b.c`` (a module or a name: either way the edge is to
-    ``a.b``'s subpackage, and a private ``_c`` shows); ``import_module("...")`` with a literal
-    yields that name with ``how="import_module"``.
+    ``a.b``'s subpackage, and a private ``_c`` shows). A call given a dotted name of the
+    package as a literal (``import_module("pkg.x")``, or a helper that imports what it is
+    given) yields that name with ``how="import_module"``.
     """
     module = module_name(path, root)
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
@@ -87,12 +91,12 @@ def imports_of(path, root):
             for alias in node.names:
                 yield node.lineno, f"{target}.{alias.name}", "import"
         elif isinstance(node, ast.Call):
-            func = node.func
-            name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
-            if name in ("import_module", "__import__") and node.args \
-                    and isinstance(node.args[0], ast.Constant) \
-                    and isinstance(node.args[0].value, str):
-                yield node.lineno, node.args[0].value, "import_module"
+            # import_module("pkg.x"), or "pkg.x" handed to a helper that imports it
+            for arg in node.args:
+                if isinstance(arg, ast.Constant) and isinstance(arg.value, str) \
+                        and MODULE_PATH.fullmatch(arg.value) \
+                        and arg.value.split(".")[0] == root.name:
+                    yield node.lineno, arg.value, "import_module"
 
 
 def subpackage(module, package):
@@ -136,7 +140,7 @@ def find_violations(root, layers=LAYERS, allowed=frozenset()):
 
 def _breaches(where, source, dest, target, how, rank):
     if how == "import_module":
-        yield f"{where}: import_module({target!r}) hides an import; import it normally"
+        yield f"{where}: {target!r} imported by name hides an import; import it normally"
     if source not in rank:
         yield f"{where}: subpackage {source!r} is in no layer; add it to LAYERS"
         return
@@ -226,7 +230,8 @@ FAKE = {
     "mid/_x.py": "import pkg.low._impl as impl\nfrom pkg.side import h\n",
     "side/__init__.py": "from ..mid import _x\n",
     "high/__init__.py": ("import importlib\nfrom pkg.low import f\n"
-                         "def g():\n    importlib.import_module('pkg.mid')\n"),
+                         "def g():\n    importlib.import_module('pkg.mid')\n"
+                         "    plots('pkg.low._impl', 'pkg is a package')\n"),
     "cli/__init__.py": "from pkg.high import g\n",
     "orphan/__init__.py": "from pkg.cli import main\n",
 }
@@ -252,7 +257,9 @@ def test_the_test_catches_each_kind_of_offender(fake):
         "pkg.mid._x:2: imports pkg.side.h sideways (mid and side share a layer)",
         "pkg.side:1: imports pkg.mid._x sideways",
         "pkg.side:1: imports private pkg.mid._x of subpackage mid",
-        "pkg.high:4: import_module('pkg.mid') hides an import",
+        "pkg.high:4: 'pkg.mid' imported by name hides an import",
+        "pkg.high:5: 'pkg.low._impl' imported by name hides an import",
+        "pkg.high:5: imports private pkg.low._impl of subpackage low",
         "pkg.orphan:1: subpackage 'orphan' is in no layer",
     ]
     for message in expected:

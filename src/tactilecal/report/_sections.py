@@ -10,7 +10,6 @@ import base64
 import html
 import io
 import json
-from importlib import import_module
 
 import numpy as np
 
@@ -69,16 +68,20 @@ def _try_figure(caption, draw):
     return figure_html(fig, caption)
 
 
-def _module_plots(module_name, obj, what):
-    """Figures from every public ``plot_*`` function of ``module_name`` called on ``obj``."""
-    try:
-        module = import_module(module_name)
-    except ModuleNotFoundError:
-        return [note_html(f"{what} figures: {module_name} is not part of this tactilecal "
-                          "version, so they are not shown")]
-    names = [n for n in getattr(module, "__all__", dir(module)) if n.startswith("plot_")]
-    plots = [getattr(module, name) for name in names]
-    return [_try_figure(f"{what}: {_first_line(fn)}", lambda fn=fn: fn(obj)) for fn in plots]
+def _zvyagin_figures(result, what):
+    """Return the Zvyagin (2022) figures of a calibration result, one per plot function."""
+    from tactilecal.zvyagin import (
+        plot_ab_scatter,
+        plot_calibration_curves,
+        plot_d_map,
+        plot_energy,
+        plot_error_histogram,
+        plot_pair_chart,
+    )
+
+    plots = (plot_d_map, plot_pair_chart, plot_ab_scatter, plot_calibration_curves,
+             plot_error_histogram, plot_energy)
+    return [_try_figure(f"{what}: {_first_line(fn)}", lambda fn=fn: fn(result)) for fn in plots]
 
 
 def _first_line(fn):
@@ -118,8 +121,7 @@ def calibration_blocks(result, label):
     ]
     if result.method == "zvyagin" or result.details:
         if result.method == "zvyagin":
-            blocks += _module_plots("tactilecal.zvyagin._plots", result,
-                                    f"{label}: Zvyagin (2022)")
+            blocks += _zvyagin_figures(result, f"{label}: Zvyagin (2022)")
         else:
             blocks.append(f"<p>Method {_esc(repr(result.method))} keeps intermediate results "
                           f"under 'details': {_esc(', '.join(sorted(result.details)))}.</p>")
