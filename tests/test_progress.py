@@ -84,3 +84,29 @@ def test_report_passes_total_and_desc():
                          attrs={"units": "raw"})
     build_report([frame], progress=bar)
     assert bar.calls == [(1, 1, "report"), (1, 1, "report")]
+
+
+def test_cli_calibrate_supplies_its_bar(tmp_path, monkeypatch):
+    # the CLI passes a progress callable to the library; with -q the bar is off
+    import tactilecal.cli._common as common
+    from tactilecal.cli import main
+
+    levels = np.array([10.0, 20.0, 40.0, 80.0, 160.0])
+    frames = xr.DataArray(np.repeat(levels, 12).reshape(5, 3, 4), dims=("frame", "row", "col"),
+                          coords={"frame": np.arange(1, 6), "time": ("frame", np.arange(5.0))},
+                          attrs={"units": "raw", "sensel_area_mm2": 1.6129})
+    write_tekscan(frames, tmp_path / "rec.csv")
+    load_N = 12 * 0.0035 * levels ** 1.16  # f = A X^b per sensel, 12 sensels
+    rows = "".join(f"rec.csv,{k % 5 + 1},{float(load_N[k % 5])!r}\n" for k in range(50))
+    (tmp_path / "m.csv").write_text("file,frame,load_N\n" + rows)
+    calls = []
+
+    def bar(iterable=None, *, total=None, desc=None, quiet=False):
+        calls.append((total, desc, quiet))
+        return iterable
+    monkeypatch.setattr(common, "terminal_bar", bar)
+    for flags, quiet in (([], False), (["-q"], True)):
+        calls.clear()
+        out = tmp_path / f"cal{len(flags)}.json"
+        assert main([*flags, "calibrate", str(tmp_path / "m.csv"), "--out", str(out)]) == 0
+        assert calls == [(50, "reading m.csv", quiet)]
