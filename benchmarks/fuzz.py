@@ -367,17 +367,24 @@ def _cli_commands(kind, mutant, good, out):
     }[kind]
 
 
+def _run_cli(argv):
+    """Run ``python -m tactilecal -q ARGV`` as a user would; return (exit code, stderr)."""
+    import subprocess
+
+    done = subprocess.run([sys.executable, "-m", "tactilecal", "-q", *argv],
+                          capture_output=True, text=True, check=False)
+    return done.returncode, done.stderr.strip()
+
+
 def run_cli(n, seed=0, folder=None):
     """Run ``n`` mutants through the CLI commands that read them; return the failures.
+
+    Each command runs in its own process (``python -m tactilecal``), as a user runs it: the
+    exit code and standard error are the real ones (benchmarks do not import the CLI).
 
     A failure is an exit code other than 0/1/2, a traceback, or an error (exit 1) that takes
     more than one line. Returns ``(n_runs, [(kind, mutation, argv, stderr), ...])``.
     """
-    import contextlib
-    import io
-
-    from tactilecal.cli import main as cli
-
     rng = random.Random(seed)
     own = folder is None
     folder = Path(tempfile.mkdtemp(prefix="tactilecal-clifuzz-")) if own else Path(folder)
@@ -396,14 +403,8 @@ def run_cli(n, seed=0, folder=None):
                 folder / f"mutant_{k % 20}{source.suffix}"
             mutant.write_bytes(mutated)
             for argv in _cli_commands(kind, mutant, good, folder / f"out_{k % 20}"):
-                err = io.StringIO()
-                with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
-                    try:
-                        code = cli(["-q", *argv])
-                    except SystemExit as exc:
-                        code = exc.code
+                code, text = _run_cli(argv)
                 runs += 1
-                text = err.getvalue().strip()
                 errors = [line for line in text.splitlines() if ": warning: " not in line
                           and not line.startswith("removed ")]
                 if code not in (0, 1, 2) or "Traceback" in text or (code == 1

@@ -166,15 +166,15 @@ def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path)
         evaluate,
         filter_recording,
         filter_timeseries_csv,
-        is_timeseries,
         load_filter,
         read_record,
         write_evaluation,
     )
+    from tactilecal.io import recording_format
 
     filt = load_filter(filter_json)
     out = tmp_path / "c.csv"
-    assert is_timeseries(files["blind_sensor"])
+    assert recording_format(files["blind_sensor"]) is None  # a time series, not a recording
     assert filter_timeseries_csv(filt, files["blind_sensor"], out) == (1, len(
         pd.read_csv(files["blind_sensor"])))
     expected = apply_filter(read_record(files["blind_sensor"]), filt).values
@@ -182,7 +182,7 @@ def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path)
                                atol=1e-9 * np.ptp(expected))  # CSV keeps 10 digits
     rec = sensel_matrix(files["sweep"], shape=(2, 2))
     write_netcdf(rec, tmp_path / "r.nc")
-    assert not is_timeseries(tmp_path / "r.nc")
+    assert recording_format(tmp_path / "r.nc") == "netcdf"
     lazy = filter_recording(filt, tmp_path / "r.nc", chunk_frames=3000)
     assert lazy.chunks is not None  # NetCDF streams in chunks
     np.testing.assert_allclose(lazy.values, apply_filter(rec, filt).values,

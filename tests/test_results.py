@@ -132,7 +132,7 @@ def test_validation_reads_like_the_dict_it_was_with_plain_python_values():
     from tactilecal.calibration import load_points
 
     manifest = files("tactilecal") / "data" / "demo" / "session-a" / "manifest.csv"
-    points = load_points(manifest, quiet=True)  # file names, labels, frames from a manifest
+    points = load_points(manifest)  # file names, labels, frames from a manifest
     out = validate(calibrate(points[:40]), points[40:])
     assert set(out) == {"points", "summary"}
     assert out["summary"] is out.metrics and out["points"] is out.points

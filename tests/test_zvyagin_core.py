@@ -5,6 +5,7 @@ import itertools
 import numpy as np
 import pytest
 
+from tactilecal.simulate import patch_histograms
 from tactilecal.zvyagin import fit_power_law, minimise_energy, search_separation, solve_pairs
 from tactilecal.zvyagin._approx import (
     CLASS_VALUES,
@@ -15,7 +16,6 @@ from tactilecal.zvyagin._approx import (
 )
 from tactilecal.zvyagin._fit import energy
 from tactilecal.zvyagin._pairs import polynomial_roots, quartic_coefficients
-from tactilecal.zvyagin._synthetic import synthetic_patches
 
 
 def _hist(values_per_patch):
@@ -220,7 +220,7 @@ def test_trim_and_mad_resist_far_pairs():
 
 
 def test_energy_minimum_on_the_true_curve():
-    h, load, _ = synthetic_patches(30, A_N=0.0035, b=1.16, threshold=0, seed=6)
+    h, load, _ = patch_histograms(30, A_N=0.0035, b=1.16, threshold=0, seed=6)
     beta = -5.0
     alpha = 0.0035 / 1.16 ** beta
     res = minimise_energy(h, load, alpha, beta, (1.0, 1.5))

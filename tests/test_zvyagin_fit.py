@@ -8,10 +8,10 @@ import pytest
 
 import tactilecal
 from tactilecal.calibration import load_calibration, points_from_frames
+from tactilecal.simulate import patch_histograms
 from tactilecal.zvyagin import ZvyaginResult, zvyagin_fit
 from tactilecal.zvyagin._calibrate import SENSEL_AREA_5051_MM2, load_groups
 from tactilecal.zvyagin._fit import patch_power_sums, saturation_pressure_MPa
-from tactilecal.zvyagin._synthetic import synthetic_patches
 
 # Table 2 of Zvyagin (2022) as printed in the source: A0 (as printed), b0, p_s (MPa).
 TABLE2 = [
@@ -37,11 +37,11 @@ def test_table2_saturation_pressure(row, a_txt, b0, ps_MPa):
 
 
 def _synthetic(n=60, seed=3, **kw):
-    return synthetic_patches(n, A_N=0.0035, b=1.16, seed=seed, **kw)
+    return patch_histograms(n, A_N=0.0035, b=1.16, seed=seed, **kw)
 
 
 @pytest.mark.parametrize("mode", ["faithful", "robust"])
-def test_truth_recovered_on_synthetic_patches(mode):
+def test_truth_recovered_on_patch_histograms(mode):
     h, load, _ = _synthetic(seed=3)
     res = zvyagin_fit(h, load, mode=mode)
     # A and b trade off along a ridge (the pairs' power law); loads are what is pinned down
@@ -157,7 +157,7 @@ def test_saturated_patches_dropped_on_request():
 
 
 def test_one_load_warns():
-    h, load, _ = synthetic_patches(30, masses_kg=(5,), pad_sides_cm=(2, 3, 4), seed=11)
+    h, load, _ = patch_histograms(30, masses_kg=(5,), pad_sides_cm=(2, 3, 4), seed=11)
     with pytest.warns(UserWarning, match=r"all 30 usable patches carry one load \(5 kg\)"):
         zvyagin_fit(h, load)
 

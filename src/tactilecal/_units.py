@@ -1,32 +1,52 @@
-"""Unit spellings of Tekscan exports and load-cell files; conversions to mm, mm2, N, kPa, s.
+"""Units, defined once: exact factors, spellings of exports and CSVs, conversions.
 
-Conversion factors are exact by definition (NIST SP 811, appendix B): 1 in = 25.4 mm,
-1 lb = 0.45359237 kg, standard gravity g = 9.80665 m/s2, 1 lbf = 1 lb x g,
-1 kgf = 1 kg x g, 1 psi = 1 lbf/in2, 1 mmHg = 133.322387415 Pa, 1 bar = 100 kPa.
+Conversions go to mm, mm2, N, kPa and s.
+
+Sources: NIST SP 811 (2008), appendix B: 1 lb = 0.45359237 kg, standard gravity
+g = 9.80665 m/s2 (CGPM 1901), 1 lbf = 1 lb x g, 1 kgf = 1 kg x g, 1 in = 25.4 mm
+(1 in2 = 645.16 mm2), 1 psi = 1 lbf/in2, 1 mmHg = 133.322387415 Pa, 1 bar = 100 kPa.
+Pressure times area: 1 kPa x 1 mm2 = 1e3 Pa x 1e-6 m2 = 1e-3 N, so a force per sensel in N
+is ``pressure_kPa * sensel_area_mm2 * KPA_MM2_TO_N`` and a pressure in kPa is
+``force_N / sensel_area_mm2 * N_PER_MM2_TO_KPA`` (1 N/mm2 = 1 MPa = 1000 kPa).
+
+Sensor constants (pitch, sensel area, capacity) are not here: they come from the sensor
+catalogue, :mod:`tactilecal.sensors`.
 """
 
 import re
 
-__all__ = ["G_STANDARD", "normalise_unit", "length_to_mm", "area_to_mm2", "force_to_N",
-           "mass_to_N", "pressure_to_kPa", "time_to_s", "unit_kind",
-           "unit_from_column"]
+__all__ = ["G_STANDARD", "LB_KG", "LBF_N", "PSI_TO_KPA", "KPA_MM2_TO_N", "N_PER_MM2_TO_KPA",
+           "normalise_unit", "length_to_mm", "area_to_mm2", "force_to_N", "mass_to_N",
+           "pressure_to_kPa", "time_to_s", "unit_kind", "unit_from_column"]
 
 G_STANDARD = 9.80665
 """Standard acceleration of gravity in m/s2 (exact, CGPM 1901)."""
 
-_LB_KG = 0.45359237
-_LBF_N = _LB_KG * G_STANDARD
+LB_KG = 0.45359237
+"""Kilograms per avoirdupois pound (exact)."""
+
+LBF_N = LB_KG * G_STANDARD
+"""Newtons per pound-force, 4.4482216152605 N (1 lbf = 1 lb x g)."""
+
+PSI_TO_KPA = LBF_N / 645.16 * 1000.0
+"""Kilopascals per psi, 6.894757... kPa (1 lbf / 645.16 mm2, in kPa)."""
+
+KPA_MM2_TO_N = 1e-3
+"""Newtons per kPa x mm2: ``force_N = pressure_kPa * area_mm2 * KPA_MM2_TO_N``."""
+
+N_PER_MM2_TO_KPA = 1e3
+"""Kilopascals per N/mm2 (1 N/mm2 = 1 MPa = 1000 kPa): ``1 / KPA_MM2_TO_N``."""
 
 # canonical unit -> (kind, factor to the kind's internal unit)
 _UNITS = {
     "raw": ("raw", 1.0),
     "kPa": ("pressure", 1.0), "MPa": ("pressure", 1000.0), "Pa": ("pressure", 1e-3),
-    "psi": ("pressure", _LBF_N / 645.16 * 1000.0), "bar": ("pressure", 100.0),
+    "psi": ("pressure", PSI_TO_KPA), "bar": ("pressure", 100.0),
     "mmHg": ("pressure", 0.133322387415), "kgf/cm2": ("pressure", G_STANDARD * 10.0),
     "N/cm2": ("pressure", 10.0), "g/cm2": ("pressure", G_STANDARD * 1e-2),
     "N": ("force", 1.0), "kN": ("force", 1000.0), "kgf": ("force", G_STANDARD),
-    "lbf": ("force", _LBF_N),
-    "kg": ("mass", G_STANDARD), "g": ("mass", G_STANDARD * 1e-3), "lb": ("mass", _LBF_N),
+    "lbf": ("force", LBF_N),
+    "kg": ("mass", G_STANDARD), "g": ("mass", G_STANDARD * 1e-3), "lb": ("mass", LBF_N),
     "mm": ("length", 1.0), "cm": ("length", 10.0), "m": ("length", 1000.0),
     "in": ("length", 25.4),
     "mm2": ("area", 1.0), "cm2": ("area", 100.0), "m2": ("area", 1e6), "in2": ("area", 645.16),

@@ -8,6 +8,7 @@ dask-backed arrays) and returns a DataArray with dim ``frame`` and the recording
 import numpy as np
 import xarray as xr
 
+from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.analysis._units import (
     _check_dims,
     _units,
@@ -276,7 +277,7 @@ def summary(recording, *, threshold_kPa=0.0, calibration=None, cof_min_force_N=0
     loaded = pressure > threshold_kPa
     n_loaded = loaded.sum(_PLANE)
     load_kPa = filled.sum(_PLANE)
-    force = load_kPa * (area_mm2 * 1e-3)
+    force = load_kPa * (area_mm2 * KPA_MM2_TO_N)
     weight = load_kPa.where((load_kPa > 0) & (force > cof_min_force_N))
     rows = xr.DataArray(pressure["row"].values * row_mm, dims="row")
     cols = xr.DataArray(pressure["col"].values * col_mm, dims="col")

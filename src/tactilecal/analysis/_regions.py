@@ -4,6 +4,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.analysis._units import (
     _check_dims,
     _name,
@@ -346,7 +347,7 @@ def high_pressure_zones(recording, level_kPa, *, connectivity=1, min_sensels=1,
     area = sensel_area_mm2(recording)
     row_mm, col_mm = spacing_mm(recording)
     n = ndimage.sum_labels(np.ones_like(pressure), lab, index)
-    force = ndimage.sum_labels(pressure, lab, index) * area * 1e-3
+    force = ndimage.sum_labels(pressure, lab, index) * area * KPA_MM2_TO_N
     centre = np.array(ndimage.center_of_mass(pressure, lab, index)).reshape(-1, 3)
     frame_pos = np.array([s[0].start for s in ndimage.find_objects(lab)], dtype=int)
     table = pd.DataFrame({

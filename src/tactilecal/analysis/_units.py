@@ -8,6 +8,8 @@ one place.
 
 import numpy as np
 
+from tactilecal._units import KPA_MM2_TO_N, N_PER_MM2_TO_KPA
+
 __all__ = ["force_map_N", "pressure_map_kPa", "saturated_sensels", "sensel_area_mm2",
            "spacing_mm"]
 
@@ -159,7 +161,7 @@ def force_map_N(recording, *, calibration=None):
     if kind == "force":
         out = recording * force_to_N(1.0, unit)
     else:
-        out = recording * (pressure_to_kPa(1.0, unit) * sensel_area_mm2(recording) * 1e-3)
+        out = recording * (pressure_to_kPa(1.0, unit) * sensel_area_mm2(recording) * KPA_MM2_TO_N)
     out.attrs = {**recording.attrs, "units": "N"}
     return out
 
@@ -203,6 +205,6 @@ def pressure_map_kPa(recording, *, calibration=None):
     if kind == "pressure":
         out = recording * pressure_to_kPa(1.0, unit)
     else:
-        out = recording * (force_to_N(1.0, unit) * 1e3 / sensel_area_mm2(recording))
+        out = recording * (force_to_N(1.0, unit) * N_PER_MM2_TO_KPA / sensel_area_mm2(recording))
     out.attrs = {**recording.attrs, "units": "kPa"}
     return out

@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 
 from tactilecal._saturation import resolve_saturated
+from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal.calibration._manifest import load_points
 from tactilecal.calibration._methods import FITTERS, check_unsaturated, fit_censored
 from tactilecal.calibration._models import force_table
@@ -321,7 +322,7 @@ def result_from_arrays(hist, load, meta, *, method, model, params, params_stderr
     table_N = force_table(model, params)
     predicted = hist @ table_N
     area = _sensel_area(meta["sensel_area_mm2"], sensel_area_mm2)
-    saturation = table_N[255] / area * 1000.0 if np.isfinite(area) else float("nan")
+    saturation = table_N[255] / area * N_PER_MM2_TO_KPA if np.isfinite(area) else float("nan")
     used = np.asarray(used, dtype=bool)
     # a saturated point's load is only a lower bound of the law's prediction: not scored
     scored = used & ((meta["saturated_cells"] == 0) | ((options or {}).get("saturated")

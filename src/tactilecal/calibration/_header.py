@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from tactilecal._units import pressure_to_kPa, unit_kind
+from tactilecal._units import N_PER_MM2_TO_KPA, pressure_to_kPa, unit_kind
 from tactilecal._validate import check_number
 from tactilecal.calibration._calibrate import result_from_arrays
 
@@ -83,7 +83,7 @@ def _power_law(attrs, name, area):
     exponent = check_number(attrs["exponent"], f"EXPONENT of {name}", minimum=0,
                             min_inclusive=False)
     scale_kPa = float(pressure_to_kPa(scale, unit))
-    params = {"A": scale_kPa * area / 1000.0, "b": exponent}
+    params = {"A": scale_kPa * area / N_PER_MM2_TO_KPA, "b": exponent}
     return _result(params, "header-power-2pt", area, np.zeros((0, 256)), np.zeros(0), [])
 
 

@@ -5,10 +5,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from tactilecal._progress import from_quiet
 from tactilecal._validate import check_number, csv_rows, parse_number, read_text
 from tactilecal.calibration._points import _points_from_histograms, frame_histograms
 
 __all__ = ["load_points", "load_frames", "find_plateau"]
+
+_BAR_MIN_ROWS = 50
+"""Manifests shorter than this are read without calling ``progress`` (they take moments)."""
 
 
 def find_plateau(total, *, window=3, rel_tol=0.02, min_level=0.5):
@@ -114,12 +118,15 @@ def _row_load_N(row, where):
 
 
 def _read_recording(path, where, cache):
-    from tactilecal.io import read_tekscan
+    from tactilecal.io import open_recording
 
     if path not in cache:
-        if not path.is_file():
+        if not path.exists():
             raise ValueError(f"{where}: file {path} does not exist")
-        rec = read_tekscan(path)
+        try:
+            rec = open_recording(path)
+        except ValueError as exc:  # name the manifest line that points at the file
+            raise ValueError(f"{where}: {exc}") from None
         units = rec.attrs.get("units", "raw")
         if units != "raw":
             raise ValueError(f"{where}: {path.name} has units {units!r}; expected raw "
@@ -145,15 +152,18 @@ def _pick_frame(rec, text, where, name):
     return i, note
 
 
-def _manifest_frames(manifest_path, equilibration, quiet=True):
-    """Yield (row, frame (1, rows, cols), frame number, note, area, load_N) per manifest row."""
-    from tactilecal.cli._common import progress
+def _manifest_frames(manifest_path, equilibration, progress):
+    """Yield (row, frame (1, rows, cols), frame number, note, area, load_N) per manifest row.
 
+    ``progress`` (the protocol of :mod:`tactilecal._progress`) wraps the rows of manifests of
+    50 rows or more.
+    """
     path = Path(manifest_path)
     rows = _manifest_table(path)
     cache = {}
-    for line, row in progress(rows, total=len(rows), desc=f"reading {path.name}",
-                              quiet=quiet or len(rows) < 50):
+    if len(rows) >= _BAR_MIN_ROWS:
+        rows = progress(rows, total=len(rows), desc=f"reading {path.name}")
+    for line, row in rows:
         where = f"{path.name} line {line}"
         load = _row_load_N(row, where)
         rec = _read_recording(path.parent / row["file"], where, cache)
@@ -165,15 +175,18 @@ def _manifest_frames(manifest_path, equilibration, quiet=True):
         yield row, frame, int(rec["frame"].values[i]), note, area, load
 
 
-def load_frames(manifest_path, *, equilibration=None, quiet=True):
+def load_frames(manifest_path, *, equilibration=None, progress=None, quiet=None):
     """Return the manifest's chosen frames stacked (n, rows, cols), e.g. to find dead sensels.
+
+    ``equilibration``, ``progress`` and ``quiet`` are as in :func:`load_points`.
 
     Raises
     ------
     ValueError
         As :func:`load_points`, and if the files' frame shapes differ.
     """
-    frames = [f[1][0] for f in _manifest_frames(manifest_path, equilibration, quiet)]
+    progress = from_quiet(progress, quiet, "load_frames")
+    frames = [f[1][0] for f in _manifest_frames(manifest_path, equilibration, progress)]
     shapes = sorted({f.shape for f in frames})
     if len(shapes) > 1:
         raise ValueError(f"{manifest_path}: files have frame shapes {shapes}; expected one "
@@ -181,7 +194,7 @@ def load_frames(manifest_path, *, equilibration=None, quiet=True):
     return np.stack(frames)
 
 
-def load_points(manifest_path, *, mask=None, equilibration=None, quiet=True):
+def load_points(manifest_path, *, mask=None, equilibration=None, progress=None, quiet=None):
     """Read a calibration manifest and return its calibration points.
 
     The manifest is a CSV with one row per point: ``file`` (path relative to the manifest),
@@ -197,8 +210,11 @@ def load_points(manifest_path, *, mask=None, equilibration=None, quiet=True):
         Non-working sensels to leave out (see :func:`find_dead_sensels`).
     equilibration : Equilibration, optional
         Per-sensel gains applied to every frame first (see :func:`equilibrate`).
-    quiet : bool
-        No progress bar (shown on standard error for manifests of 50 rows or more).
+    progress : callable, optional
+        ``progress(iterable, total=, desc=)`` wrapping the rows of manifests of 50 rows or
+        more, e.g. a progress bar (see :mod:`tactilecal._progress`); None: no bar.
+    quiet : bool, optional
+        Deprecated (warns): ``quiet=False`` asks for a terminal bar; use ``progress``.
 
     Returns
     -------
@@ -210,9 +226,10 @@ def load_points(manifest_path, *, mask=None, equilibration=None, quiet=True):
         Missing columns, a blank or non-numeric load, a missing file, a frame not in its
         file, a file that is not raw; messages name the manifest line.
     """
+    progress = from_quiet(progress, quiet, "load_points")
     points = []
     for row, frame, number, note, area, load in _manifest_frames(manifest_path, equilibration,
-                                                                  quiet):
+                                                                  progress):
         total = int(np.isfinite(frame).sum())
         if mask is not None:
             frame = np.where(_frame_mask(mask, frame.shape[1:], row["file"])[None], np.nan,

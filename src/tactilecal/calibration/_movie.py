@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._progress import from_quiet
 from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
 from tactilecal.calibration._methods import FITTERS
@@ -78,16 +79,16 @@ def read_movie_loads(path, *, time_col=None, load_col=None):
     return force_to_N(values, unit) if kind == "force" else mass_to_N(values, unit)
 
 
-def _histograms(values, mask, equilibration, quiet):
+def _histograms(values, mask, equilibration, progress):
     """Float64 histograms of all frames (gains applied and mask skipped chunk by chunk).
 
     Float64 because every later use is a matrix product; counts are exact in float64.
     ``values`` may be a dask array (a recording larger than memory, perhaps on a cluster):
     each block of frames is counted where it is computed, by dask's scheduler, and only the
-    (frames, 256) histograms are gathered.
+    (frames, 256) histograms are gathered. ``progress`` (the protocol of
+    :mod:`tactilecal._progress`) wraps the chunks of movies of ``20 * _CHUNK`` frames or more.
     """
     from tactilecal.calibration._histogram import COMPILED_MIN_VALUES
-    from tactilecal.cli._common import progress
 
     prepare = None if equilibration is None else equilibration.apply
     n = len(values)
@@ -100,8 +101,10 @@ def _histograms(values, mask, equilibration, quiet):
         bounds = _block_groups(values.chunks[0], _GROUP_FRAMES)
     else:
         bounds = [*range(0, n, _CHUNK), n]
-    for a, b in progress(zip(bounds[:-1], bounds[1:], strict=True), total=len(bounds) - 1,
-                         desc="histograms", quiet=quiet or n < 20 * _CHUNK):
+    spans = zip(bounds[:-1], bounds[1:], strict=True)
+    if n >= 20 * _CHUNK:
+        spans = progress(spans, total=len(bounds) - 1, desc="histograms")
+    for a, b in spans:
         if _is_dask(values):
             da.store(lazy[a:b], hist[a:b], lock=False)
         else:
@@ -170,7 +173,7 @@ def _align_loads(loads, total, times, n, name, lag_s, max_lag_s):
 
 
 def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
-                 equilibration=None, min_load_fraction=0.02, quiet=True):
+                 equilibration=None, min_load_fraction=0.02, progress=None, quiet=None):
     """Make one calibration point per frame of a movie paired with a load-cell record.
 
     Parameters
@@ -191,8 +194,11 @@ def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
     min_load_fraction : float
         Frames whose load is below this fraction of the largest load are not made into
         points (unloaded stretches); they are counted in the report.
-    quiet : bool
-        No progress bar.
+    progress : callable, optional
+        ``progress(iterable, total=, desc=)`` wrapping the chunks of frames of long movies,
+        e.g. a progress bar (see :mod:`tactilecal._progress`); None: no bar.
+    quiet : bool, optional
+        Deprecated (warns): ``quiet=False`` asks for a terminal bar; use ``progress``.
 
     Returns
     -------
@@ -206,8 +212,9 @@ def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
     ValueError
         A count mismatch without a time column, records that do not overlap in time.
     """
+    progress = from_quiet(progress, quiet, "movie_points")
     hist = _histograms(recording.data, None if mask is None else np.asarray(mask, bool),
-                       equilibration, quiet)
+                       equilibration, progress)
     return _points_from_movie(recording, hist, loads, lag_s=lag_s, max_lag_s=max_lag_s,
                               min_load_fraction=min_load_fraction)
 
@@ -318,7 +325,7 @@ def _first_pass_table(hist, load, method, options, min_load_fraction, max_points
 
 def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col=None,
                     lag_s=None, max_lag_s=None, mask_dead=False, equilibration=None,
-                    min_load_fraction=0.02, quiet=True, **options):
+                    min_load_fraction=0.02, progress=None, quiet=None, **options):
     """Movie calibration: align, resample, trim saturated frames, fit every frame.
 
     ``equilibration`` may also be the path of an equilibration JSON.
@@ -326,14 +333,14 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     Parameters
     ----------
     recording : str, os.PathLike or xarray.DataArray
-        Raw movie (a path is read with :func:`tactilecal.io.read_tekscan`).
+        Raw movie (a path is read with :func:`tactilecal.io.open_recording`).
     loads : str, os.PathLike, xarray.DataArray or array_like
         Load-cell record (a path is read with :func:`read_movie_loads`).
     method : str
         Calibration method (see :func:`calibrate`).
     time_col, load_col : str or int, optional
         Columns of the load-cell CSV.
-    lag_s, max_lag_s, equilibration, min_load_fraction, quiet
+    lag_s, max_lag_s, equilibration, min_load_fraction, progress, quiet
         See :func:`movie_points`.
     mask_dead : bool
         Detect non-working sensels over the movie (:func:`find_dead_sensels`) and mask them.
@@ -348,9 +355,9 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     """
     equilibration = as_equilibration(equilibration)  # the object, or its JSON's path
     if not isinstance(recording, xr.DataArray):
-        from tactilecal.io import read_tekscan
+        from tactilecal.io import open_recording
 
-        recording = read_tekscan(recording)
+        recording = open_recording(recording)
     if recording.attrs.get("units", "raw") != "raw":
         raise ValueError(f"recording {recording.attrs.get('source', '')!r} has units "
                          f"{recording.attrs['units']!r}; expected raw readings")
@@ -358,7 +365,7 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
         loads = read_movie_loads(loads, time_col=time_col, load_col=load_col)
     dead = find_dead_sensels(recording.values) if mask_dead else None
     hist = _histograms(recording.data, None if dead is None else dead.mask, equilibration,
-                       quiet)
+                       from_quiet(progress, quiet, "calibrate_movie"))
     sums = _frame_sums(hist)
     signal_N, first = None, None
     if lag_s is None and isinstance(loads, xr.DataArray) and method in FITTERS:

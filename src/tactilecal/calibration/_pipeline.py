@@ -56,13 +56,11 @@ def reading_options(progress):
     """Keywords of :func:`load_points`/:func:`load_frames` for the ``progress`` protocol.
 
     ``progress`` is None (no bar) or a callable ``progress(iterable, total=, desc=)``.
-    The manifest readers of this version take ``quiet`` (False: a terminal bar) instead;
-    once they take ``progress`` this is ``{"progress": progress}``.
     """
     if progress is not None and not callable(progress):
         raise TypeError(f"progress is a {type(progress).__name__}; expected None or a "
                         "callable progress(iterable, total=, desc=)")
-    return {"quiet": progress is None}
+    return {"progress": progress}
 
 
 def _as_dead(mask, manifest, equilibration, progress):

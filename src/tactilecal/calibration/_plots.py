@@ -5,6 +5,8 @@ matplotlib is imported inside each function so that importing the package stays 
 
 import numpy as np
 
+from tactilecal._units import N_PER_MM2_TO_KPA
+
 __all__ = ["plot_calibration_curve", "plot_points", "plot_error_histogram"]
 
 
@@ -32,7 +34,7 @@ def plot_calibration_curve(result, ax=None):
     """
     ax = _axes(ax)
     area = result.sensel_area_mm2
-    scale, ylabel = ((1000.0 / area, "pressure (kPa)") if np.isfinite(area) and area > 0
+    scale, ylabel = ((N_PER_MM2_TO_KPA / area, "pressure (kPa)") if np.isfinite(area) and area > 0
                      else (1.0, "force per sensel (N)"))
     raw = np.arange(256)
     ax.plot(raw, result.force_table() * scale, color="C0",

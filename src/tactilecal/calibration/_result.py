@@ -9,6 +9,7 @@ import xarray as xr
 
 from tactilecal._jsonutil import dumps, to_jsonable
 from tactilecal._result import SavedResult
+from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal._version import __version__
 from tactilecal.calibration._models import MODELS, force_table, sensel_force
@@ -174,7 +175,7 @@ class CalibrationResult(SavedResult):
         if unit_kind(units) == "force":
             scale = 1.0 / force_to_N(1.0, units)
         else:
-            scale = 1000.0 / self._area_for(recording) / pressure_to_kPa(1.0, units)
+            scale = N_PER_MM2_TO_KPA / self._area_for(recording) / pressure_to_kPa(1.0, units)
         # apply_ufunc keeps a dask-backed recording lazy (chunk by chunk along frames)
         out = xr.apply_ufunc(lambda raw: self.predict_sensel_force(raw) * scale, recording,
                              input_core_dims=[["row", "col"]],

@@ -13,9 +13,7 @@ from tactilecal._jsonutil import to_jsonable
 from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._calibrate import make_result
 from tactilecal.calibration._points import points_to_arrays
-from tactilecal.zvyagin import zvyagin_fit
-from tactilecal.zvyagin._calibrate import OPTIONS
-from tactilecal.zvyagin._fit import energy
+from tactilecal.zvyagin import OPTIONS, energy, zvyagin_fit
 
 __all__ = ["calibrate_zvyagin", "conditional_stderr"]
 

@@ -7,7 +7,7 @@ def register(subparsers):
     """Add the ``apply`` command."""
     p = subparsers.add_parser(
         "apply", help="apply a calibration to a raw recording (NetCDF out)",
-        description="Convert RECORDING (Tekscan ASCII or NetCDF, raw) to pressure or force "
+        description="Convert RECORDING (Tekscan ASCII, NetCDF or Zarr, raw) to pressure or force "
                     "per sensel with CAL.json and write a NetCDF file carrying the "
                     "calibration (attributes calibration_method, calibration_json).")
     p.add_argument("calibration", metavar="CAL.json")
@@ -19,24 +19,14 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
-def _read(path):
-    from pathlib import Path
-
-    from tactilecal import io
-
-    if Path(path).suffix.lower() in (".nc", ".nc4", ".netcdf"):
-        return io.read_netcdf(path)
-    return io.read_tekscan(path)
-
-
 def run(args):
     """Run ``tactilecal apply``."""
     from tactilecal.analysis import saturated_sensels
     from tactilecal.calibration import load_calibration
-    from tactilecal.io import write_netcdf
+    from tactilecal.io import open_recording, write_netcdf
 
     result = load_calibration(args.calibration)
-    recording = _read(args.recording)
+    recording = open_recording(args.recording)
     out = result.apply(recording, units=args.units)
     write_netcdf(out, args.out)
     counts, _ = saturated_sensels(recording)

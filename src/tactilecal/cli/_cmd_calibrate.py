@@ -3,7 +3,7 @@
 from pathlib import Path
 
 from tactilecal.cli._calibrate_options import add_fit_options, fit_options
-from tactilecal.cli._common import info, info_grouped, positive_float, print_json, progress
+from tactilecal.cli._common import info, info_grouped, positive_float, print_json, progress_for
 
 
 def register(subparsers):
@@ -43,14 +43,14 @@ def run(args):
                                  time_col=args.time_col, load_col=args.load_col,
                                  lag_s=args.lag, max_lag_s=args.max_lag,
                                  mask_dead=args.mask_dead, equilibration=args.equilibration,
-                                 quiet=args.quiet, **fit_options(args))
+                                 progress=progress_for(args), **fit_options(args))
         info(args, result.details["movie"]["report"])
     else:
         if not args.manifest:
             raise ValueError("no MANIFEST given; expected 'tactilecal calibrate MANIFEST' "
                              "or '--movie REC --loads LOADCELL.csv'")
         result = calibrate(args.manifest, method=args.method,
-                           progress=None if args.quiet else progress,
+                           progress=progress_for(args),
                            equilibration=args.equilibration,
                            mask="detect" if args.mask_dead else None, **fit_options(args))
         table = result.points

@@ -1,5 +1,6 @@
 """``tactilecal compare CAL.json...``: a Zvyagin-Table-2-like table and curves on one plot."""
 
+from pathlib import Path
 
 from tactilecal._atomic import make_folder
 from tactilecal.cli._common import info, print_json
@@ -19,19 +20,21 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
+def _row_names(paths):
+    """Row names from file names, made unique with their folder when stems repeat."""
+    paths = [Path(p) for p in paths]
+    stems = [p.stem for p in paths]
+    return [f"{p.parent.name}/{p.stem}" if stems.count(p.stem) > 1 else p.stem for p in paths]
+
+
 def run(args):
     """Run ``tactilecal compare``."""
     from tactilecal._atomic import atomic_path
     from tactilecal.calibration import load_calibration
-    from tactilecal.zvyagin._compare import (
-        compare_table,
-        default_names,
-        format_compare_table,
-        plot_compare,
-    )
+    from tactilecal.zvyagin import compare_table, format_compare_table, plot_compare
 
     cals = [load_calibration(p) for p in args.calibrations]
-    names = default_names(args.calibrations)
+    names = _row_names(args.calibrations)
     rows = compare_table(cals, names)
     figure = None
     if args.out:

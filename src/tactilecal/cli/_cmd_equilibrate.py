@@ -19,11 +19,11 @@ def register(subparsers):
 def run(args):
     """Run ``tactilecal equilibrate``."""
     from tactilecal.calibration import equilibrate
-    from tactilecal.io import read_tekscan
+    from tactilecal.io import open_recording
 
     levels = []
     for path in args.recordings:
-        rec = read_tekscan(path)
+        rec = open_recording(path)
         if rec.attrs.get("units", "raw") != "raw":
             raise ValueError(f"{path} has units {rec.attrs['units']!r}; expected raw readings")
         levels.append(rec)

@@ -3,7 +3,7 @@
 import shlex
 import sys
 
-from tactilecal.cli._common import info, non_negative_float, progress
+from tactilecal.cli._common import info, non_negative_float, progress_for
 
 
 def register(subparsers):
@@ -35,12 +35,10 @@ def run(args):
     """Build the report and write it atomically."""
     from tactilecal.report import write_report
 
-    def bar(iterable):
-        return progress(iterable, total=len(iterable), desc="report", quiet=args.quiet)
-
     path = write_report(args.inputs, args.out, calibration=args.cal, filter=args.filter,
                         title=args.title, threshold_kPa=args.threshold_kpa,
                         cof_min_force_N=args.cof_min_force_n,
-                        command=shlex.join(["tactilecal", *sys.argv[1:]]), progress=bar)
+                        command=shlex.join(["tactilecal", *sys.argv[1:]]),
+                        progress=progress_for(args))
     info(args, f"report written to {path}")
     return 0

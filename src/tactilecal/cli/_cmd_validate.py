@@ -1,6 +1,6 @@
 """``tactilecal validate``: compare a calibration's loads with a manifest's applied loads."""
 
-from tactilecal.cli._common import print_json, progress
+from tactilecal.cli._common import print_json, progress_for
 
 
 def register(subparsers):
@@ -39,7 +39,7 @@ def run(args):
 
     # the manifest's frames get the calibration's equilibration gains, as for the fit
     out = validate(load_calibration(args.calibration), args.manifest,
-                   progress=None if args.quiet else progress,
+                   progress=progress_for(args),
                    include_saturated=args.include_saturated)
     if args.json:
         print_json(out)

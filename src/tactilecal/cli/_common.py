@@ -3,8 +3,10 @@
 import argparse
 import math
 import sys
+from functools import partial
 
 from tactilecal._jsonutil import dumps
+from tactilecal._progress import terminal_bar
 
 
 def print_json(obj):
@@ -13,12 +15,16 @@ def print_json(obj):
 
 
 def progress(iterable=None, *, total=None, desc=None, quiet=False):
-    """Wrap ``iterable`` in a tqdm progress bar on standard error unless ``quiet``."""
-    from tqdm.auto import tqdm
+    """Wrap ``iterable`` in a tqdm progress bar on standard error unless ``quiet``.
 
-    # a bar only on a terminal: redirected to a log, tqdm's carriage returns are noise
-    return tqdm(iterable, total=total, desc=desc, disable=quiet or not sys.stderr.isatty(),
-                file=sys.stderr, leave=False)
+    A bar only on a terminal (see :func:`tactilecal._progress.terminal_bar`).
+    """
+    return terminal_bar(iterable, total=total, desc=desc, quiet=quiet)
+
+
+def progress_for(args):
+    """Return the ``progress`` callable the CLI passes to library loops (off with ``-q``)."""
+    return partial(terminal_bar, quiet=getattr(args, "quiet", False))
 
 
 def info(args, message):

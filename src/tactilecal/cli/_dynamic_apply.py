@@ -30,17 +30,13 @@ def register(sub):
 
 def run(args):
     """Run ``tactilecal dynamic apply``."""
-    from tactilecal.dynamic import (
-        filter_recording,
-        filter_timeseries_csv,
-        is_timeseries,
-        load_filter,
-    )
+    from tactilecal.dynamic import filter_recording, filter_timeseries_csv, load_filter
+    from tactilecal.io import recording_format
 
     filt = load_filter(args.filter)
     options = {"method": args.method, "causal": args.causal,
                "progress": partial(progress, desc="filtering", quiet=args.quiet)}
-    if is_timeseries(args.input):
+    if recording_format(args.input) is None:  # a time-series CSV
         columns, rows = filter_timeseries_csv(filt, args.input, args.out, **options)
         what = f"{columns} column(s) x {rows} rows"
     else:

@@ -18,7 +18,6 @@ from tactilecal.dynamic._centrifuge import row_mean, water_head_factor
 from tactilecal.dynamic._files import (
     filter_recording,
     filter_timeseries_csv,
-    is_timeseries,
     write_evaluation,
 )
 from tactilecal.dynamic._filter import CorrectionFilter, load_filter
@@ -35,7 +34,7 @@ __all__ = [
     "evaluate", "compare_filters", "static_factor",
     "row_mean", "water_head_factor",
     "plot_transfer", "plot_time", "plot_spectra", "plot_error",
-    "filter_recording", "filter_timeseries_csv", "is_timeseries", "write_evaluation",
+    "filter_recording", "filter_timeseries_csv", "write_evaluation",
 ]
 
 __getattr__ = moved_names(__name__, {

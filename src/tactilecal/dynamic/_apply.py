@@ -529,7 +529,7 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
         Threads over the blocks of in-memory data (-1: one per core).
     progress : callable, optional
         Wraps the iterator of finished blocks, called with ``total=`` the number of blocks
-        (e.g. ``tactilecal.cli._common.progress``).
+        (the protocol of :mod:`tactilecal._progress`).
     method : {"auto", "direct"}
         ``"auto"`` (default) uses the multirate method when the filter's correction is
         band-limited well below the Nyquist frequency (see the module notes; 3-5x faster on

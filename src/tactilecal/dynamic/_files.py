@@ -13,15 +13,9 @@ import numpy as np
 from tactilecal._atomic import atomic_path
 from tactilecal._jsonutil import write_json
 from tactilecal.dynamic._apply import apply_filter
-from tactilecal.dynamic._io import kind_of, read_recording  # s14-core: io.open_recording
 from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
 
-__all__ = ["filter_recording", "filter_timeseries_csv", "is_timeseries", "write_evaluation"]
-
-
-def is_timeseries(path):
-    """Whether ``path`` is a time-series CSV rather than a recording (Tekscan or NetCDF)."""
-    return kind_of(path) == "timeseries"
+__all__ = ["filter_recording", "filter_timeseries_csv", "write_evaluation"]
 
 
 def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progress=None):
@@ -73,8 +67,8 @@ def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=Fa
     filt : CorrectionFilter
         The correction filter.
     path : str or os.PathLike
-        Tekscan export (read whole) or NetCDF (opened lazily in chunks of ``chunk_frames``
-        frames, so a recording larger than memory streams through).
+        Tekscan export (read whole), NetCDF or Zarr (opened lazily in chunks of
+        ``chunk_frames`` frames, so a recording larger than memory streams through).
     chunk_frames : int
         Frames per chunk for NetCDF.
     method, causal, progress
@@ -87,8 +81,10 @@ def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=Fa
         :func:`tactilecal.io.write_netcdf`), with ``time_jitter_s`` and
         ``sampling_rate_hz`` attributes.
     """
-    lazy = kind_of(path) == "netcdf"
-    data = read_recording(path, chunks={"frame": chunk_frames} if lazy else None)
+    from tactilecal.io import open_recording, recording_format
+
+    lazy = recording_format(path) in ("netcdf", "zarr")
+    data = open_recording(path, chunks=chunk_frames if lazy else None)
     if lazy and data.dims and data.dims[0] in data.chunksizes:
         data = data.chunk({data.dims[0]: chunk_frames})
     return apply_filter(data, filt, progress=progress, method=method, causal=causal)

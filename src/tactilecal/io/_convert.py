@@ -8,6 +8,7 @@ from pathlib import Path
 
 from tactilecal._atomic import _running, _umask, dask_tasks_finished
 from tactilecal.io._netcdf import write_netcdf
+from tactilecal.io._open import is_zarr_store
 from tactilecal.io._tekscan_read import read_tekscan
 
 __all__ = ["convert", "write_lazy", "DEFAULT_CHUNK_FRAMES"]
@@ -97,10 +98,6 @@ def write_lazy(data, target):
         data.to_zarr(tmp, mode="w", consolidated=True, zarr_format=2)
 
 
-def _is_zarr(path):
-    return any((path / name).is_file() for name in ("zarr.json", ".zgroup", ".zarray"))
-
-
 @contextlib.contextmanager
 def atomic_folder(path):
     """Yield a temporary folder next to ``path``; rename it onto ``path`` on success.
@@ -112,7 +109,7 @@ def atomic_folder(path):
     path = Path(path)
     if not path.parent.is_dir():
         raise FileNotFoundError(f"cannot write {path}: folder {path.parent} does not exist")
-    if path.exists() and not (path.is_dir() and _is_zarr(path)):
+    if path.exists() and not is_zarr_store(path):
         raise ValueError(f"output {path} exists and is no Zarr store; expected a new path or "
                          "a Zarr store to replace")
     _remove_stale(path)

@@ -8,6 +8,7 @@ from importlib import metadata
 from pathlib import Path
 
 from tactilecal._atomic import write_text_atomic
+from tactilecal._progress import resolve
 from tactilecal._version import __version__
 from tactilecal.report._figures import note_html, table_html
 from tactilecal.report._inputs import load_input
@@ -61,7 +62,7 @@ def _pick_calibration(calibration, loaded):
 def _load_all(inputs, calibration, filter, progress):
     items = [*(x for x in (calibration, filter) if x is not None), *inputs]
     loaded = []
-    for item in progress(items):
+    for item in progress(items, total=len(items), desc="report"):
         kind, obj, prov = load_input(item)
         label = Path(str(item)).name if isinstance(item, str | Path) else prov["input"]
         if any(prov.get("sha256") and prov.get("sha256") == p.get("sha256")
@@ -115,7 +116,7 @@ def _provenance(loaded, command):
 def build_report(inputs, *, calibration=None, filter=None, title=None, threshold_kPa=0.0,
                  nonworking=None, cof_min_force_N=None, command=None, progress=None):
     """Return the HTML text of a report on ``inputs`` (see :func:`write_report`)."""
-    progress = progress or (lambda it, **_: it)
+    progress = resolve(progress)
     loaded = _load_all(inputs, calibration, filter, progress)
     given = None if calibration is None else load_input(calibration)[1]
     calibrations = _of("calibration", loaded)
@@ -126,7 +127,7 @@ def build_report(inputs, *, calibration=None, filter=None, title=None, threshold
     if len(calibrations) > 1:
         body += ["<h2>Method comparison</h2>",
                  *comparison_blocks(calibrations, _of("validation", loaded))]
-    for kind, obj, _, label in progress(loaded):
+    for kind, obj, _, label in progress(loaded, total=len(loaded), desc="report"):
         body.append(f"<h2>{_HEADINGS[kind]}: {html.escape(label)}</h2>")
         body += _section(kind, obj, label, context)
     body += _provenance(loaded, command)
@@ -173,7 +174,8 @@ def write_report(inputs, path, *, calibration=None, filter=None, title=None, thr
     command : str, optional
         Command line to record in the provenance section.
     progress : callable, optional
-        Wraps iterables for a progress bar (e.g. ``tactilecal.cli._common.progress``).
+        ``progress(iterable, total=, desc=)`` wrapping the inputs, e.g. a progress bar (the
+        protocol of :mod:`tactilecal._progress`); None: no bar.
 
     Returns
     -------

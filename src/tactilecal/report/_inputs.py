@@ -71,8 +71,8 @@ def load_input(item, *, what="report input"):
     Parameters
     ----------
     item : str, os.PathLike, CalibrationResult, CorrectionFilter, dict or xarray.DataArray
-        A file (``.json``: calibration or FILTER.json; ``.nc``: NetCDF recording; anything
-        else: Tekscan ASCII export) or an object in memory.
+        A file (``.json``: calibration or FILTER.json; anything else: a recording read by
+        :func:`tactilecal.io.open_recording`) or an object in memory.
     what : str, keyword-only
         What the input is to the caller, for messages (a command names its argument).
 
@@ -87,7 +87,8 @@ def load_input(item, *, what="report input"):
     Raises
     ------
     ValueError
-        For a JSON that is neither kind, or an object of an unknown type.
+        For a JSON that is neither kind, a file that is no recording, or an object of an
+        unknown type.
     FileNotFoundError
         For a missing file.
     """
@@ -107,7 +108,12 @@ def load_input(item, *, what="report input"):
     if not isinstance(item, str | Path):
         raise ValueError(f"{what} of type {type(item).__name__}; expected a file path, "
                          "a CalibrationResult, a filter, a dict or a DataArray")
+    from tactilecal.io import open_recording, recording_format
+
     path = Path(item)
+    if path.is_dir() and recording_format(path) == "zarr":  # a folder: no single digest
+        return "recording", open_recording(path), {"input": str(item),
+                                                   "path": str(path.resolve())}
     if not path.is_file():
         raise FileNotFoundError(f"{what} {path} does not exist or is not a file")
     prov = {"input": str(item), **file_provenance(path)}
@@ -115,10 +121,4 @@ def load_input(item, *, what="report input"):
         data = read_json_object(path, "a calibration JSON or a FILTER.json")
         kind, obj = _classify_dict(data, str(path))
         return kind, obj, prov
-    if path.suffix.lower() in (".nc", ".nc4", ".netcdf"):
-        from tactilecal.io import read_netcdf
-
-        return "recording", read_netcdf(path), prov
-    from tactilecal.io import read_tekscan
-
-    return "recording", read_tekscan(path), prov
+    return "recording", open_recording(path), prov

@@ -308,8 +308,8 @@ def _raw_summary(recording):
     raw = recording.fillna(0.0).astype(float)
     total = raw.sum(("row", "col"))
     weight = total.where(total > 0)
-    rows = np.arange(raw.sizes["row"]) * float(recording.attrs["row_spacing_mm"])
-    cols = np.arange(raw.sizes["col"]) * float(recording.attrs["col_spacing_mm"])
+    rows = np.arange(raw.sizes["row"]) * float(recording.attrs.get("row_spacing_mm", 1.0))
+    cols = np.arange(raw.sizes["col"]) * float(recording.attrs.get("col_spacing_mm", 1.0))
     return SimpleNamespace(
         time_s=np.asarray(recording["time"].values if "time" in recording.coords
                           else np.arange(recording.sizes["frame"]), float),

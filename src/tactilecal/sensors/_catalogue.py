@@ -8,11 +8,10 @@ product of the two centre-to-centre spacings, which is how Tekscan's own exports
 from dataclasses import dataclass
 from typing import NamedTuple
 
+from tactilecal._units import PSI_TO_KPA
+
 __all__ = ["SensorModel", "CATALOGUE", "get_sensor", "custom_sensor", "match_sensor",
            "SensorMatch"]
-
-PSI_TO_KPA = 6.894757293168361
-"""Kilopascals per psi (1 lbf/in2 = 4.4482216152605 N / 645.16 mm2)."""
 
 
 @dataclass(frozen=True)

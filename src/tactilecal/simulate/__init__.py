@@ -2,7 +2,8 @@
 
 Power-law sensels with gain spread, read noise, noise threshold, saturation and dead sensels
 (:func:`make_sensor`); dead-weight calibration sessions on uneven pads like Zvyagin (2022)
-(:func:`deadweight_session`); uniform loads for equilibration (:func:`uniform_load`);
+(:func:`deadweight_session`), or only their histograms under a known law
+(:func:`patch_histograms`); uniform loads for equilibration (:func:`uniform_load`);
 ramp-and-hold loading-machine sessions with a load-cell record like Gillis (2013)
 (:func:`ramp_hold`); sine sweeps and blind tests of Gillis (2013) Table 4.2 seen by a sensor
 with a known frequency-dependent gain (:func:`sine_sweep`, :func:`random_sine_sets`); a
@@ -13,6 +14,7 @@ from tactilecal._deprecated import moved_names
 from tactilecal.simulate._deadweight import ContactModel, deadweight_session
 from tactilecal.simulate._dynamic import random_sine_sets, sine_sweep, through_response
 from tactilecal.simulate._family import FAMILY, family_sessions, true_force_table_N
+from tactilecal.simulate._patches import patch_histograms
 from tactilecal.simulate._sensor import make_sensor, sensor_geometry
 from tactilecal.simulate._static import ramp_hold, uniform_load
 
@@ -20,7 +22,7 @@ __all__ = [
     "make_sensor", "sensor_geometry", "deadweight_session", "ContactModel", "uniform_load",
     "ramp_hold",
     "sine_sweep", "random_sine_sets", "through_response",
-    "FAMILY", "family_sessions", "true_force_table_N",
+    "FAMILY", "family_sessions", "true_force_table_N", "patch_histograms",
 ]
 
 _RETURNED = "{} returns it; use its attributes"

@@ -9,6 +9,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 
 from tactilecal._atomic import make_folder, write_text_atomic
 from tactilecal._jsonutil import write_json
+from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.simulate._loads import (
     G_STANDARD,
     PAD_MASS_G,
@@ -352,7 +353,7 @@ def _pad_forces(sensor, base, contact, side_mm, load_N, rng):
                                cell_area_mm2=cell_r * cell_c)
     fine = np.zeros((n, fy, fx))
     for i in range(n):
-        fine[i, r0[i]:r0[i] + ny, c0[i]:c0[i] + nx] = pressure[i] * (cell_r * cell_c * 1e-3)
+        fine[i, r0[i]:r0[i] + ny, c0[i]:c0[i] + nx] = pressure[i] * (cell_r * cell_c * KPA_MM2_TO_N)
     return block_sum(fine, _SUB)
 
 

@@ -17,11 +17,10 @@ import pandas as pd
 import xarray as xr
 from scipy import fft
 
+from tactilecal._units import LBF_N
+
 __all__ = ["DynamicSession", "sine_sweep", "random_sine_sets", "sensel_matrix",
            "LBF_N", "through_response"]
-
-#: One pound-force in newtons (0.45359237 kg x 9.80665 m/s2).
-LBF_N = 0.45359237 * 9.80665
 
 _BASES = {"e": np.e, "10": 10.0}
 

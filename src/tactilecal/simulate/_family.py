@@ -11,12 +11,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tactilecal.sensors import get_sensor
 from tactilecal.simulate._deadweight import deadweight_session
 from tactilecal.simulate._sensor import make_sensor
 
 __all__ = ["FamilyMember", "FAMILY", "family_sessions", "true_force_table_N"]
 
-_REF_AREA_MM2 = 1.6129
+_REF_AREA_MM2 = get_sensor("5051").sensel_area_mm2
 """5051 sensel area: each member's A_N is given per 5051 sensel and scaled by area."""
 
 
@@ -46,8 +47,6 @@ class FamilyMember:
 
     def sensor(self, seed=0):
         """Return the member's :class:`SimulatedSensor` (gains and dead sensels from ``seed``)."""
-        from tactilecal.sensors import get_sensor
-
         area = get_sensor(self.model).sensel_area_mm2
         sensor = make_sensor(self.model, A_N=self.A_N * area / _REF_AREA_MM2, b=self.b,
                              gain_spread=self.gain_spread, read_noise=self.read_noise,

@@ -4,7 +4,7 @@ import numpy as np
 from scipy.ndimage import gaussian_filter
 from scipy.optimize import brentq
 
-from tactilecal._units import G_STANDARD
+from tactilecal._units import G_STANDARD, KPA_MM2_TO_N
 
 __all__ = ["G_STANDARD", "PAD_MASS_G", "smooth_field", "winkler_contact", "block_sum"]
 
@@ -60,7 +60,7 @@ def winkler_contact(gap_um, load_N, *, stiffness_kPa_per_um, cell_area_mm2):
     """
     load = np.asarray(load_N, dtype=np.float64)
     flat = gap_um.reshape(len(gap_um), -1)
-    per_um_N = stiffness_kPa_per_um * cell_area_mm2 * 1e-3  # N per um of overlap per cell
+    per_um_N = stiffness_kPa_per_um * cell_area_mm2 * KPA_MM2_TO_N  # N per um of overlap per cell
     delta = np.empty(len(flat))
     for i, (gap, force) in enumerate(zip(flat, load, strict=True)):
         lo = gap.min()

@@ -8,13 +8,11 @@ import xarray as xr
 
 from tactilecal._atomic import make_folder, write_text_atomic
 from tactilecal._jsonutil import write_json
+from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.simulate._loads import smooth_field
 from tactilecal.simulate._sensor import SimulatedSensor
 
 __all__ = ["UniformLoad", "uniform_load", "RampHold", "ramp_hold", "ramp_hold_profile"]
-
-LBF_N = 4.4482216152605
-"""Newtons per pound-force."""
 
 _CHUNK_VALUES = 1_000_000
 """Sensel readings digitised per block in :func:`ramp_hold` (bounds temporary memory)."""
@@ -79,7 +77,7 @@ def uniform_load(sensor, pressures_kPa, *, frames_per_level=5, seed=0):
         raise ValueError(f"frames_per_level: got {frames_per_level!r}; expected a positive "
                          "integer")
     pressure = np.repeat(levels, int(frames_per_level))
-    force = pressure * sensor.sensel_area_mm2 * 1e-3
+    force = pressure * sensor.sensel_area_mm2 * KPA_MM2_TO_N
     raw = sensor.read(np.broadcast_to(force[:, None, None], (force.size, *sensor.shape)),
                       np.random.default_rng(seed))
     return UniformLoad(sensor.to_dataarray(raw, source="simulated uniform load"), pressure)

@@ -16,10 +16,9 @@ See ``docs/zvyagin.md`` for the choices the paper leaves open.
 
 from tactilecal._deprecated import moved_names
 from tactilecal.zvyagin._approx import search_separation
-from tactilecal.zvyagin._calibrate import MODES, zvyagin_fit
-from tactilecal.zvyagin._calibrate import OPTIONS as _OPTIONS
-from tactilecal.zvyagin._compare import compare_table, plot_compare
-from tactilecal.zvyagin._fit import fit_power_law, minimise_energy
+from tactilecal.zvyagin._calibrate import MODES, OPTIONS, zvyagin_fit
+from tactilecal.zvyagin._compare import compare_table, format_compare_table, plot_compare
+from tactilecal.zvyagin._fit import energy, fit_power_law, minimise_energy
 from tactilecal.zvyagin._pairs import solve_pairs
 from tactilecal.zvyagin._plots import (
     plot_ab_scatter,
@@ -33,11 +32,11 @@ from tactilecal.zvyagin._plots import (
 from tactilecal.zvyagin._result import ZvyaginResult
 
 __all__ = [
-    "zvyagin_fit", "ZvyaginResult", "MODES",
+    "zvyagin_fit", "ZvyaginResult", "MODES", "OPTIONS", "energy",
     "search_separation", "solve_pairs", "fit_power_law", "minimise_energy",
     "plot_d_map", "plot_pair_chart", "plot_ab_scatter", "plot_calibration_curves",
     "plot_patch_errors", "plot_energy", "save_figures",
-    "compare_table", "plot_compare",
+    "compare_table", "format_compare_table", "plot_compare",
 ]
 
 _STEP = "an internal of the paper's steps; zvyagin_fit() keeps every intermediate"
@@ -46,14 +45,12 @@ __getattr__ = moved_names(__name__, {
        for name in ("CLASS_VALUES", "approximate_raw_sums", "class_counts", "loaded_cells",
                     "patch_discrepancy", "raw_sums", "separation_domain")},
     **{name: ("_fit", name, _STEP)
-       for name in ("energy", "patch_power_sums", "saturation_pressure_MPa")},
+       for name in ("patch_power_sums", "saturation_pressure_MPa")},
     **{name: ("_pairs", name, _STEP) for name in ("polynomial_roots", "quartic_coefficients")},
     "load_groups": ("_calibrate", "load_groups", _STEP),
-    "OPTIONS": ("_calibrate", "OPTIONS", "see calibrate()'s docstring"),
     "SENSEL_AREA_5051_MM2": ("_calibrate", "SENSEL_AREA_5051_MM2",
                              "use tactilecal.sensors.get_sensor('5051').sensel_area_mm2"),
     "PAIR_CATEGORIES": ("_result", "PAIR_CATEGORIES", "see ZvyaginResult's docstring"),
-    "format_compare_table": ("_compare", "format_compare_table", "print compare_table()"),
     "as_zvyagin_result": ("_plots", "as_zvyagin_result", "the plots accept a "
                           "CalibrationResult of method 'zvyagin' directly"),
     "plot_error_histogram": ("_plots", "plot_patch_errors", "renamed plot_patch_errors (it "
@@ -69,10 +66,10 @@ def _calibrate_zvyagin(points, **options):
     The same options and result as before (the bootstrap options of ``calibrate`` are
     refused, as they were).
     """
-    unknown = sorted(set(options) - set(_OPTIONS))
+    unknown = sorted(set(options) - set(OPTIONS))
     if unknown:
         raise ValueError(f"calibrate_zvyagin: unknown options {unknown}; expected some of "
-                         f"{list(_OPTIONS)}")
+                         f"{list(OPTIONS)}")
     # The one import of this package from a layer above it, and only for this deprecated
     # name: the adapter from calibration points lives in tactilecal.calibration.
     from tactilecal.calibration import calibrate

@@ -4,6 +4,8 @@ import warnings
 
 import numpy as np
 
+from tactilecal._units import G_STANDARD
+from tactilecal.sensors import get_sensor
 from tactilecal.zvyagin._approx import (
     CLASS_VALUES,
     check_histograms,
@@ -25,9 +27,8 @@ from tactilecal.zvyagin._result import ZvyaginResult
 __all__ = ["zvyagin_fit", "load_groups", "MODES", "DEFAULT_MODE", "SENSEL_AREA_5051_MM2",
            "OPTIONS"]
 
-G_STANDARD = 9.80665
-#: 5051 sensel: 1.27 mm x 1.27 mm
-SENSEL_AREA_5051_MM2 = 1.27 * 1.27
+SENSEL_AREA_5051_MM2 = get_sensor("5051").sensel_area_mm2
+"""5051 sensel area in mm2 (1.27 mm x 1.27 mm), from the sensor catalogue."""
 
 #: Options of ``calibrate(points, method="zvyagin")``: those of :func:`zvyagin_fit`, the
 #: static methods' ``keep_saturated`` and the sensel area (default: the points').
@@ -230,8 +231,8 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
 
     Examples
     --------
-    >>> from tactilecal.zvyagin._synthetic import synthetic_patches
-    >>> h, f, _ = synthetic_patches(40, A_N=0.0035, b=1.16, seed=3)
+    >>> from tactilecal.simulate import patch_histograms
+    >>> h, f, _ = patch_histograms(40, A_N=0.0035, b=1.16, seed=3)
     >>> res = zvyagin_fit(h, f)
     >>> abs(res.b0 - 1.16) < 0.05 and abs(res.A0 / 0.0035 - 1) < 0.15
     True

@@ -1,8 +1,8 @@
 """Compare calibrations like Zvyagin (2022) Table 2 and Figure 10."""
 
-from pathlib import Path
-
 import numpy as np
+
+from tactilecal._units import N_PER_MM2_TO_KPA
 
 __all__ = ["compare_table", "format_compare_table", "plot_compare"]
 
@@ -85,17 +85,10 @@ def plot_compare(calibrations, names, ax=None):
     pressure = bool(np.all(np.isfinite(areas) & (areas > 0)))
     raw = np.arange(256)
     for cal, name, area in zip(calibrations, names, areas, strict=True):
-        y = cal.force_table() * (1000.0 / area if pressure else 1.0)
+        y = cal.force_table() * (N_PER_MM2_TO_KPA / area if pressure else 1.0)
         ax.plot(raw, y, label=f"{name} ({cal.method})")
     ax.set_xlim(0, 255)
     ax.set_xlabel("raw reading")
     ax.set_ylabel("pressure (kPa)" if pressure else "force per sensel (N)")
     ax.legend(fontsize=8)
     return ax
-
-
-def default_names(paths):
-    """Row names from file names, made unique with their folder when stems repeat."""
-    paths = [Path(p) for p in paths]
-    stems = [p.stem for p in paths]
-    return [f"{p.parent.name}/{p.stem}" if stems.count(p.stem) > 1 else p.stem for p in paths]

@@ -7,6 +7,7 @@ matplotlib is imported inside the functions; figures are built with
 import numpy as np
 
 from tactilecal._atomic import atomic_path
+from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal.zvyagin._result import ZvyaginResult
 
 __all__ = ["as_zvyagin_result", "plot_d_map", "plot_pair_chart", "plot_ab_scatter",
@@ -165,7 +166,8 @@ def plot_calibration_curves(result, ax=None):
     ax = _axes(ax)
     area = res.sensel_area_mm2
     known = np.isfinite(area) and area > 0
-    scale, unit = (1000.0 / area, "pressure (kPa)") if known else (1.0, "force per sensel (N)")
+    scale, unit = ((N_PER_MM2_TO_KPA / area, "pressure (kPa)") if known
+                   else (1.0, "force per sensel (N)"))
     raw = np.arange(256.0)
     ax.plot(raw, res.A0 * raw ** res.b0 * scale, "k-",
             label=f"(A0, b0): p_s = {res.p_s_MPa:.3f} MPa" if known else "(A0, b0)")
@@ -232,8 +234,8 @@ def save_figures(result, outdir, *, dpi=120):
     --------
     >>> import tempfile
     >>> from tactilecal.zvyagin import zvyagin_fit
-    >>> from tactilecal.zvyagin._synthetic import synthetic_patches
-    >>> res = zvyagin_fit(*synthetic_patches(20, seed=1)[:2])
+    >>> from tactilecal.simulate import patch_histograms
+    >>> res = zvyagin_fit(*patch_histograms(20, seed=1)[:2])
     >>> sorted(p.name for p in save_figures(res, tempfile.mkdtemp()))[:2]
     ['zvyagin_ab.png', 'zvyagin_curves.png']
     """

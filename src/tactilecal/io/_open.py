@@ -1,0 +1,139 @@
+"""One entry point for recordings: sniff the format of a path and read it.
+
+Formats: a Tekscan ASCII export (any extension: I-Scan exports are often ``.csv``), NetCDF
+(written by :func:`tactilecal.io.write_netcdf`, ``tactilecal apply`` or ``convert``) and a
+Zarr store (written by :func:`tactilecal.io.convert`).
+"""
+
+from pathlib import Path
+
+__all__ = ["open_recording", "recording_format", "NETCDF_SUFFIXES", "FORMATS"]
+
+NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf")
+FORMATS = ("tekscan", "netcdf", "zarr")
+"""What :func:`recording_format` recognises."""
+
+_SNIFF_BYTES = 1 << 16
+_NETCDF_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
+_ZARR_METADATA = ("zarr.json", ".zgroup", ".zarray")
+
+
+def is_zarr_store(path):
+    """Return True if the folder ``path`` holds Zarr metadata (format 2 or 3)."""
+    path = Path(path)
+    return path.is_dir() and any((path / name).is_file() for name in _ZARR_METADATA)
+
+
+def recording_format(path):
+    r"""Return the recording format of ``path``: "tekscan", "netcdf", "zarr" or None.
+
+    Sniffed, in this order: a folder with Zarr metadata (``.zgroup``, ``.zarray`` or
+    ``zarr.json``) is ``"zarr"``; a file ending in ``.nc``, ``.nc4`` or ``.netcdf``, or
+    starting with the HDF5 or NetCDF3 signature, is ``"netcdf"``; a file whose first 64 KiB
+    contain ``ASCII_DATA`` is ``"tekscan"``. Anything else (a load-cell CSV, say) is None.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    str or None
+
+    Raises
+    ------
+    FileNotFoundError
+        ``path`` does not exist.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "a.csv").write_text("ROWS 1\nCOLS 1\nASCII_DATA @@\nFrame 1\n3\n@@\n")
+    >>> _ = (folder / "load.csv").write_text("time_s,load_N\n0,1\n")
+    >>> recording_format(folder / "a.csv"), recording_format(folder / "load.csv")
+    ('tekscan', None)
+    """
+    path = Path(path)
+    if path.is_dir():
+        return "zarr" if is_zarr_store(path) else None
+    if path.suffix.lower() in NETCDF_SUFFIXES:
+        return "netcdf"
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such file")
+    with path.open("rb") as fh:
+        head = fh.read(_SNIFF_BYTES)
+    if head.startswith(_NETCDF_MAGIC):
+        return "netcdf"
+    return "tekscan" if b"ASCII_DATA" in head.upper() else None
+
+
+def open_recording(path, *, chunks=None):
+    r"""Read a recording of any supported format into a DataArray (format sniffed).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A Tekscan ASCII export, a NetCDF file or a Zarr store (see
+        :func:`recording_format`).
+    chunks : int, optional
+        Frames per block of a lazy, dask-backed result. None (default): a Tekscan export
+        or NetCDF file is read into memory (:func:`read_tekscan`, :func:`read_netcdf`); a
+        Zarr store is always opened lazily, in its own chunks unless ``chunks`` is given.
+
+    Returns
+    -------
+    xarray.DataArray
+        Dims ``("frame", "row", "col")`` with the attributes of ``docs/data-model.md``;
+        ``source`` names the file when the file did not already say.
+
+    Raises
+    ------
+    FileNotFoundError
+        ``path`` does not exist.
+    ValueError
+        ``path`` is in none of the formats, or is malformed (the reader's message names
+        the file and line).
+    TypeError
+        ``chunks`` is not an integer.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "a.csv").write_text("ROWS 1\nCOLS 2\nASCII_DATA @@\nFrame 1\n3,4\n@@\n")
+    >>> open_recording(folder / "a.csv").values.tolist()
+    [[[3.0, 4.0]]]
+    """
+    kind = recording_format(path)
+    if chunks is not None and (isinstance(chunks, bool) or not isinstance(chunks, int)):
+        raise TypeError(f"chunks of type {type(chunks).__name__}; expected an integer "
+                        "number of frames per block")
+    if kind == "tekscan":
+        from tactilecal.io._tekscan_read import read_tekscan
+
+        return read_tekscan(path, chunks=chunks)
+    if kind == "netcdf" and chunks is None:
+        from tactilecal.io._netcdf import read_netcdf
+
+        return read_netcdf(path)
+    if kind in ("netcdf", "zarr"):
+        return _open_lazy(path, kind, chunks)
+    raise ValueError(f"{path}: not a recording: no 'ASCII_DATA' line in its first 64 KiB "
+                     "(Tekscan export), not NetCDF, not a Zarr store; expected one of these")
+
+
+def _open_lazy(path, kind, chunks):
+    """Open a NetCDF file or Zarr store lazily (dask) in blocks of ``chunks`` frames."""
+    import xarray as xr
+
+    options = {"engine": "zarr"} if kind == "zarr" else {}
+    try:
+        data = xr.open_dataarray(path, chunks={} if chunks is None else {"frame": chunks},
+                                 decode_times=False, decode_timedelta=False, **options)
+    except (ValueError, OSError) as exc:
+        raise ValueError(f"{path}: not a {kind} store with one data variable "
+                         f"({str(exc).splitlines()[0][:200]}); expected a file written by "
+                         "write_netcdf or convert") from None
+    data.attrs.setdefault("source", str(path))
+    return data
