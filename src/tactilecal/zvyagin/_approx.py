@@ -26,8 +26,8 @@ _RAW = np.arange(256)
 _DOMAINS = ("strict", "closed")
 #: float32 values per working block of the exact re-evaluation (~0.5 MB, stays in cache)
 _BLOCK_VALUES = 131_072
-#: columns (I3, I4) of the d-map accumulated at a time: 85-108 rows x 64 float32 fit in L1
-_MAP_TILE = 64
+#: (columns (I3, I4), rows (I1, I2)) of the d-map accumulated at a time (fit in L1)
+_MAP_TILE = (128, 4)
 
 
 def check_histograms(histograms):
@@ -191,20 +191,21 @@ def search_separation(histograms, *, domain="strict"):
     base = raw_sums(h) - 243.0 * cells
     u = ((base[:, None, None] + 6 * cum[:, r1, None] + 18 * cum[:, None, r2])
          * inv_c[:, None, None]).astype(np.float32)
-    v = ((54 * cum[:, r3, None] + 162 * cum[:, None, r4]) * inv_c[:, None, None]).astype(
-        np.float32)
     n = h.shape[0]
-    d_map = np.empty((len(r1) * len(r2), len(r3) * len(r4)), dtype=np.float32)
-    _abs_sum_map(u.reshape(n, -1), v.reshape(n, -1), d_map)
+    # v_T(I3, I4) = (54 a(I3) + 162 a(I4)) / C_T, built tile by tile inside the kernel
+    d_map = _abs_sum_map(u.reshape(n, -1), 54 * cum[:, r3], 162 * cum[:, r4], inv_c,
+                         len(r3) * len(r4))
     d_map = d_map.reshape(len(r1), len(r2), len(r3), len(r4)) / n
     return _exact_minimum(h, d_map, (r1, r2, r3, r4))
 
 
-def _abs_sum_map(u, v, out):
-    """``out[a, k] = sum_T |u[T, a] + v[T, k]|`` in float32 (numba, imported on first use)."""
+def _abs_sum_map(u, c3, c4, inv_c, n_k):
+    """d-map sums ``sum_T |u[T, a] + v[T, k]|`` in float32 (numba, imported on first use)."""
     from tactilecal.zvyagin._kernels import abs_sum_map
 
-    abs_sum_map(np.ascontiguousarray(u), np.ascontiguousarray(v), out, _MAP_TILE)
+    out = np.empty((u.shape[1], n_k), dtype=np.float32)
+    abs_sum_map(np.ascontiguousarray(u), np.ascontiguousarray(c3), np.ascontiguousarray(c4),
+                np.ascontiguousarray(inv_c, dtype=np.float64), out, *_MAP_TILE)
     return out
 
 

@@ -309,10 +309,9 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
                       UserWarning, stacklevel=2)
     predicted = final["A0"] * patch_power_sums(h, final["b0"])[:, 0]
     with_root = pairs["n_roots"] > 0
-    partner_share = np.zeros(n)
     both = usable[pairs["i"]] & usable[pairs["j"]]
-    np.add.at(partner_share, pairs["i"][both & with_root], 1)
-    np.add.at(partner_share, pairs["j"][both & with_root], 1)
+    partner_share = (np.bincount(pairs["i"][both & with_root], minlength=n)
+                     + np.bincount(pairs["j"][both & with_root], minlength=n))
     partner_share = partner_share / max(int(usable.sum()) - 1, 1)
     grey = np.nonzero(usable & (partner_share < grey_share))[0]
     domain_ranges = separation_domain(domain)

@@ -1,9 +1,8 @@
 """numba kernels of the Zvyagin (2022) I* search (eq. 8-10) and pair stage (eq. 12).
 
 :func:`abs_sum_map` accumulates the search's d-map: ``out[a, k] = sum_T |u[T, a] + v[T, k]|``
-in float32, over tiles of ``k`` small enough that the tile of ``out`` stays in the L1 cache
-while every patch is added to it, patches in order (as NumPy's ``sum(axis=0)`` adds them, so
-the map is the same to the last bit).
+in float32, over tiles of 128 columns ``k`` and 4 rows ``a`` that stay in the L1 cache while
+every patch is added to them, patches in order (as NumPy's ``sum(axis=0)`` adds them).
 
 :func:`pair_roots` finds, for every pair of patches, the real roots above a threshold of
 eq. (12)'s polynomial ``sum_m (F_j n_{i,m} - F_i n_{j,m}) Y**(m-1)``. Rather than the
@@ -36,31 +35,53 @@ _FALLING = np.array([[1, 0, 0, 0, 0], [1, 1, 0, 0, 0], [1, 2, 2, 0, 0], [1, 3, 6
 
 
 @njit(nogil=True)
-def abs_sum_map(u, v, out, tile):  # pragma: no cover (compiled)
+def abs_sum_map(u, c3, c4, inv_c, out, tile, rows):  # pragma: no cover (compiled)
     """Set ``out[a, k] = sum_T |u[T, a] + v[T, k]|`` (float32, patches T added in order).
+
+    ``v[T, k]`` with ``k = k3 * n4 + k4`` is ``float32((c3[T, k3] + c4[T, k4]) * inv_c[T])``,
+    built here one tile of columns at a time (the same float64 operations as NumPy's
+    broadcast, so the same float32 values) rather than as an (n, n3 * n4) array.
 
     Parameters
     ----------
     u : numpy.ndarray of float32, shape (n_patches, n_a)
-    v : numpy.ndarray of float32, shape (n_patches, n_k)
-    out : numpy.ndarray of float32, shape (n_a, n_k)
+    c3 : numpy.ndarray of float64, shape (n_patches, n3)
+    c4 : numpy.ndarray of float64, shape (n_patches, n4)
+    inv_c : numpy.ndarray of float64, shape (n_patches,)
+    out : numpy.ndarray of float32, shape (n_a, n3 * n4)
         Overwritten.
     tile : int
-        Columns of ``out`` accumulated at a time (``n_a * tile`` floats should fit in L1).
+        Columns of ``out`` accumulated at a time.
+    rows : int
+        Rows of ``out`` accumulated together (each patch's tile of ``v`` is read once per
+        ``rows`` rows).
     """
     n, n_a = u.shape
-    n_k = v.shape[1]
+    n4 = c4.shape[1]
+    n_k = c3.shape[1] * n4
+    acc = np.empty((rows, tile), dtype=np.float32)
+    v = np.empty((n, tile), dtype=np.float32)
     for k0 in range(0, n_k, tile):
-        k1 = min(k0 + tile, n_k)
-        for a in range(n_a):
-            out[a, k0:k1] = np.float32(0.0)
+        width = min(tile, n_k - k0)
         for t in range(n):
-            v_t = v[t, k0:k1]
-            for a in range(n_a):
-                u_ta = u[t, a]
-                out_a = out[a, k0:k1]
-                for k in range(k1 - k0):  # float32 throughout, as NumPy adds them
-                    out_a[k] = out_a[k] + np.float32(abs(u_ta + v_t[k]))
+            k3, k4 = divmod(k0, n4)
+            for k in range(width):
+                v[t, k] = np.float32((c3[t, k3] + c4[t, k4]) * inv_c[t])
+                k4 += 1
+                if k4 == n4:
+                    k3, k4 = k3 + 1, 0
+        for a0 in range(0, n_a, rows):
+            n_rows = min(rows, n_a - a0)
+            acc[:] = np.float32(0.0)
+            for t in range(n):
+                v_t = v[t, :width]
+                for q in range(n_rows):
+                    u_ta = u[t, a0 + q]
+                    acc_q = acc[q]
+                    for k in range(width):  # float32 throughout, as NumPy adds them
+                        acc_q[k] = acc_q[k] + np.float32(abs(u_ta + v_t[k]))
+            for q in range(n_rows):
+                out[a0 + q, k0:k0 + width] = acc[q, :width]
 
 
 @njit(nogil=True)

@@ -90,6 +90,15 @@ def roots_above(roots, threshold=3.0):
     return np.sort(out, axis=1)
 
 
+def _class_sums(counts, y):
+    """Q(Y) = sum_m n_m Y**m per row (eq. 11), by Horner's rule (no ``pow`` per term)."""
+    c = np.asarray(counts, dtype=np.float64)
+    q = c[:, 4] * y
+    for m in (3, 2, 1, 0):
+        q = (q + c[:, m]) * y
+    return q
+
+
 def _patch_power_sums(histograms, b):
     """S_T(b) = sum_k X_k**b for patch/exponent pairs given as equal-length arrays."""
     raw = np.arange(256, dtype=np.float64)
@@ -140,8 +149,7 @@ def solve_pairs(counts, load_N, raw_relerr, *, histograms=None, root_choice="sma
             y[multi] = _best_fit_roots(cand[multi], histograms, load_N, counts,
                                        i[multi], j[multi])
     b = np.log(y) / np.log(3.0)
-    q_i = np.einsum("pm,pm->p", counts[i], y[:, None] ** np.arange(1, 6))
-    a = np.asarray(load_N, dtype=np.float64)[i] / q_i
+    a = np.asarray(load_N, dtype=np.float64)[i] / _class_sums(counts[i], y)
     bad_raw = (raw_relerr[i] >= max_relerr) | (raw_relerr[j] >= max_relerr)
     category = np.where(n_roots == 0, "N", np.where(bad_raw, "R", "V"))
     if usable is not None:
@@ -179,7 +187,6 @@ def _best_fit_roots(cand, histograms, load_N, counts, i, j):
     if histograms is None:
         raise ValueError("root_choice='best-fit' needs the histograms of the patches")
     f = np.asarray(load_N, dtype=np.float64)
-    powers = np.arange(1, 6)
     score = np.full(cand.shape, np.inf)
     for k in range(cand.shape[1]):
         yk = cand[:, k]
@@ -188,7 +195,7 @@ def _best_fit_roots(cand, histograms, load_N, counts, i, j):
             continue
         y, ii, jj = yk[ok], i[ok], j[ok]
         bk = np.log(y) / np.log(3.0)
-        a = f[ii] / np.einsum("pm,pm->p", counts[ii], y[:, None] ** powers)
+        a = f[ii] / _class_sums(counts[ii], y)
         s_i = _patch_power_sums(histograms[ii], bk)
         s_j = _patch_power_sums(histograms[jj], bk)
         score[ok, k] = (a * s_i / f[ii] - 1) ** 2 + (a * s_j / f[jj] - 1) ** 2
