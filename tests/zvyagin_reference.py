@@ -1,8 +1,9 @@
 """The Zvyagin I* search and pair stage as they were before issue 16 (reference for tests).
 
 A verbatim copy of ``search_separation`` (with ``_exact_minimum``) from
-``tactilecal/zvyagin/_approx.py`` and of ``tactilecal/zvyagin/_pairs.py`` at main 18f2dcf,
-doctest examples removed. ``tests/test_zvyagin_fast.py`` runs
+``tactilecal/zvyagin/_approx.py``, of ``tactilecal/zvyagin/_pairs.py`` and of the pair tables
+of ``tactilecal/zvyagin/_calibrate.py`` (``pair_share_table``, ``partner_share``) at main
+18f2dcf, doctest examples removed. ``tests/test_zvyagin_fast.py`` runs
 :func:`tactilecal.zvyagin.zvyagin_fit` once with these and once with the package's current
 functions and compares the results. Not part of the package.
 """
@@ -251,3 +252,31 @@ def _best_fit_roots(cand, histograms, load_N, counts, i, j):
         s_j = _patch_power_sums(histograms[jj], bk)
         score[ok, k] = (a * s_i / f[ii] - 1) ** 2 + (a * s_j / f[jj] - 1) ** 2
     return cand[np.arange(cand.shape[0]), np.argmin(score, axis=1)]
+
+
+def pair_share_table(group, names, pairs, usable):
+    """Share of pairs that gave (A, b) per load combination (paper: 2-5 kg 34% ...)."""
+    i, j = pairs["i"], pairs["j"]
+    both = usable[i] & usable[j]
+    gave = np.isin(pairs["category"], ("V", "O"))
+    lo, hi = np.minimum(group[i], group[j]), np.maximum(group[i], group[j])
+    rows = []
+    for g in range(len(names)):
+        for h in range(g, len(names)):
+            sel = both & (lo == g) & (hi == h)
+            n_pairs = int(sel.sum())
+            n_valid = int((sel & gave).sum())
+            rows.append({"loads": f"{names[g]} - {names[h]}", "pairs": n_pairs,
+                         "valid": n_valid, "with_root": int((sel & (pairs["n_roots"] > 0)).sum()),
+                         "share": n_valid / n_pairs if n_pairs else float("nan")})
+    return rows
+
+
+def partner_share(pairs, usable, n):
+    """Share of its usable partners with which a patch has a root (former zvyagin_fit lines)."""
+    with_root = pairs["n_roots"] > 0
+    partner_share = np.zeros(n)
+    both = usable[pairs["i"]] & usable[pairs["j"]]
+    np.add.at(partner_share, pairs["i"][both & with_root], 1)
+    np.add.at(partner_share, pairs["j"][both & with_root], 1)
+    return partner_share / max(int(usable.sum()) - 1, 1)

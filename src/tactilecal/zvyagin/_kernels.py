@@ -16,6 +16,8 @@ derivative) nearly zero at one of its critical points (a near-double root, which
 ``numpy.linalg.eigvals`` may report either as two real roots or as a complex pair) or at the
 threshold (a root that may fall on either side of it).
 
+:func:`power_sums` scores the candidate roots of the best-fit root choice.
+
 numba is imported with this module, i.e. on the first search or pair stage, not on
 ``import tactilecal.zvyagin``.
 """
@@ -255,3 +257,20 @@ def pair_roots(counts, load_n, first, second, threshold, roots, n_roots,
         for m in range(got):
             roots[p, m] = found[m]
         n_roots[p] = got
+
+
+@njit(nogil=True)
+def power_sums(histograms, rows, b, out):  # pragma: no cover (compiled)
+    """Set ``out[p] = sum_x histograms[rows[p], x] * x**b[p]`` over x = 1..255.
+
+    The power sums S_T(b) of Zvyagin (2022), eq. (2), for one exponent per entry (the
+    best-fit root choice scores every candidate root of every pair); raw values a patch
+    does not hold cost no ``pow``.
+    """
+    for p in range(rows.size):
+        h = histograms[rows[p]]
+        total = 0.0
+        for x in range(1, h.size):
+            if h[x] != 0:
+                total += h[x] * float(x) ** b[p]
+        out[p] = total

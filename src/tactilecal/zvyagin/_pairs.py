@@ -90,19 +90,28 @@ def roots_above(roots, threshold=3.0):
     return np.sort(out, axis=1)
 
 
-def _class_sums(counts, y):
-    """Q(Y) = sum_m n_m Y**m per row (eq. 11), by Horner's rule (no ``pow`` per term)."""
-    c = np.asarray(counts, dtype=np.float64)
-    q = c[:, 4] * y
+def _class_sums(counts, rows, y):
+    """Q(Y) = sum_m n_m Y**m of patches ``rows`` (eq. 11), by Horner's rule (no ``pow``)."""
+    c = np.asarray(counts, dtype=np.float64).T  # one gather per class, not per (pair, class)
+    q = c[4][rows] * y
     for m in (3, 2, 1, 0):
-        q = (q + c[:, m]) * y
+        q = (q + c[m][rows]) * y
     return q
 
 
-def _patch_power_sums(histograms, b):
-    """S_T(b) = sum_k X_k**b for patch/exponent pairs given as equal-length arrays."""
-    raw = np.arange(256, dtype=np.float64)
-    return np.einsum("pk,pk->p", histograms, raw[None, :] ** b[:, None])
+def _patch_power_sums(histograms, rows, b):
+    """S_T(b) = sum_k X_k**b for patches ``rows`` and exponents ``b`` (equal lengths).
+
+    Compiled (:func:`tactilecal.zvyagin._kernels.power_sums`): only the raw values a patch
+    holds are raised to the power.
+    """
+    from tactilecal.zvyagin._kernels import power_sums
+
+    out = np.empty(len(rows))
+    power_sums(np.ascontiguousarray(histograms, dtype=np.int64),
+               np.ascontiguousarray(rows, dtype=np.int64),
+               np.ascontiguousarray(b, dtype=np.float64), out)
+    return out
 
 
 def solve_pairs(counts, load_N, raw_relerr, *, histograms=None, root_choice="smallest",
@@ -149,7 +158,7 @@ def solve_pairs(counts, load_N, raw_relerr, *, histograms=None, root_choice="sma
             y[multi] = _best_fit_roots(cand[multi], histograms, load_N, counts,
                                        i[multi], j[multi])
     b = np.log(y) / np.log(3.0)
-    a = np.asarray(load_N, dtype=np.float64)[i] / _class_sums(counts[i], y)
+    a = np.asarray(load_N, dtype=np.float64)[i] / _class_sums(counts, i, y)
     bad_raw = (raw_relerr[i] >= max_relerr) | (raw_relerr[j] >= max_relerr)
     category = np.where(n_roots == 0, "N", np.where(bad_raw, "R", "V"))
     if usable is not None:
@@ -195,8 +204,8 @@ def _best_fit_roots(cand, histograms, load_N, counts, i, j):
             continue
         y, ii, jj = yk[ok], i[ok], j[ok]
         bk = np.log(y) / np.log(3.0)
-        a = f[ii] / _class_sums(counts[ii], y)
-        s_i = _patch_power_sums(histograms[ii], bk)
-        s_j = _patch_power_sums(histograms[jj], bk)
+        a = f[ii] / _class_sums(counts, ii, y)
+        s_i = _patch_power_sums(histograms, ii, bk)
+        s_j = _patch_power_sums(histograms, jj, bk)
         score[ok, k] = (a * s_i / f[ii] - 1) ** 2 + (a * s_j / f[jj] - 1) ** 2
     return cand[np.arange(cand.shape[0]), np.argmin(score, axis=1)]
