@@ -165,3 +165,14 @@ def test_kernel_steps_past_a_flat_point():
     want = np.roots([-1.0, 8.0, 0.0, 0.0, -1.0]).real.max()
     assert not flagged and n == 1
     assert got[0] == pytest.approx(want, rel=1e-12)
+
+
+def test_a_load_that_is_not_finite_fails_as_before():
+    counts = np.array([[10, 5, 2, 1, 0], [20, 5, 1, 0, 0], [5, 5, 5, 5, 1]])
+    load = np.array([1.0, np.nan, 2.0])
+    _roots, _n, flagged = _kernel(counts[:2], load[:2])
+    assert flagged
+    with np.errstate(invalid="ignore"), pytest.raises(np.linalg.LinAlgError, match="infs or NaNs"):
+        ref.solve_pairs(counts, load, np.zeros(3))
+    with np.errstate(invalid="ignore"), pytest.raises(np.linalg.LinAlgError, match="infs or NaNs"):
+        solve_pairs(counts, load, np.zeros(3))

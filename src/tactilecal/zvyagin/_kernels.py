@@ -243,12 +243,17 @@ def pair_roots(counts, load_n, first, second, threshold, roots, n_roots,
             continue
         lead = a[deg]
         bound = 0.0
+        finite = np.isfinite(lead)
         for m in range(deg):
             a[m] = a[m] / lead
+            finite = finite and np.isfinite(a[m])
             bound = max(bound, abs(a[m]))
+        if not finite:  # a load that is not finite: the companion matrix says what happens
+            flagged[p] = True
+            continue
         a[deg] = 1.0
         bound += 1.0  # Cauchy: every root has |Y| < 1 + max |a_m|
-        if bound <= threshold:
+        if bound * (1.0 + 1e-9) <= threshold:  # clear of it: a root near both goes on
             continue
         got = _roots_above(a, deg, threshold, bound, crit, found)
         if got < 0:
