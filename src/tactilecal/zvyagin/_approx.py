@@ -24,8 +24,10 @@ __all__ = [
 CLASS_VALUES = 3 ** np.arange(1, 6)
 _RAW = np.arange(256)
 _DOMAINS = ("strict", "closed")
-#: float32 values per working block of the I search (~0.5 MB, stays in cache)
+#: float32 values per working block of the exact re-evaluation (~0.5 MB, stays in cache)
 _BLOCK_VALUES = 131_072
+#: (columns (I3, I4), rows (I1, I2)) of the d-map accumulated at a time (fit in L1)
+_MAP_TILE = (128, 4)
 
 
 def check_histograms(histograms):
@@ -148,7 +150,9 @@ def search_separation(histograms, *, domain="strict"):
     With cumulative counts a_m(T, I) = n_T(raw < I), the approximation is
     Q_T(I) = 243 C_T - 6 a(I1) - 18 a(I2) - 54 a(I3) - 162 a(I4), so
     R_T - Q_T(I) = u_T(I1, I2) + v_T(I3, I4): the search is a broadcast sum of two small
-    tables per patch, reduced over patches one (I1, I2) slice at a time.
+    tables per patch, reduced over patches by a compiled loop
+    (:func:`tactilecal.zvyagin._kernels.abs_sum_map`) that keeps a tile of the map in cache
+    while it adds every patch to it.
 
     Parameters
     ----------
@@ -187,22 +191,22 @@ def search_separation(histograms, *, domain="strict"):
     base = raw_sums(h) - 243.0 * cells
     u = ((base[:, None, None] + 6 * cum[:, r1, None] + 18 * cum[:, None, r2])
          * inv_c[:, None, None]).astype(np.float32)
-    v = ((54 * cum[:, r3, None] + 162 * cum[:, None, r4]) * inv_c[:, None, None]).astype(
-        np.float32)
     n = h.shape[0]
-    v = v.reshape(n, -1)
-    d_map = np.empty((len(r1), len(r2), v.shape[1]), dtype=np.float32)
-    width = max(1, _BLOCK_VALUES // n)  # keep the working block in cache
-    for start in range(0, v.shape[1], width):
-        block = v[:, start:start + width]
-        buf = np.empty_like(block)
-        for i1 in range(len(r1)):
-            for i2 in range(len(r2)):
-                np.add(block, u[:, i1, i2, None], out=buf)
-                np.abs(buf, out=buf)
-                np.sum(buf, axis=0, out=d_map[i1, i2, start:start + width])
+    # v_T(I3, I4) = (54 a(I3) + 162 a(I4)) / C_T, built tile by tile inside the kernel
+    d_map = _abs_sum_map(u.reshape(n, -1), 54 * cum[:, r3], 162 * cum[:, r4], inv_c,
+                         len(r3) * len(r4))
     d_map = d_map.reshape(len(r1), len(r2), len(r3), len(r4)) / n
     return _exact_minimum(h, d_map, (r1, r2, r3, r4))
+
+
+def _abs_sum_map(u, c3, c4, inv_c, n_k):
+    """d-map sums ``sum_T |u[T, a] + v[T, k]|`` in float32 (numba, imported on first use)."""
+    from tactilecal.zvyagin._kernels import abs_sum_map
+
+    out = np.empty((u.shape[1], n_k), dtype=np.float32)
+    abs_sum_map(np.ascontiguousarray(u), np.ascontiguousarray(c3), np.ascontiguousarray(c4),
+                np.ascontiguousarray(inv_c, dtype=np.float64), out, *_MAP_TILE)
+    return out
 
 
 def _exact_minimum(h, d_map, ranges):

@@ -136,16 +136,22 @@ def _pair_share_table(group, names, pairs, usable):
     """Share of pairs that gave (A, b) per load combination (paper: 2-5 kg 34% ...)."""
     i, j = pairs["i"], pairs["j"]
     both = usable[i] & usable[j]
-    gave = np.isin(pairs["category"], ("V", "O"))
-    lo, hi = np.minimum(group[i], group[j]), np.maximum(group[i], group[j])
+    cat = pairs["category"]
+    n_groups = len(names)
+    # one code per load combination (lower group first); counts by bincount, not by masks
+    code = (np.minimum(group[i], group[j]) * n_groups + np.maximum(group[i], group[j]))[both]
+    n_pairs_of = np.bincount(code, minlength=n_groups ** 2)
+    n_valid_of = np.bincount(code, weights=((cat == "V") | (cat == "O"))[both],
+                             minlength=n_groups ** 2)
+    n_root_of = np.bincount(code, weights=(pairs["n_roots"] > 0)[both],
+                            minlength=n_groups ** 2)
     rows = []
-    for g in range(len(names)):
-        for h in range(g, len(names)):
-            sel = both & (lo == g) & (hi == h)
-            n_pairs = int(sel.sum())
-            n_valid = int((sel & gave).sum())
+    for g in range(n_groups):
+        for h in range(g, n_groups):
+            k = g * n_groups + h
+            n_pairs, n_valid = int(n_pairs_of[k]), int(n_valid_of[k])
             rows.append({"loads": f"{names[g]} - {names[h]}", "pairs": n_pairs,
-                         "valid": n_valid, "with_root": int((sel & (pairs["n_roots"] > 0)).sum()),
+                         "valid": n_valid, "with_root": int(n_root_of[k]),
                          "share": n_valid / n_pairs if n_pairs else float("nan")})
     return rows
 
@@ -317,10 +323,9 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
                       UserWarning, stacklevel=2)
     predicted = final["A0"] * patch_power_sums(h, final["b0"])[:, 0]
     with_root = pairs["n_roots"] > 0
-    partner_share = np.zeros(n)
     both = usable[pairs["i"]] & usable[pairs["j"]]
-    np.add.at(partner_share, pairs["i"][both & with_root], 1)
-    np.add.at(partner_share, pairs["j"][both & with_root], 1)
+    partner_share = (np.bincount(pairs["i"][both & with_root], minlength=n)
+                     + np.bincount(pairs["j"][both & with_root], minlength=n))
     partner_share = partner_share / max(int(usable.sum()) - 1, 1)
     grey = np.nonzero(usable & (partner_share < grey_share))[0]
     domain_ranges = separation_domain(domain)
