@@ -77,3 +77,21 @@ def test_deadweight_saturated_share(tmp_path, capsys):
         rows = list(csv.DictReader(fh))
     saturated = [read_tekscan(tmp_path / r["file"]).values.max() == 255 for r in rows]
     assert sum(saturated) == 2
+
+
+def test_simulate_blind_writes_records_that_read_back_with_their_truth(tmp_path, capsys):
+    out = tmp_path / "blind"
+    assert main(["-q", "simulate", "blind", str(out), "--A", "0.2", "--seed", "3", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    truth = json.loads((out / "truth.json").read_text())
+    assert truth["A"] == summary["A"] == 0.2 and truth["log_base"] == "10"
+    assert len(truth["sets"]["f_hz"]) == summary["sets"] == 20
+    reference = read_timeseries(out / "reference.csv")
+    sensor = read_timeseries(out / "sensor.csv")
+    assert reference.size == summary["reference_samples"] and sensor.size == summary[
+        "sensor_samples"]
+    assert reference.attrs["units"] == sensor.attrs["units"] == "N"
+    # 5 kHz load cell, 4 kHz sensor (Gillis 2013, Table 4.2)
+    assert np.diff(reference["time"].values[:2])[0] == pytest.approx(1 / 5000)
+    assert np.diff(sensor["time"].values[:2])[0] == pytest.approx(1 / 4000)
+    assert main(["-q", "simulate", "sweep", str(tmp_path / "s"), "--A", "-1"]) == 1

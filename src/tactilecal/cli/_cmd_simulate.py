@@ -2,7 +2,9 @@
 
 ``tactilecal simulate deadweight OUTDIR`` writes a dead-weight calibration session (one I-Scan
 ASCII file per patch, ``manifest.csv``, ``truth.json``); ``tactilecal simulate ramp-hold
-OUTDIR`` writes a loading-machine recording, its load-cell CSV and ``truth.json``.
+OUTDIR`` writes a loading-machine recording, its load-cell CSV and ``truth.json``;
+``tactilecal simulate sweep|blind OUTDIR`` writes a dynamic session's sensor and load-cell
+records (``sensor.csv``, ``reference.csv``) and ``truth.json``.
 """
 
 from tactilecal.cli import _simulate_run
@@ -40,6 +42,18 @@ def register(subparsers):
     rh.add_argument("--loadcell-rate", type=positive_float, default=500.0,
                     help="load-cell rate in Hz (500)")
     rh.set_defaults(func=_simulate_run.run_ramp_hold)
+    for kind, what in (("sweep", "sine sweep 1-140 Hz (Gillis 2013, Table 4.2)"),
+                       ("blind", "blind test: 20 random sine sets (Gillis 2013, Table 4.2)")):
+        dyn = sub.add_parser(kind, help=f"dynamic session: {what}", description=(
+            f"Write a {what} as the sensor's and the load cell's time series (sensor.csv, "
+            "reference.csv: 'Time (s),force (N)') and truth.json (gain law, lag, sets)."))
+        dyn.add_argument("outdir", metavar="OUTDIR", help="output folder (created if missing)")
+        dyn.add_argument("--A", type=positive_float, default=0.11, dest="A",
+                         help="true gain law Y = 1 + A log10(f + 1) (0.11)")
+        dyn.add_argument("--seed", type=non_negative_int, default=0 if kind == "sweep" else 1,
+                         help=f"random seed ({0 if kind == 'sweep' else 1})")
+        dyn.add_argument("--json", action="store_true", help="print the summary as JSON")
+        dyn.set_defaults(func=_simulate_run.run_dynamic, kind=kind)
 
 
 def _common_options(parser):

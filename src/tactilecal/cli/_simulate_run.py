@@ -1,10 +1,10 @@
-"""The runs of ``tactilecal simulate deadweight|ramp-hold``: write, then say what was written."""
+"""The runs of ``tactilecal simulate``: write the session, then say what was written."""
 
 from collections import Counter
 
 from tactilecal.cli._common import info, print_json
 
-__all__ = ["run_deadweight", "run_ramp_hold", "scaled_sensor"]
+__all__ = ["run_deadweight", "run_ramp_hold", "run_dynamic", "scaled_sensor"]
 
 _REF_A_N = 0.0035
 """Default law: A_N = 0.0035 N on a 5051 sensel (1.27 mm pitch, Zvyagin 2022 Table 2)."""
@@ -59,6 +59,20 @@ def run_ramp_hold(args):
                "loadcell_start_offset_s": session.loadcell_start_offset_s,
                "loads_N": session.loads_N.tolist()}
     _print(args, summary)
+    return 0
+
+
+def run_dynamic(args):
+    """Write a sine sweep or a blind test (sensor and load-cell CSVs, truth) and say so."""
+    from tactilecal.simulate import random_sine_sets, sine_sweep
+
+    make = sine_sweep if args.kind == "sweep" else random_sine_sets
+    session = make(A=args.A, seed=args.seed)
+    paths = session.write(args.outdir)
+    _print(args, {**{k: str(v) for k, v in paths.items()},
+                  "sensor_samples": session.sensor.size,
+                  "reference_samples": session.reference.size, "sets": len(session.sets),
+                  "A": session.A, "log_base": session.log_base, "lag_s": session.lag_s})
     return 0
 
 
