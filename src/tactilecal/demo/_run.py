@@ -64,7 +64,8 @@ def _hold_errors(force_N, time_s, truth):
 
 
 def _experiment(sensor, calibration, out, quiet):
-    from tactilecal.analysis import summary
+    from tactilecal._atomic import atomic_path
+    from tactilecal.analysis import frame_table
     from tactilecal.calibration import calibrate_movie
     from tactilecal.io import read_tekscan, write_netcdf
     from tactilecal.simulate import ramp_hold
@@ -76,9 +77,10 @@ def _experiment(sensor, calibration, out, quiet):
     movie.to_json(out / "calibrations" / "movie-power.json")
     pressure = calibration.apply(recording, units="kPa")
     write_netcdf(pressure, out / "experiment" / "pressure.nc")
-    per_frame = summary(pressure)
-    per_frame.to_dataframe().to_csv(out / "experiment" / "summary.csv")
-    errors = _hold_errors(per_frame["force_N"].values, per_frame["time"].values, truth)
+    per_frame = frame_table(pressure)  # the columns of 'tactilecal analyze --out' (time_s)
+    with atomic_path(out / "experiment" / "summary.csv") as tmp:
+        per_frame.to_csv(tmp, index=False)
+    errors = _hold_errors(per_frame["force_N"].to_numpy(), per_frame["time_s"].to_numpy(), truth)
     _say(quiet, "  ramp-and-hold recording, dead-weight 'power' calibration, error at each "
                 "hold: " + ", ".join(f"{e:+.1f}%" for e in errors))
     _say(quiet, f"  movie calibration on the same recording: A = {movie.params['A']:.5f} N, "
