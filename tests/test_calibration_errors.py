@@ -64,6 +64,8 @@ def test_area_and_validate_errors(tmp_path):
                        attrs={"units": "raw", "sensel_area_mm2": 25.8})
     with pytest.raises(ValueError, match="sensel_area_mm2 = 25.8 differs from the calibration"):
         res.apply(rec)
+    with pytest.raises(ValueError, match="sensel_area_mm2 = 25.8 differs from the calibration"):
+        res.apply(rec, units="N")  # a force per sensel does not transfer between sizes either
     hist = np.zeros(256, np.int64)
     hist[255] = 1
     sat = CalibrationPoint(histogram=hist, load_N=1.0, raw_sum=255.0, loaded_cells=1,

@@ -168,3 +168,35 @@ def test_movie_takes_the_equilibration_as_a_path_too(tmp_path):
     assert by_path.details["equilibration"] == by_object.details["equilibration"]
     with pytest.raises(TypeError, match="equilibration is a list; expected an Equilibration"):
         calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=[1.0])
+
+
+def test_calibration_records_its_inputs_and_sensor_and_apply_checks_it(tmp_path):
+    import hashlib
+    import warnings
+    from pathlib import Path
+
+    import tactilecal
+    from tactilecal import calibrate, load, read_tekscan
+    from tactilecal.simulate import deadweight_session, make_sensor
+
+    manifest = deadweight_session(make_sensor("5051", seed=1), n_patches=8, seed=2).write(
+        tmp_path / "s")
+    cal = calibrate(manifest, method="power")
+    prov = cal.provenance
+    files = sorted(p for p in (tmp_path / "s").iterdir() if p.suffix == ".csv")
+    assert sorted(i["path"] for i in prov["inputs"]) == sorted(str(p.resolve()) for p in files)
+    for entry in prov["inputs"]:
+        assert entry["sha256"] == hashlib.sha256(Path(entry["path"]).read_bytes()).hexdigest()
+    rec = read_tekscan(files[0] if files[0].name != "manifest.csv" else files[1])
+    assert prov["sensor_type"] == rec.attrs["sensor_type"]
+    assert prov["tactilecal_version"] == tactilecal.__version__
+    cal.to_json(tmp_path / "cal.json")
+    assert json.loads((tmp_path / "cal.json").read_text())["provenance"] == json.loads(
+        json.dumps(prov)) and load(tmp_path / "cal.json").provenance == prov
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cal.apply(rec)  # the same sensor type: no warning
+    other = rec.assign_attrs(sensor_type="6900")
+    with pytest.warns(UserWarning, match="is from a 6900 sensor, the calibration was made on "
+                                         f"a {prov['sensor_type']}: check that it applies"):
+        cal.apply(other)

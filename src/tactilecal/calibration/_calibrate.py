@@ -1,10 +1,12 @@
 """``calibrate``: choose the points, run a method, build the result; ``validate``."""
 
 import os
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from tactilecal._provenance import provenance
 from tactilecal._saturation import resolve_saturated
 from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal.calibration._manifest import load_points
@@ -146,6 +148,9 @@ def calibrate(points, method="power", *, equilibration=None, mask=None, progress
             result = _calibrate_points(points, method, options)
         except ValueError as err:  # name the manifest: the points' names are in the text
             raise ValueError(f"{os.fspath(manifest)}: {err}") from None
+        folder = Path(manifest).parent
+        result.provenance = provenance([manifest, *(folder / p.source for p in points)],
+                                       [p.sensor for p in points])
         return record_preprocessing(result, dead, eq)
     if equilibration is not None or mask is not None:
         raise ValueError("equilibration= and mask= act on frames, and points are "

@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 
 from tactilecal._progress import from_quiet
+from tactilecal._provenance import sensor_of
 from tactilecal._validate import check_number, csv_rows, parse_number, read_text
 from tactilecal.calibration._points import _points_from_histograms, frame_histograms
 
@@ -153,7 +154,9 @@ def _pick_frame(rec, text, where, name):
 
 
 def _manifest_frames(manifest_path, equilibration, progress):
-    """Yield (row, frame (1, rows, cols), frame number, note, area, load_N) per manifest row.
+    """Yield (row, frame (1, rows, cols), frame number, note, attrs, load_N) per manifest row.
+
+    ``attrs`` are the recording's attributes (sensel area, sensor type and serial).
 
     ``progress`` (the protocol of :mod:`tactilecal._progress`) wraps the rows of manifests of
     50 rows or more.
@@ -171,8 +174,7 @@ def _manifest_frames(manifest_path, equilibration, progress):
         frame = rec.values[i:i + 1]
         if equilibration is not None:
             frame = equilibration.apply(frame)
-        area = float(rec.attrs.get("sensel_area_mm2", np.nan))
-        yield row, frame, int(rec["frame"].values[i]), note, area, load
+        yield row, frame, int(rec["frame"].values[i]), note, rec.attrs, load
 
 
 def load_frames(manifest_path, *, equilibration=None, progress=None, quiet=None):
@@ -228,15 +230,16 @@ def load_points(manifest_path, *, mask=None, equilibration=None, progress=None, 
     """
     progress = from_quiet(progress, quiet, "load_points")
     points = []
-    for row, frame, number, note, area, load in _manifest_frames(manifest_path, equilibration,
-                                                                  progress):
+    for row, frame, number, note, attrs, load in _manifest_frames(manifest_path, equilibration,
+                                                                   progress):
         total = int(np.isfinite(frame).sum())
         if mask is not None:
             frame = np.where(_frame_mask(mask, frame.shape[1:], row["file"])[None], np.nan,
                              frame)
         points.extend(_points_from_histograms(
             frame_histograms(frame), [load], source=row["file"], labels=[row.get("label", "")],
-            frames=[number], sensel_area_mm2=area, total_cells=total, notes=[note]))
+            frames=[number], sensel_area_mm2=float(attrs.get("sensel_area_mm2", np.nan)),
+            total_cells=total, notes=[note], sensor=sensor_of(attrs)))
     return points
 
 

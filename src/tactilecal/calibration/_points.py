@@ -52,6 +52,9 @@ class CalibrationPoint:
         Number of sensels of the sensor shape (working + masked non-working).
     note : str
         How the frame was chosen (e.g. the plateau detection's report).
+    sensor : dict
+        ``sensor_type`` and ``sensor_serial`` of the recording (empty when not read from
+        a file); they go into the calibration's provenance.
     """
 
     histogram: np.ndarray
@@ -66,6 +69,7 @@ class CalibrationPoint:
     working_cells: int = 0
     total_cells: int = 0
     note: str = field(default="")
+    sensor: dict = field(default_factory=dict)
 
     @property
     def mean_raw(self):
@@ -221,7 +225,7 @@ def _checked_mask(mask, shape):
 
 
 def _points_from_histograms(hist, load_N, *, source, labels, frames, sensel_area_mm2,
-                            total_cells, notes=None):
+                            total_cells, notes=None, sensor=None):
     levels = np.arange(N_LEVELS)
     raw_sum = hist @ levels
     loaded = hist[:, 1:].sum(axis=1)
@@ -232,7 +236,7 @@ def _points_from_histograms(hist, load_N, *, source, labels, frames, sensel_area
                          loaded_cells=int(loaded[i]), saturated_cells=int(hist[i, -1]),
                          source=str(source), frame=int(frames[i]), label=str(labels[i]),
                          sensel_area_mm2=float(sensel_area_mm2), working_cells=int(working[i]),
-                         total_cells=int(total_cells), note=notes[i])
+                         total_cells=int(total_cells), note=notes[i], sensor=dict(sensor or {}))
         for i in range(len(hist))
     ]
 

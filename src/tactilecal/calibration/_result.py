@@ -1,5 +1,6 @@
 """The calibration result: parameters, uncertainty, per-point table, JSON round-trip."""
 
+import warnings
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 
@@ -55,6 +56,10 @@ class CalibrationResult(SavedResult):
         Method-specific JSON-serialisable intermediate results.
     options : dict
         The options the method was called with.
+    provenance : dict
+        Where it came from (:func:`tactilecal._provenance.provenance`): package version,
+        the manifest and recordings with their SHA-256, the sensor type and serial from the
+        export headers. Empty for points made in memory.
     method_result : tactilecal.zvyagin.ZvyaginResult or None
         The method's own result with every intermediate: the :class:`ZvyaginResult` for
         ``method="zvyagin"`` (rebuilt from ``details`` when the JSON is loaded), None for
@@ -76,6 +81,7 @@ class CalibrationResult(SavedResult):
     options: dict = field(default_factory=dict)
     version: str = __version__
     created: str = field(default_factory=lambda: datetime.now(UTC).isoformat(timespec="seconds"))
+    provenance: dict = field(default_factory=dict)
     method_result: ZvyaginResult | None = field(default=None, compare=False)
 
     # ------------------------------------------------------------------ predictions
@@ -172,6 +178,7 @@ class CalibrationResult(SavedResult):
         if rec_units != "raw":
             raise ValueError(f"recording {source!r} has units {rec_units!r}; expected raw "
                              "readings (units 'raw')")
+        self._check_sensor(recording, source)
         if unit_kind(units) == "force":
             scale = 1.0 / force_to_N(1.0, units)
         else:
@@ -188,13 +195,29 @@ class CalibrationResult(SavedResult):
                      "saturation_pressure_kPa": float(self.saturation_pressure_kPa)}
         return out
 
+    def _check_sensor(self, recording, source):
+        """Refuse a recording of another sensel area; warn when its sensor type differs.
+
+        A law in N per sensel does not transfer between sensel sizes; another sensor type
+        of the same size (or the same type from another handle) may be a mistake, but it
+        may also be intended, so it only warns.
+        """
+        rec_area = recording.attrs.get("sensel_area_mm2")
+        if rec_area is not None and np.isfinite(self.sensel_area_mm2) and not np.isclose(
+                float(rec_area), self.sensel_area_mm2, rtol=0.01):
+            raise ValueError(f"recording {source!r}: sensel_area_mm2 = {rec_area} differs from "
+                             f"the calibration's {self.sensel_area_mm2}; expected the same "
+                             "sensor model (a law per sensel does not transfer between sizes)")
+        made_on = self.provenance.get("sensor_type")
+        rec_type = recording.attrs.get("sensor_type")
+        if isinstance(made_on, str) and rec_type is not None and str(rec_type) != made_on:
+            warnings.warn(f"recording {source!r} is from a {rec_type} sensor, the calibration "
+                          f"was made on a {made_on}: check that it applies", UserWarning,
+                          stacklevel=3)
+
     def _area_for(self, recording):
         rec_area = recording.attrs.get("sensel_area_mm2")
         area = self.sensel_area_mm2
-        if rec_area is not None and np.isfinite(area):
-            if not np.isclose(float(rec_area), area, rtol=0.01):
-                raise ValueError(f"recording sensel_area_mm2 = {rec_area} differs from the "
-                                 f"calibration's {area}; expected the same sensor model")
         if not np.isfinite(area):
             area = float("nan") if rec_area is None else float(rec_area)
         if not np.isfinite(area) or area <= 0:
@@ -259,7 +282,7 @@ class CalibrationResult(SavedResult):
             "saturation_pressure_kPa": self.saturation_pressure_kPa,
             "points": self.points.to_dict(orient="records"), "metrics": self.metrics,
             "details": self.details, "options": self.options, "version": self.version,
-            "created": self.created,
+            "created": self.created, "provenance": self.provenance,
         })
 
     def to_json_text(self):
@@ -295,7 +318,8 @@ class CalibrationResult(SavedResult):
                                      else float(data["saturation_pressure_kPa"])),
             points=table, metrics=dict(data["metrics"]), details=dict(data.get("details") or {}),
             options=dict(data.get("options") or {}), version=data.get("version", ""),
-            created=data.get("created", ""), method_result=_method_result(data, source),
+            created=data.get("created", ""), provenance=dict(data.get("provenance") or {}),
+            method_result=_method_result(data, source),
         )
 
 

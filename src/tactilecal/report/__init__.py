@@ -11,5 +11,6 @@ from tactilecal.report._inputs import load_input
 __all__ = ["build_report", "load_input", "write_report"]
 
 __getattr__ = moved_names(__name__, {
-    "file_provenance": ("_inputs", "file_provenance", "build_report() records provenance"),
+    "file_provenance": ("tactilecal._provenance", "file_provenance",
+                        "build_report() records provenance"),
 })

@@ -4,32 +4,17 @@ Calibration and validation JSON, FILTER.json, blind-test JSON (``tactilecal dyna
 evaluate``) and recordings.
 """
 
-import hashlib
-from datetime import UTC, datetime
 from pathlib import Path
 
 import xarray as xr
 
 from tactilecal._jsonutil import read_json_object
+from tactilecal._provenance import file_provenance
 
-__all__ = ["load_input", "file_provenance"]
+__all__ = ["load_input"]
 
 _FILTER_KEYS = ("model", "fs_hz", "band_hz")
 _EVALUATION_KEYS = ("rms_before_N", "rms_after_N", "fs_hz")
-
-
-def file_provenance(path):
-    """Absolute path, size, modification time (UTC) and SHA-256 of a file."""
-    path = Path(path).resolve()
-    digest = hashlib.sha256()
-    with path.open("rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            digest.update(block)
-    stat = path.stat()
-    return {"path": str(path), "size_bytes": stat.st_size,
-            "modified_utc": datetime.fromtimestamp(stat.st_mtime, UTC).isoformat(
-                timespec="seconds"),
-            "sha256": digest.hexdigest()}
 
 
 def _classify_dict(data, where):

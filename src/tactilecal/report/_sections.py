@@ -107,9 +107,7 @@ def calibration_blocks(result, label):
         table_html(params, header=("parameter", "value", "bootstrap standard error",
                                    "95 % interval")),
         table_html(sorted(result.metrics.items()), header=("metric", "value")),
-        table_html([("created", result.created), ("tactilecal version", result.version),
-                    ("options", json.dumps(to_jsonable(result.options)))],
-                   header=("calibration record", "value"), wide=True),
+        table_html(_record_rows(result), header=("calibration record", "value"), wide=True),
         figure_html(plot_calibration_curve(result, ax=new_axes()),
                     f"{label}: calibration curve",
                     "The line is the fitted law; each point is one calibration patch's "
@@ -127,6 +125,20 @@ def calibration_blocks(result, label):
     if result.method == "zvyagin":
         blocks += _zvyagin_blocks(result, label)
     return blocks
+
+
+def _record_rows(result):
+    """Return the record rows: created, version, options, sensor, inputs with their hashes."""
+    prov = result.provenance
+    rows = [("created", result.created), ("tactilecal version", result.version),
+            ("options", json.dumps(to_jsonable(result.options)))]
+    if prov:
+        rows.append(("sensor type, serial (export header)",
+                     f"{prov.get('sensor_type') or 'unknown'}, "
+                     f"{prov.get('sensor_serial') or 'unknown'}"))
+        rows += [(f"input {k + 1}", f"{entry['path']} (SHA-256 {entry['sha256']})")
+                 for k, entry in enumerate(prov.get("inputs", []))]
+    return rows
 
 
 _ZVYAGIN_FIGURES = (

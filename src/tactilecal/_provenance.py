@@ -1,0 +1,69 @@
+"""Where a result came from: input files with their SHA-256, the sensor, the package version.
+
+Every saved result can say which files it was computed from (so that a number in a paper can
+be traced back to the bytes it came from) and on which sensor: the export header's
+``SENSOR_TYPE`` and its ``HARDWARE`` field, the serial number of the sensor handle
+(``tekscan_HARDWARE`` in the recording's attributes).
+"""
+
+import hashlib
+from datetime import UTC, datetime
+from pathlib import Path
+
+from tactilecal._version import __version__
+
+__all__ = ["file_provenance", "sensor_of", "provenance"]
+
+
+def file_provenance(path):
+    """Absolute path, size, modification time (UTC) and SHA-256 of a file."""
+    path = Path(path).resolve()
+    digest = hashlib.sha256()
+    with path.open("rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(block)
+    stat = path.stat()
+    return {"path": str(path), "size_bytes": stat.st_size,
+            "modified_utc": datetime.fromtimestamp(stat.st_mtime, UTC).isoformat(
+                timespec="seconds"),
+            "sha256": digest.hexdigest()}
+
+
+def sensor_of(attrs):
+    """Return ``{"sensor_type", "sensor_serial"}`` from a recording's attributes (None: unknown).
+
+    The serial is the export header's ``HARDWARE`` field (e.g. ``116-1974-1``).
+    """
+    return {"sensor_type": attrs.get("sensor_type"),
+            "sensor_serial": attrs.get("tekscan_HARDWARE")}
+
+
+def provenance(files, sensors=()):
+    """Return the provenance record of a result computed from ``files``.
+
+    Parameters
+    ----------
+    files : iterable of path
+        The input files (existing files only are hashed; each once).
+    sensors : iterable of dict
+        :func:`sensor_of` of every recording read; distinct values are kept, so a
+        calibration from two sensor handles says so.
+
+    Returns
+    -------
+    dict
+        ``tactilecal_version``, ``inputs`` (:func:`file_provenance` of each file, path order
+        as given), ``sensor_type`` and ``sensor_serial`` (a string, a list when the inputs
+        disagree, None when unknown).
+    """
+    seen, inputs = set(), []
+    for path in map(Path, files):
+        if path.is_file() and path.resolve() not in seen:
+            seen.add(path.resolve())
+            inputs.append(file_provenance(path))
+    sensors = list(sensors)
+    out = {"tactilecal_version": __version__, "inputs": inputs}
+    for key in ("sensor_type", "sensor_serial"):
+        values = sorted({str(s[key]) for s in sensors if s.get(key) is not None})
+        out[key] = values[0] if len(values) == 1 else (values or None)
+    return out
