@@ -185,3 +185,13 @@ def test_library_warnings_are_one_line_naming_the_command(tmp_path, capsys):
     assert warning_lines and all(line.startswith("tactilecal calibrate: warning: ")
                                  for line in warning_lines)
     assert "zvyagin_fit(" not in err  # no source line of the library
+
+
+def test_cli_errors_name_the_flags_the_user_typed(tmp_path, capsys):
+    folder = tmp_path / "s"
+    assert main(["-q", "simulate", "deadweight", str(folder), "--patches", "6"]) == 0
+    manifest = str(folder / "manifest.csv")
+    assert main(["-q", "calibrate", manifest, "--method", "power-2pt", "--pair", "1,1"]) == 1
+    err = capsys.readouterr().err
+    assert "--pair (1, 1) is invalid; expected two different indices" in err
+    assert "pair=" not in err
