@@ -200,3 +200,19 @@ def test_calibration_records_its_inputs_and_sensor_and_apply_checks_it(tmp_path)
     with pytest.warns(UserWarning, match="is from a 6900 sensor, the calibration was made on "
                                          f"a {prov['sensor_type']}: check that it applies"):
         cal.apply(other)
+
+
+def test_a_damaged_provenance_is_a_one_line_error_naming_file_and_key(tmp_path):
+    import json
+
+    from tactilecal import load
+    from tactilecal.simulate import deadweight_session, make_sensor
+
+    manifest = deadweight_session(make_sensor("5051", seed=1), n_patches=6, seed=2).write(
+        tmp_path / "s")
+    data = calibrate(manifest, method="power").to_dict()
+    data["provenance"] = float("nan")
+    (tmp_path / "cal.json").write_text(json.dumps(data))
+    with pytest.raises(TypeError, match=r"key .provenance. of .*cal.json is nan \(float\); "
+                                        r"expected an object"):
+        load(tmp_path / "cal.json")

@@ -318,7 +318,9 @@ class CalibrationResult(SavedResult):
                                      else float(data["saturation_pressure_kPa"])),
             points=table, metrics=dict(data["metrics"]), details=dict(data.get("details") or {}),
             options=dict(data.get("options") or {}), version=data.get("version", ""),
-            created=data.get("created", ""), provenance=dict(data.get("provenance") or {}),
+            created=data.get("created", ""),
+            provenance=dict(check_type(data.get("provenance") or {}, dict,
+                                       f"key 'provenance' of {source}", expected="an object")),
             method_result=_method_result(data, source),
         )
 
