@@ -164,6 +164,9 @@ def test_errors_and_atomic_write(files, tmp_path):
         write_report([tmp_path / "missing.csv"], out)
     with pytest.raises(ValueError, match="no report inputs"):
         write_report([], out)
+    with pytest.raises(ValueError, match=r"calibration= \(--cal\) FILTER.json is a filter; "
+                                         "expected a calibration JSON"):
+        write_report([files / "patch.nc"], out, calibration=files / "FILTER.json")
     with pytest.raises(ValueError, match="report input of type int"):
         write_report([3], out)
     with pytest.raises(FileNotFoundError, match="cannot write .*r.html: folder .*nope does not"):

@@ -59,6 +59,17 @@ def _pick_calibration(calibration, loaded):
     return found[0] if len(found) == 1 else None
 
 
+def _given_calibration(calibration, loaded):
+    """Return the ``calibration=`` input as loaded (it is first), checked to be a calibration."""
+    if calibration is None:
+        return None
+    kind, obj, _, label = loaded[0]
+    if kind != "calibration":
+        raise ValueError(f"calibration= (--cal) {label} is a {kind}; expected a calibration "
+                         "JSON or CalibrationResult")
+    return obj
+
+
 def _load_all(inputs, calibration, filter, progress):
     items = [*(x for x in (calibration, filter) if x is not None), *inputs]
     loaded = []
@@ -118,9 +129,8 @@ def build_report(inputs, *, calibration=None, filter=None, title=None, threshold
     """Return the HTML text of a report on ``inputs`` (see :func:`write_report`)."""
     progress = resolve(progress)
     loaded = _load_all(inputs, calibration, filter, progress)
-    given = None if calibration is None else load_input(calibration)[1]
     calibrations = _of("calibration", loaded)
-    context = {"calibration": _pick_calibration(given, loaded),
+    context = {"calibration": _pick_calibration(_given_calibration(calibration, loaded), loaded),
                "n_calibrations": len(calibrations), "threshold_kPa": threshold_kPa,
                "nonworking": nonworking, "cof_min_force_N": cof_min_force_N}
     body = []
