@@ -36,7 +36,7 @@ def main(argv=None):
         check_outputs(args)
         with warnings.catch_warnings():  # the CLI shows warnings (one line), never raises them
             warnings.simplefilter("default")
-            warnings.showwarning = partial(_print_warning, args.command, _flags(parser))
+            warnings.showwarning = partial(_print_warning, args.command, parser)
             code = args.func(args)
     except BrokenPipeError:  # the reader went away (`tactilecal info F | head`): stop quietly
         silence_stdout()
@@ -48,9 +48,9 @@ def main(argv=None):
     return 0 if code is None else int(code)
 
 
-def _print_warning(command, flags, message, category, filename, lineno, file=None, line=None):
+def _print_warning(command, parser, message, category, filename, lineno, file=None, line=None):
     """Show a library warning as one line naming the command (not Python's two lines)."""
-    text = _as_flags(" ".join(str(message).split()), flags)
+    text = _as_flags(" ".join(str(message).split()), _flags(parser))
     print(f"tactilecal {command}: warning: {text}", file=sys.stderr)
 
 
