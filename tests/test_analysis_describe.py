@@ -1,6 +1,7 @@
 """describe, frame_table, overview: the library behind ``tactilecal info`` and ``analyze``."""
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 
@@ -51,6 +52,8 @@ def test_frame_table_and_overview_on_a_known_patch():
                                          "peak_kPa", "mean_kPa")
     # 4 sensels x 4 mm2 x 100 (k + 1) kPa x 1e-3 N per kPa mm2
     np.testing.assert_allclose(table["force_N"], 1.6 * np.arange(1, 4), rtol=1e-12)
+    # a summary already computed gives the same table (the report passes its own)
+    pd.testing.assert_frame_equal(analysis.frame_table(analysis.summary(rec)), table)
     head = analysis.overview(table, source="x.csv")
     assert head["file"] == "x.csv" and head["frames"] == 3
     assert (head["peak_force_frame"], head["peak_force_time_s"]) == (5, 1.0)

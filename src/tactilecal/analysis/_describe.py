@@ -6,6 +6,7 @@ plain data (a JSON-ready dict or a DataFrame); the command line only formats it.
 """
 
 import numpy as np
+import xarray as xr
 
 from tactilecal.analysis._maps import summary
 from tactilecal.analysis._units import saturated_sensels
@@ -118,8 +119,9 @@ def frame_table(recording, *, calibration=None, threshold_kPa=0.0):
 
     Parameters
     ----------
-    recording : xarray.DataArray
-        Recording in the data model (raw needs ``calibration``).
+    recording : xarray.DataArray or xarray.Dataset
+        Recording in the data model (raw needs ``calibration``), or its :func:`summary`
+        already computed (then ``calibration`` and ``threshold_kPa`` are not used).
     calibration : CalibrationResult or path, optional
         Applied to a raw recording.
     threshold_kPa : float, default 0
@@ -132,7 +134,9 @@ def frame_table(recording, *, calibration=None, threshold_kPa=0.0):
         :data:`FRAME_COLUMNS`, then ``saturated_sensels`` when the recording says what
         saturation is (:func:`saturated_sensels`).
     """
-    ds = summary(recording, calibration=calibration, threshold_kPa=threshold_kPa).compute()
+    ds = recording if isinstance(recording, xr.Dataset) else summary(
+        recording, calibration=calibration, threshold_kPa=threshold_kPa)
+    ds = ds.compute()
     table = ds.to_dataframe().reset_index()
     if "frame" not in table:
         table["frame"] = np.arange(1, len(table) + 1)

@@ -265,20 +265,19 @@ def _calibrated_blocks(recording, label, threshold_kPa, nonworking, cof_min_forc
     from tactilecal import analysis
 
     s = analysis.summary(recording, threshold_kPa=threshold_kPa).compute()
+    head = analysis.overview(analysis.frame_table(s))
     i = analysis.peak_frame(s)
-    t = s["time"].values if "time" in s.coords else np.arange(s.sizes["frame"])
-    peak_N = float(s.force_N[i])
     if cof_min_force_N is None:
+        peak_N = head["peak_force_N"]
         cof_min_force_N = COF_MIN_FORCE_SHARE * peak_N if np.isfinite(peak_N) else 0.0
-    saturated = int((s["saturated_sensels"] > 0).sum()) if "saturated_sensels" in s \
-        else "unknown"
+    saturated = "unknown" if head["saturated_frames"] is None else head["saturated_frames"]
     numbers = [
-        ("duration [s]", float(t[-1] - t[0]) if len(t) else float("nan")),
-        ("peak total force [N]", peak_N),
-        ("time of peak force [s]", float(t[i])),
-        ("frame of peak force", recording["frame"].values[i]),
-        ("largest contact area [mm2]", float(s.contact_area_mm2.max())),
-        ("largest sensel pressure [kPa]", float(s.peak_kPa.max())),
+        ("duration [s]", head["duration_s"]),
+        ("peak total force [N]", head["peak_force_N"]),
+        ("time of peak force [s]", head["peak_force_time_s"]),
+        ("frame of peak force", head["peak_force_frame"]),
+        ("largest contact area [mm2]", head["max_contact_area_mm2"]),
+        ("largest sensel pressure [kPa]", head["max_pressure_kPa"]),
         ("loaded-sensel threshold [kPa]", float(threshold_kPa)),
         ("centre of force drawn where force >= [N]", float(cof_min_force_N)),
         ("frames with saturated sensels", saturated),
