@@ -38,3 +38,19 @@ def fscan_asf(realdata):
 def fscan_right_asf(realdata):
     """The real F-Scan 6.33 export of the other foot (FrasP01R: 1-point, 2.171 kPa/count)."""
     return realdata / "footPress_FrasP01R.asf"
+
+
+@pytest.fixture
+def assert_names_by_bytes():
+    """Check that a provenance record lists exactly some files, each with its SHA-256."""
+    import hashlib
+
+    import tactilecal
+
+    def check(prov, paths):
+        assert prov["tactilecal_version"] == tactilecal.__version__
+        assert {i["path"]: i["sha256"] for i in prov["inputs"]} == {
+            str(Path(p).resolve()): hashlib.sha256(Path(p).read_bytes()).hexdigest()
+            for p in paths}
+
+    return check

@@ -216,3 +216,37 @@ def test_a_damaged_provenance_is_a_one_line_error_naming_file_and_key(tmp_path):
     with pytest.raises(TypeError, match=r"key .provenance. of .*cal.json is nan \(float\); "
                                         r"expected an object"):
         load(tmp_path / "cal.json")
+
+
+
+def test_every_static_output_names_its_inputs_by_their_bytes(session, tmp_path, capsys,
+                                                            assert_names_by_bytes):
+    """equilibrate JSON, validate, apply NetCDF and the analyze CSV's sidecar (issue 15)."""
+    from tactilecal import load
+    from tactilecal.calibration import validate
+
+    raw, _ = uniform_load(make_sensor("5051", seed=0), [150.0, 400.0], frames_per_level=2,
+                          seed=3)
+    levels = [tmp_path / "u150.csv", tmp_path / "u400.csv"]
+    write_tekscan(raw[:2], levels[0])
+    write_tekscan(raw[2:], levels[1])
+    eq = tmp_path / "eq.json"
+    assert main(["-q", "equilibrate", *map(str, levels), "--out", str(eq)]) == 0
+    assert_names_by_bytes(json.loads(eq.read_text())["provenance"], levels)
+    assert load(eq).provenance == json.loads(eq.read_text())["provenance"]
+
+    cal_path, nc = tmp_path / "cal.json", tmp_path / "p.nc"
+    assert main(["-q", "calibrate", str(session["manifest"]), "--method", "power",
+                 "--out", str(cal_path)]) == 0
+    cal = load(cal_path)
+    assert_names_by_bytes(validate(cal, session["manifest"]).provenance,
+                          [i["path"] for i in cal.provenance["inputs"]])
+    assert main(["-q", "apply", str(cal_path), str(session["recording"]), "--out",
+                 str(nc)]) == 0
+    assert_names_by_bytes(json.loads(read_netcdf(nc).attrs["provenance"]),
+                          [session["recording"]])
+    table = tmp_path / "summary.csv"
+    assert main(["-q", "analyze", str(nc), "--out", str(table)]) == 0
+    capsys.readouterr()
+    assert_names_by_bytes(json.loads((tmp_path / "summary.provenance.json").read_text()),
+                          [nc])

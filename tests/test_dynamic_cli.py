@@ -42,10 +42,11 @@ def filter_json(files):
     return out
 
 
-def test_fit_writes_the_contract_keys(files, filter_json, capsys):
+def test_fit_writes_the_contract_keys(files, filter_json, capsys, assert_names_by_bytes):
     d = json.loads(filter_json.read_text())
     for key in ("model", "A", "log_base", "lag_s", "fs_hz", "band_hz", "fit"):
         assert key in d
+    assert_names_by_bytes(d["provenance"], [files["sensor"], files["cell"]])
     assert d["model"] == "log10" and d["log_base"] == "10"
     # the load cell column is in lbf; the sensor in N: the static factor absorbs it
     assert d["A"] == pytest.approx(0.11, rel=0.05)
@@ -61,7 +62,7 @@ def test_fit_writes_the_contract_keys(files, filter_json, capsys):
     assert printed["A"] == pytest.approx(0.11 / np.log(10), rel=0.05)
 
 
-def test_apply_csv_keeps_columns(files, filter_json):
+def test_apply_csv_keeps_columns(files, filter_json, assert_names_by_bytes):
     out = files["d"] / "corrected.csv"
     assert main(["-q", "dynamic", "apply", str(filter_json), files["blind_sensor"], "--out",
                  str(out)]) == 0
@@ -70,9 +71,13 @@ def test_apply_csv_keeps_columns(files, filter_json):
     np.testing.assert_allclose(after["Time (s)"], before["Time (s)"])
     assert after["Force (N)"].mean() == pytest.approx(before["Force (N)"].mean(), rel=1e-3)
     assert after["Force (N)"].std() > before["Force (N)"].std()  # dynamic part restored
+    side = json.loads((files["d"] / "corrected.provenance.json").read_text())
+    assert_names_by_bytes(side, [files["blind_sensor"]])
+    assert side["dynamic_filter"]["A"] == json.loads(filter_json.read_text())["A"]
 
 
-def test_apply_netcdf_every_sensel(files, filter_json):
+
+def test_apply_netcdf_every_sensel(files, filter_json, assert_names_by_bytes):
     rec = sensel_matrix(files["sweep"], shape=(2, 3))
     src, out = files["d"] / "rec.nc", files["d"] / "rec_dyn.nc"
     write_netcdf(rec, src)
@@ -86,6 +91,7 @@ def test_apply_netcdf_every_sensel(files, filter_json):
     span = float(np.ptp(rec.values))
     np.testing.assert_allclose(back.values, expected.values, atol=5e-6 * span)  # float32 FFTs
     assert "dynamic_filter" in back.attrs
+    assert_names_by_bytes(json.loads(back.attrs["provenance"]), [src])
 
 
 def test_fit_sums_a_recording(files, tmp_path):
@@ -111,7 +117,7 @@ def test_fit_sums_a_tekscan_export(files, tmp_path):
     assert d["lag_s"] == pytest.approx(files["sweep"].lag_s, abs=1e-3)
 
 
-def test_evaluate_blind_test(files, filter_json, capsys):
+def test_evaluate_blind_test(files, filter_json, capsys, assert_names_by_bytes):
     out = files["d"] / "eval"
     assert main(["-q", "dynamic", "evaluate", str(filter_json), files["blind_sensor"],
                  files["blind_cell"], "--json", "--out", str(out)]) == 0
@@ -120,6 +126,8 @@ def test_evaluate_blind_test(files, filter_json, capsys):
     assert len(result["error_before_pct"]) == len(result["f_hz"]) > 10
     for name in ("time.png", "spectra.png", "error.png", "transfer.png", "evaluation.json"):
         assert (out / name).stat().st_size > 1000 or name.endswith(".json")
+    saved = json.loads((out / "evaluation.json").read_text())
+    assert_names_by_bytes(saved["provenance"], [files["blind_sensor"], files["blind_cell"]])
 
 
 def test_cli_errors(files, filter_json, tmp_path, capsys):

@@ -1,5 +1,7 @@
 """tactilecal.io.convert and ``tactilecal convert``: streaming to Zarr/NetCDF, atomically."""
 
+import hashlib
+import json
 import tracemalloc
 
 import numpy as np
@@ -27,6 +29,13 @@ def _open_zarr(path):
     return xr.open_dataarray(path, engine="zarr")
 
 
+def _traced(stored, source):
+    """Check the output names the export it came from by its bytes; return it without that."""
+    prov = json.loads(stored.attrs.pop("provenance"))
+    assert prov["inputs"][0]["sha256"] == hashlib.sha256(source.read_bytes()).hexdigest()
+    return stored
+
+
 def _leftovers(folder, keep):
     return sorted(p.name for p in folder.iterdir() if p.name not in keep)
 
@@ -36,19 +45,19 @@ def test_zarr_holds_the_recording_in_blocks_of_chunks_frames(tmp_path):
     convert(source, tmp_path / "out.zarr", chunks=8)
     with _open_zarr(tmp_path / "out.zarr") as stored:
         assert stored.encoding["chunks"] == (8, 4, 6)
-        assert stored.load().identical(read_tekscan(source))
+        assert _traced(stored.load(), source).identical(read_tekscan(source))
 
 
 def test_netcdf_reads_back_with_read_netcdf(tmp_path):
     source = _export(tmp_path)
     convert(source, tmp_path / "out.nc", chunks=7)
-    assert read_netcdf(tmp_path / "out.nc").identical(read_tekscan(source))
+    assert _traced(read_netcdf(tmp_path / "out.nc"), source).identical(read_tekscan(source))
 
 
 def test_real_export_converts_identically(iscan_csv, tmp_path):
     convert(iscan_csv, tmp_path / "iscan.zarr", chunks=64)
     with _open_zarr(tmp_path / "iscan.zarr") as stored:
-        assert stored.load().identical(read_tekscan(iscan_csv))
+        assert _traced(stored.load(), iscan_csv).identical(read_tekscan(iscan_csv))
 
 
 def test_memory_is_bounded_by_the_blocks_not_the_recording(tmp_path, monkeypatch):
@@ -67,7 +76,7 @@ def test_existing_store_is_replaced(tmp_path):
     source = _export(tmp_path, n=5, seed=1, name="b.csv")
     convert(source, tmp_path / "out.zarr")
     with _open_zarr(tmp_path / "out.zarr") as stored:
-        assert stored.load().identical(read_tekscan(source))
+        assert _traced(stored.load(), source).identical(read_tekscan(source))
     assert _leftovers(tmp_path, {"a.csv", "b.csv", "out.zarr"}) == []
 
 

@@ -7,12 +7,16 @@ be traced back to the bytes it came from) and on which sensor: the export header
 """
 
 import hashlib
+import json
 from datetime import UTC, datetime
 from pathlib import Path
 
+from tactilecal._atomic import write_text_atomic
+from tactilecal._jsonutil import dumps
 from tactilecal._version import __version__
 
-__all__ = ["file_provenance", "sensor_of", "provenance"]
+__all__ = ["file_provenance", "sensor_of", "provenance", "provenance_of", "provenance_attr",
+           "sidecar_path", "write_sidecar"]
 
 
 def file_provenance(path):
@@ -67,3 +71,60 @@ def provenance(files, sensors=()):
         values = sorted({str(s[key]) for s in sensors if s.get(key) is not None})
         out[key] = values[0] if len(values) == 1 else (values or None)
     return out
+
+
+def provenance_of(records=(), files=()):
+    """Return the provenance of a result computed from ``records`` (and more ``files``).
+
+    Parameters
+    ----------
+    records : iterable
+        xarray or pandas objects; the file each was read from (``encoding["source"]`` or
+        ``attrs["source"]``, when there is one) is hashed and its sensor
+        (:func:`sensor_of`) recorded.
+        Objects without attributes (plain arrays) add nothing.
+    files : iterable of path
+        Further input files (a manifest, a filter).
+
+    Returns
+    -------
+    dict
+        As :func:`provenance`.
+    """
+    records = [r for r in records if hasattr(r, "attrs")]
+    sources = [_source(r) for r in records]
+    return provenance([*files, *filter(None, sources)], [sensor_of(r.attrs) for r in records])
+
+
+def _source(record):
+    """Return the file ``record`` was read from, or None.
+
+    xarray's ``encoding["source"]`` (the NetCDF or Zarr file opened, whatever its ``source``
+    attribute says of the data's origin), else the reader's ``attrs["source"]``.
+    """
+    for where in (getattr(record, "encoding", {}), record.attrs):
+        if isinstance(where.get("source"), str):
+            return where["source"]
+    return None
+
+
+def provenance_attr(prov):
+    """Return ``prov`` as JSON text, for a NetCDF/Zarr attribute (``attrs["provenance"]``)."""
+    return json.dumps(prov, sort_keys=False)
+
+
+def sidecar_path(path):
+    """Return the provenance file of a CSV output: ``OUT.csv`` -> ``OUT.provenance.json``.
+
+    A CSV has no place for metadata that every reader skips, so its provenance sits beside
+    it, as BIDS puts a JSON sidecar beside each tabular file.
+    """
+    path = Path(path)
+    return path.with_name(path.stem + ".provenance.json")
+
+
+def write_sidecar(path, prov):
+    """Write ``prov`` atomically as the sidecar of the CSV ``path``; return the sidecar's path."""
+    side = sidecar_path(path)
+    write_text_atomic(side, dumps(prov) + "\n")
+    return side

@@ -124,6 +124,9 @@ class SavedResult(ShortRepr):
     FORMAT_VERSION = 1
     #: What the file is, for messages ("a calibration JSON").
     DESCRIPTION = "a tactilecal result JSON"
+    #: Where the result came from (:func:`tactilecal._provenance.provenance`): package
+    #: version, input files with SHA-256, sensor; saved as the ``"provenance"`` key.
+    provenance = None
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -180,6 +183,8 @@ class SavedResult(ShortRepr):
         """JSON-ready dictionary: ``"format"`` first, then the kind's keys."""
         body = self._to_dict()
         body.pop("format", None)
+        if self.provenance and "provenance" not in body:
+            body["provenance"] = self.provenance
         return {"format": self.format_tag(), **body}
 
     @classmethod
@@ -187,7 +192,12 @@ class SavedResult(ShortRepr):
         """Rebuild from :meth:`to_dict` output (``source`` names it in error messages)."""
         source = source or cls.FORMAT_KIND
         cls.check_format(data, source)
-        return cls._from_dict(data, source)
+        result = cls._from_dict(data, source)
+        if data.get("provenance") is not None and not result.provenance:
+            result.provenance = check_type(data["provenance"], dict,
+                                           f"key 'provenance' of {source}",
+                                           expected="an object")
+        return result
 
     def to_json_text(self):
         """Return the JSON text of :meth:`to_dict`."""

@@ -148,9 +148,7 @@ def calibrate(points, method="power", *, equilibration=None, mask=None, progress
             result = _calibrate_points(points, method, options)
         except ValueError as err:  # name the manifest: the points' names are in the text
             raise ValueError(f"{os.fspath(manifest)}: {err}") from None
-        folder = Path(manifest).parent
-        result.provenance = provenance([manifest, *(folder / p.source for p in points)],
-                                       [p.sensor for p in points])
+        result.provenance = _manifest_provenance(manifest, points)
         return record_preprocessing(result, dead, eq)
     if equilibration is not None or mask is not None:
         raise ValueError("equilibration= and mask= act on frames, and points are "
@@ -411,9 +409,10 @@ def validate(result, points, *, include_saturated=False, progress=None):
     ValueError
         If no point can be summarised.
     """
-    if is_path(points):
+    manifest = points if is_path(points) else None
+    if manifest is not None:
         stored = result.details.get("equilibration")
-        points = load_points(points, **reading_options(progress),
+        points = load_points(manifest, **reading_options(progress),
                              equilibration=None if stored is None
                              else Equilibration.from_dict(stored))
     hist, load = points_to_arrays(points)
@@ -441,7 +440,17 @@ def validate(result, points, *, include_saturated=False, progress=None):
     if inside is not None:
         summary["interval_coverage"] = float(np.mean(inside[keep & ~saturated])) \
             if (keep & ~saturated).any() else float("nan")
-    return ValidationResult(points=rows, metrics=summary)
+    checked = ValidationResult(points=rows, metrics=summary)
+    checked.provenance = (provenance([]) if manifest is None
+                          else _manifest_provenance(manifest, points))
+    return checked
+
+
+def _manifest_provenance(manifest, points):
+    """Provenance of a result computed from a manifest's points: the manifest, its files."""
+    folder = Path(manifest).parent
+    return provenance([manifest, *(folder / p.source for p in points)],
+                      [p.sensor for p in points])
 
 
 def _interval_columns(result, rows, predicted, load):

@@ -166,6 +166,7 @@ class CalibrationResult(SavedResult):
             For an unknown unit, a recording that is not raw, or a missing/inconsistent
             sensel area.
         """
+        from tactilecal._provenance import provenance_attr, provenance_of
         from tactilecal._units import force_to_N, normalise_unit, pressure_to_kPa, unit_kind
 
         source = recording.attrs.get("source", "")
@@ -192,7 +193,8 @@ class CalibrationResult(SavedResult):
         # stays recognisable in the output (tactilecal.analysis.saturated_sensels)
         out.attrs = {**recording.attrs, "units": units, "calibration_method": self.method,
                      "calibration_json": self.to_json_text(),
-                     "saturation_pressure_kPa": float(self.saturation_pressure_kPa)}
+                     "saturation_pressure_kPa": float(self.saturation_pressure_kPa),
+                     "provenance": provenance_attr(provenance_of([recording]))}
         return out
 
     def _check_sensor(self, recording, source):

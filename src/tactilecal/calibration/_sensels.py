@@ -11,6 +11,7 @@ import numpy as np
 from scipy import ndimage
 
 from tactilecal._jsonutil import to_jsonable
+from tactilecal._provenance import provenance_of
 from tactilecal._result import SavedResult
 from tactilecal._validate import check_number, check_type, require_keys
 
@@ -195,7 +196,9 @@ def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=20
         n_resp = ndimage.convolve(responding.astype(int), kernel, mode="constant")
         evidence += (n_resp >= neighbour_share * np.maximum(n_exist, 1)).sum(axis=0)
     mask = exists & ~ever & (evidence >= min_frames) & (n_exist > 0)
-    return NonWorkingSensels(mask=mask, evidence_frames=evidence, n_frames=len(values))
+    found = NonWorkingSensels(mask=mask, evidence_frames=evidence, n_frames=len(values))
+    found.provenance = provenance_of([raw])
+    return found
 
 
 # ---------------------------------------------------------------------- equilibration
@@ -364,7 +367,9 @@ def equilibrate(levels):
     report = [{"level": k, "n_frames": int(len(_as_frames(lvl))), "mean_raw": float(M[k]),
                "cv_before": _cv(m[k], valid[k]), "cv_after": _cv(m[k] * gain, valid[k])}
               for k, lvl in enumerate(levels)]
-    return Equilibration(gain=gain, levels=report)
+    eq = Equilibration(gain=gain, levels=report)
+    eq.provenance = provenance_of(levels)
+    return eq
 
 
 def _cv(values, valid):

@@ -23,6 +23,7 @@ def register(subparsers):
 def run(args):
     """Analyse one recording; print an overview (or JSON) and optionally write the CSV."""
     from tactilecal._atomic import atomic_path
+    from tactilecal._provenance import provenance_of, write_sidecar
     from tactilecal.analysis import frame_table, overview
     from tactilecal.report import load_input
 
@@ -41,7 +42,9 @@ def run(args):
     if args.out:
         with atomic_path(args.out) as tmp:
             table.to_csv(tmp, index=False)
-        info(args, f"per-frame table written to {args.out}")
+        inputs = provenance_of([recording], files=[args.cal] if args.cal else [])
+        side = write_sidecar(args.out, inputs)
+        info(args, f"per-frame table written to {args.out} (provenance: {side})")
     bar.update()
     bar.close()
     head = overview(table, source=str(args.recording))

@@ -23,6 +23,7 @@ import numpy as np
 
 from tactilecal._atomic import make_folder
 from tactilecal._jsonutil import write_json
+from tactilecal._provenance import provenance_of, write_sidecar
 
 #: Methods run by the demo, in the order of the printed table.
 DEMO_METHODS = ("power", "zvyagin", "power-2pt", "linear", "linear-offset", "piecewise", "lut",
@@ -80,6 +81,7 @@ def _experiment(sensor, calibration, out, quiet):
     per_frame = frame_table(pressure)  # the columns of 'tactilecal analyze --out' (time_s)
     with atomic_path(out / "experiment" / "summary.csv") as tmp:
         per_frame.to_csv(tmp, index=False)
+    write_sidecar(out / "experiment" / "summary.csv", provenance_of([recording]))
     errors = _hold_errors(per_frame["force_N"].to_numpy(), per_frame["time_s"].to_numpy(), truth)
     _say(quiet, "  ramp-and-hold recording, dead-weight 'power' calibration, error at each "
                 "hold: " + ", ".join(f"{e:+.1f}%" for e in errors))

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
+from tactilecal._provenance import provenance_of
 from tactilecal.dynamic._align import align
 from tactilecal.dynamic._apply import apply_filter
 from tactilecal.dynamic._filter import CorrectionFilter
@@ -148,14 +149,21 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
             if refusals:
                 fit.excluded["model_choice"] += (f"; refused before {name}: "
                                                  f"{'; '.join(refusals)}")
-            return _build(name, fit, tf, choice, design, lag_s, None)
+            return _traced(_build(name, fit, tf, choice, design, lag_s, None),
+                           sensor, reference)
         refusals.append(reason)
     if not force:
         raise ValueError(f"{where}: {'; '.join(refusals)}; expected a model of the sensor "
                          "(pass force=True, or --force, to write the filter anyway, marked "
                          "forced)")
-    return _build(choice["order"][0], fit, tf, choice, design, lag_s,
-                  f"{where}: {refusals[0]}")
+    return _traced(_build(choice["order"][0], fit, tf, choice, design, lag_s,
+                          f"{where}: {refusals[0]}"), sensor, reference)
+
+
+def _traced(filt, sensor, reference):
+    """Return ``filt`` with the provenance of the two records it was fitted on."""
+    filt.provenance = provenance_of([sensor, reference])
+    return filt
 
 
 MIN_CYCLES = 3
@@ -319,6 +327,9 @@ class Evaluation:
         before and after correction.
     time_s, sensor, corrected, reference : numpy.ndarray
         The aligned records (statically scaled), for plots.
+    provenance : dict or None
+        The records' files with SHA-256, sensor and package version
+        (:func:`tactilecal._provenance.provenance_of`).
     """
 
     lag_s: float
@@ -335,6 +346,7 @@ class Evaluation:
     reference: np.ndarray = field(repr=False)
     phase_before_deg: np.ndarray | None = None
     phase_after_deg: np.ndarray | None = None
+    provenance: dict | None = None
 
     @property
     def improvement(self):
@@ -349,7 +361,7 @@ class Evaluation:
                 "f_hz": self.f_hz, "error_before_pct": self.error_before_pct,
                 "error_after_pct": self.error_after_pct,
                 "phase_before_deg": self.phase_before_deg,
-                "phase_after_deg": self.phase_after_deg}
+                "phase_after_deg": self.phase_after_deg, "provenance": self.provenance}
 
     def summary(self):
         """Return a one-line description."""
@@ -427,7 +439,7 @@ def evaluate(filt, sensor, reference, *, lag_s=None, static_cutoff_hz=0.5, npers
     ok = ok_b & ok_a & (f_hz > 0)
     return Evaluation(float(lag_s), factor, fs_hz, rms[0], rms[1], f_hz[ok], before[ok],
                       after[ok], np.asarray(ref["time"].values), sens, corr, r,
-                      phase_b[ok], phase_a[ok])
+                      phase_b[ok], phase_a[ok], provenance_of([sensor, reference]))
 
 
 def compare_filters(filters, sensor, reference, **kwargs):

@@ -12,6 +12,7 @@ import numpy as np
 
 from tactilecal._atomic import atomic_path
 from tactilecal._jsonutil import write_json
+from tactilecal._provenance import provenance_attr, provenance_of, write_sidecar
 from tactilecal.dynamic._apply import apply_filter
 from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
 
@@ -29,7 +30,8 @@ def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progr
         Time-series CSV (:func:`tactilecal.io.read_timeseries` checks its time column).
     out : str or os.PathLike
         Output CSV, written atomically: the input's columns, the numeric value columns
-        filtered along time, numbers with 10 significant digits.
+        filtered along time, numbers with 10 significant digits. Its provenance (input
+        file with SHA-256, the filter, package version) goes to ``OUT.provenance.json``.
     method, causal, progress
         As in :func:`apply_filter`.
 
@@ -55,6 +57,7 @@ def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progr
     table[value_cols] = np.asarray(filtered.values)
     with atomic_path(out) as tmp:
         table.to_csv(tmp, index=False, float_format="%.10g")
+    write_sidecar(out, {**provenance_of([series]), "dynamic_filter": filt.to_dict()})
     return len(value_cols), len(table)
 
 
@@ -78,8 +81,9 @@ def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=Fa
     -------
     xarray.DataArray
         The corrected recording (dask-backed for NetCDF: write it with
-        :func:`tactilecal.io.write_netcdf`), with ``time_jitter_s`` and
-        ``sampling_rate_hz`` attributes.
+        :func:`tactilecal.io.write_netcdf`), with ``time_jitter_s``,
+        ``sampling_rate_hz``, ``dynamic_filter`` (the filter) and ``provenance`` (JSON
+        text: the input file with SHA-256, sensor, package version) attributes.
     """
     from tactilecal.io import open_recording, recording_format
 
@@ -87,7 +91,9 @@ def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=Fa
     data = open_recording(path, chunks=chunk_frames if lazy else None)
     if lazy and data.dims and data.dims[0] in data.chunksizes:
         data = data.chunk({data.dims[0]: chunk_frames})
-    return apply_filter(data, filt, progress=progress, method=method, causal=causal)
+    out = apply_filter(data, filt, progress=progress, method=method, causal=causal)
+    out.attrs["provenance"] = provenance_attr(provenance_of([data]))
+    return out
 
 
 def write_evaluation(evaluation, filt, folder, *, extra=None):

@@ -7,6 +7,7 @@ import tempfile
 from pathlib import Path
 
 from tactilecal._atomic import _running, _umask, dask_tasks_finished
+from tactilecal._provenance import provenance_attr, provenance_of
 from tactilecal.io._netcdf import write_netcdf
 from tactilecal.io._open import is_zarr_store
 from tactilecal.io._tekscan_read import read_tekscan
@@ -67,6 +68,7 @@ def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES):
     """
     _check_suffix(target)
     data = read_tekscan(source, chunks=chunks)
+    data.attrs["provenance"] = provenance_attr(provenance_of([data]))
     write_lazy(data, target)
     return data
 
