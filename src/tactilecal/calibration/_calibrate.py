@@ -52,8 +52,8 @@ def _select(load, meta, keep_saturated):
     sat = meta["saturated_cells"]
     if not keep_saturated:
         bad = sat > 0
-        reasons[bad] = [f"saturated: {k} sensels at 255 (saturated='keep' keeps it)"
-                        for k in sat[bad]]
+        reasons[bad] = [f"saturated: {k} sensels at 255, left out (the saturated option "
+                        "'censored' or 'keep' uses it)" for k in sat[bad]]
     empty = meta["loaded_cells"] == 0
     reasons[empty] = "no loaded sensels (raw > 0)"
     bad_load = ~(np.isfinite(load) & (load > 0))
