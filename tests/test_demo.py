@@ -76,3 +76,41 @@ def test_demo_runs_end_to_end_and_recovers_the_truth(tmp_path, capsys):
     for method in by_method:
         assert (out / "calibrations" / f"{method}.json").is_file()
         assert (out / "validation" / f"{method}.json").is_file()
+    # one vocabulary (issue 15): no JSON key or table column spells a unit another way
+    names = _output_names(out)
+    assert "time_s" in names and len(names) > 100
+    assert sorted(n for n in names if OTHER_SPELLING.search(n)) == []
+
+
+#: Unit spellings the package does not write (it writes _s, _kPa, _N, _mm2, _hz, _pct);
+#: a bare "time" column is a time without its unit.
+OTHER_SPELLING = re.compile(r"^(time|sec|secs|seconds)$|_(sec|secs|seconds|kpa|Kpa|KPa|pa|Hz|"
+                            r"HZ|n|newton|percent|mm\^2|sqmm)$")
+
+
+def _output_names(folder):
+    """Every JSON key and every column of the tables tactilecal wrote under ``folder``.
+
+    The simulated load-cell files are left out: they imitate an instrument's own header.
+    """
+    import pandas as pd
+
+    from tactilecal.io import recording_format
+
+    names = set()
+
+    def walk(value):
+        if isinstance(value, dict):
+            names.update(value)
+            for item in value.values():
+                walk(item)
+        elif isinstance(value, list):
+            for item in value:
+                walk(item)
+
+    for path in folder.rglob("*.json"):
+        walk(json.loads(path.read_text()))
+    for path in folder.rglob("*.csv"):
+        if recording_format(path) is None and "loadcell" not in path.name:
+            names.update(pd.read_csv(path, nrows=1).columns)
+    return names

@@ -155,7 +155,7 @@ def run_demo(out_dir="tactilecal-demo", *, quiet=False):
         filter=dynamic["filter"], title="tactilecal demo", command="tactilecal demo")
     headline = {"true_law": {"A_N": sensor.A_N, "b": sensor.b}, "methods": rows,
                 "experiment": experiment, "dynamic": dynamic, "report": report,
-                "seconds": time.perf_counter() - start}
+                "elapsed_s": time.perf_counter() - start}
     write_json(out / "summary.json", headline)
-    _say(quiet, f"wrote {out}/ (report: {report}) in {headline['seconds']:.1f} s")
+    _say(quiet, f"wrote {out}/ (report: {report}) in {headline['elapsed_s']:.1f} s")
     return headline
