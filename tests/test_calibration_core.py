@@ -290,8 +290,7 @@ def test_apply_and_load_errors(tmp_path):
         res.apply(rec, units="kPa")
     with pytest.raises(ValueError, match="has units 'kPa'; expected raw"):
         res.apply(rec.assign_attrs(units="kPa"), units="N")
-    with pytest.raises(ValueError, match="unknown unit 'volts' in the units attribute of "
-                                         "recording 'v.csv'"):
+    with pytest.raises(ValueError, match="unknown unit 'volts' in attribute 'units' of v.csv"):
         res.apply(rec.assign_attrs(units="volts", source="v.csv"), units="N")
     bad = tmp_path / "bad.json"
     bad.write_text("{not json")

@@ -8,6 +8,7 @@ one place.
 
 import numpy as np
 
+from tactilecal._model import check_recording, positive_attr, recording_name, recording_units
 from tactilecal._units import KPA_MM2_TO_N, N_PER_MM2_TO_KPA
 
 __all__ = ["force_map_N", "pressure_map_kPa", "saturated_sensels", "sensel_area_mm2",
@@ -19,23 +20,12 @@ SATURATION_TOLERANCE = 1e-3
 
 
 def _name(recording):
-    return recording.attrs.get("source", recording.name or "recording")
+    return recording_name(recording)
 
 
 def _units(recording):
     """Return ``(unit, kind)`` of a recording: kind is raw, pressure or force."""
-    from tactilecal._units import normalise_unit, unit_kind
-
-    unit = recording.attrs.get("units")
-    if unit is None:
-        raise ValueError(f"{_name(recording)}: attribute 'units' is missing; expected raw, "
-                         "a pressure (kPa, MPa, psi) or a force per sensel (N, kgf, lbf)")
-    unit = normalise_unit(unit, where=f"attribute 'units' of {_name(recording)}")
-    kind = unit_kind(unit)
-    if kind not in ("raw", "pressure", "force"):
-        raise ValueError(f"{_name(recording)}: units {unit!r} are a {kind}; expected raw, "
-                         "a pressure (kPa, MPa, psi) or a force per sensel (N, kgf, lbf)")
-    return unit, kind
+    return recording_units(recording)
 
 
 def saturated_sensels(recording):
@@ -67,9 +57,8 @@ def saturated_sensels(recording):
 
 
 def _check_dims(recording):
-    if tuple(recording.dims) != ("frame", "row", "col"):
-        raise ValueError(f"{_name(recording)}: dims {tuple(recording.dims)}; expected "
-                         "('frame', 'row', 'col')")
+    """Check the recording against the data model (dims, coordinates, units, attributes)."""
+    check_recording(recording)
 
 
 def sensel_area_mm2(recording):
@@ -80,11 +69,7 @@ def sensel_area_mm2(recording):
     ValueError
         If the attribute is missing or not positive.
     """
-    area = recording.attrs.get("sensel_area_mm2")
-    if area is None or not np.isfinite(float(area)) or float(area) <= 0:
-        raise ValueError(f"{_name(recording)}: attribute 'sensel_area_mm2' is {area!r}; "
-                         "expected a positive area in mm2")
-    return float(area)
+    return positive_attr(recording, "sensel_area_mm2")
 
 
 def spacing_mm(recording):
@@ -95,14 +80,7 @@ def spacing_mm(recording):
     ValueError
         If either spacing is missing or not positive.
     """
-    out = []
-    for key in ("row_spacing_mm", "col_spacing_mm"):
-        value = recording.attrs.get(key)
-        if value is None or not np.isfinite(float(value)) or float(value) <= 0:
-            raise ValueError(f"{_name(recording)}: attribute {key!r} is {value!r}; "
-                             "expected a positive spacing in mm")
-        out.append(float(value))
-    return tuple(out)
+    return tuple(positive_attr(recording, key) for key in ("row_spacing_mm", "col_spacing_mm"))
 
 
 def _calibrated(recording, calibration, units):

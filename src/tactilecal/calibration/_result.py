@@ -166,6 +166,7 @@ class CalibrationResult(SavedResult):
             For an unknown unit, a recording that is not raw, or a missing/inconsistent
             sensel area.
         """
+        from tactilecal._model import check_recording
         from tactilecal._provenance import provenance_attr, provenance_of
         from tactilecal._units import force_to_N, normalise_unit, pressure_to_kPa, unit_kind
 
@@ -174,8 +175,9 @@ class CalibrationResult(SavedResult):
         if unit_kind(units) not in ("pressure", "force"):
             raise ValueError(f"units={units!r} is a {unit_kind(units)} unit; expected a "
                              "pressure (kPa, MPa, psi, bar...) or force (N, kN, lbf...) unit")
-        rec_units = normalise_unit(recording.attrs.get("units", "raw"),
-                                   where=f"the units attribute of recording {source!r}")
+        # the data model's check; a recording made in memory without units is raw readings
+        rec_units, _ = check_recording(recording.assign_attrs(
+            units=recording.attrs.get("units", "raw")))
         if rec_units != "raw":
             raise ValueError(f"recording {source!r} has units {rec_units!r}; expected raw "
                              "readings (units 'raw')")

@@ -1,0 +1,136 @@
+"""The data model's check: whether a DataArray is a recording every part of tactilecal reads.
+
+A recording (``docs/data-model.md``) is one ``xarray.DataArray`` with dims
+``("frame", "row", "col")``; coordinates ``frame``, ``time`` (along ``frame``, seconds),
+``row`` and ``col`` (the readers write them all; an array made in memory may leave them
+out, but one that has them has them along these dims); a ``units`` attribute that
+:func:`tactilecal._units.normalise_unit` knows (raw readings, a pressure or a force per
+sensel); and, where present, positive ``sensel_area_mm2``, ``row_spacing_mm``,
+``col_spacing_mm`` and ``seconds_per_frame``. Raw readings are whole numbers 0..255 (NaN
+outside the sensor's shape); calibrated values are finite and not negative.
+
+The readers produce such arrays; the analysis, calibration and writers check what they are
+given with :func:`check_recording`, so a hand-made array that breaks the model is a
+one-line error naming the recording and the part, not a wrong number further on.
+"""
+
+import numpy as np
+
+__all__ = ["DIMS", "POSITIVE_ATTRS", "recording_name", "recording_units", "check_recording",
+           "positive_attr"]
+
+DIMS = ("frame", "row", "col")
+#: Attributes that, when present, must be positive numbers (with what each one is).
+POSITIVE_ATTRS = {"sensel_area_mm2": "a positive area in mm2",
+                  "row_spacing_mm": "a positive spacing in mm",
+                  "col_spacing_mm": "a positive spacing in mm",
+                  "seconds_per_frame": "a positive frame period in s"}
+_KINDS = ("raw", "pressure", "force")
+_UNITS_EXPECTED = "expected raw, a pressure (kPa, MPa, psi) or a force per sensel (N, kgf, lbf)"
+
+
+def recording_name(data):
+    """Return what messages call a recording: its ``source`` attribute, name or 'recording'."""
+    return data.attrs.get("source", data.name or "recording")
+
+
+def recording_units(data):
+    """Return ``(unit, kind)`` of a recording: the normalised unit; raw, pressure or force.
+
+    Raises
+    ------
+    ValueError
+        The ``units`` attribute is missing, unknown, or of another kind (a length...).
+    """
+    from tactilecal._units import normalise_unit, unit_kind
+
+    unit = data.attrs.get("units")
+    if unit is None:
+        raise ValueError(f"{recording_name(data)}: attribute 'units' is missing; "
+                         f"{_UNITS_EXPECTED}")
+    unit = normalise_unit(unit, where=f"attribute 'units' of {recording_name(data)}")
+    kind = unit_kind(unit)
+    if kind not in _KINDS:
+        raise ValueError(f"{recording_name(data)}: units {unit!r} are a {kind}; "
+                         f"{_UNITS_EXPECTED}")
+    return unit, kind
+
+
+def positive_attr(data, key):
+    """Return the attribute ``key`` as a float, checked to be a positive finite number.
+
+    Raises
+    ------
+    ValueError
+        Missing, not a number, not finite or not positive; the message names the recording
+        and the attribute.
+    """
+    value = data.attrs.get(key)
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = float("nan")
+    if not (np.isfinite(number) and number > 0):
+        raise ValueError(f"{recording_name(data)}: attribute {key!r} is {value!r}; expected "
+                         f"{POSITIVE_ATTRS.get(key, 'a positive number')}")
+    return number
+
+
+def check_recording(data, *, values=False):
+    """Check that ``data`` follows the data model; return ``(unit, kind)``.
+
+    Parameters
+    ----------
+    data : xarray.DataArray
+    values : bool
+        Also check the values (one pass over them; computes a dask-backed recording): raw
+        readings whole numbers in 0..255 or NaN, calibrated values finite and >= 0 or NaN.
+
+    Returns
+    -------
+    tuple of str
+        As :func:`recording_units`.
+
+    Raises
+    ------
+    TypeError
+        ``data`` is not a DataArray.
+    ValueError
+        Wrong dims, a coordinate along another dim, a bad ``units`` or positive attribute, or (with
+        ``values``) an impossible value; the message names the recording and the part.
+    """
+    import xarray as xr
+
+    if not isinstance(data, xr.DataArray):
+        raise TypeError(f"recording is a {type(data).__name__}; expected an xarray.DataArray "
+                        "with dims ('frame', 'row', 'col') (see tactilecal.io.open_recording)")
+    name = recording_name(data)
+    if tuple(data.dims) != DIMS:
+        raise ValueError(f"{name}: dims {tuple(data.dims)}; expected {DIMS}")
+    for coord, dim in (("frame", "frame"), ("time", "frame"), ("row", "row"), ("col", "col")):
+        if coord in data.coords and data[coord].dims != (dim,):
+            raise ValueError(f"{name}: coordinate {coord!r} has dims {data[coord].dims}; "
+                             f"expected it along {dim!r}")
+    for key in POSITIVE_ATTRS:
+        if key in data.attrs:
+            positive_attr(data, key)
+    unit, kind = recording_units(data)
+    if values:
+        _check_values(data, name, kind)
+    return unit, kind
+
+
+def _check_values(data, name, kind):
+    """Raw: whole numbers 0..255 or NaN; calibrated: finite, >= 0 or NaN (one pass)."""
+    v = np.asarray(data.values, dtype=float)
+    with np.errstate(invalid="ignore"):
+        if kind == "raw":
+            bad = ~np.isnan(v) & ((v < 0) | (v > 255) | (v != np.round(v)))
+            what = "raw readings are whole numbers 0..255 (NaN outside the sensor)"
+        else:
+            bad = np.isinf(v) | (v < 0)
+            what = f"{kind} values are finite and not negative (NaN outside the sensor)"
+    if bad.any():
+        k, i, j = np.argwhere(bad)[0]
+        raise ValueError(f"{name}: frame {data['frame'].values[k]}, row {i}, col {j} is "
+                         f"{float(v[k, i, j])!r} ({int(bad.sum())} such values); expected {what}")
