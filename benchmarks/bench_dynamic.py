@@ -262,7 +262,7 @@ def _cluster(seconds, repeat, chunk_frames, folder):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cl, Client(cl) as client:
+                          dashboard_address=":0") as cl, Client(cl) as client:
             kept(client, "netcdf")  # workers import tactilecal and load the numba kernels
             runs = {
                 "apply_filter in memory (this process) [baseline]":

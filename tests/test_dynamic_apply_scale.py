@@ -183,7 +183,7 @@ def test_a_local_cluster_reads_netcdf_in_its_workers_and_matches_memory(tmp_path
     write_netcdf(_record(x), tmp_path / "rec.nc")
     memory = apply_filter(_record(x), FILTERS["log"]).values
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
-                      dashboard_address=None) as cluster, Client(cluster) as client:
+                      dashboard_address=":0") as cluster, Client(cluster) as client:
         with xr.open_dataarray(tmp_path / "rec.nc", chunks={"frame": 3000}) as lazy:
             future = client.compute(apply_filter(lazy, FILTERS["log"]).data)
             values = future.result()

@@ -168,7 +168,7 @@ def test_a_local_cluster_reads_the_converted_zarr_store_without_a_warning(tmp_pa
     source = _export(tmp_path, n=40)
     convert(source, tmp_path / "out.zarr", chunks=16)
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
-                      dashboard_address=None) as cluster, Client(cluster) as client:
+                      dashboard_address=":0") as cluster, Client(cluster) as client:
         with xr.open_dataarray(tmp_path / "out.zarr", engine="zarr", chunks={}) as lazy:
             assert lazy.chunks[0] == (16, 16, 8)
             total = client.compute(lazy.sum(dim="frame").data).result()
