@@ -176,8 +176,8 @@ def choose_objective(histograms, load_N, *, censored=None, objectives=CV_OBJECTI
     Patch ``k`` is held out in fold ``k % folds``; each objective's law is fitted on the
     other folds and predicts the held-out unsaturated patches. The objective with the
     largest share of held-out patches within 5 % of their load wins (then the smaller
-    mean absolute relative error; then the first of ``objectives``). A fit that fails on a
-    fold (b at the edge of its bounds) scores that objective -1.
+    mean absolute relative error, to 1e-6; then the first of ``objectives``). An objective
+    whose fit fails on a fold (b at the edge of its bounds) is not chosen.
 
     Returns
     -------
@@ -207,7 +207,8 @@ def choose_objective(histograms, load_N, *, censored=None, objectives=CV_OBJECTI
     ranked = [o for o in objectives if scores[o] is not None]
     if not ranked:
         return objectives[0], scores
-    return max(ranked, key=lambda o: (scores[o][0], -scores[o][1])), scores
+    # mean errors closer than 1e-6 (a ten-thousandth of a percent) are a tie
+    return max(ranked, key=lambda o: (scores[o][0], -round(scores[o][1], 6))), scores
 
 
 def minimise_energy_free(histograms, load_N, curve, *, censored=None, objective="l1"):
