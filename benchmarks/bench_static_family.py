@@ -36,6 +36,8 @@ CANDIDATES = {
     "zvyagin faithful keep": ("zvyagin", {"mode": "faithful", "saturated": "keep"}),
     "zvyagin robust drop": ("zvyagin", {"mode": "robust", "saturated": "drop"}),
     "zvyagin robust keep": ("zvyagin", {"mode": "robust", "saturated": "keep"}),
+    "zvyagin robust l1 drop": ("zvyagin", {"mode": "robust", "saturated": "drop",
+                                           "objective": "l1"}),
     "zvyagin faithful censored": ("zvyagin", {"mode": "faithful", "saturated": "censored"}),
     "zvyagin robust censored": ("zvyagin", {"mode": "robust", "saturated": "censored"}),
     "piecewise": ("piecewise", {}),

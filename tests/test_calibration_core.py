@@ -202,8 +202,10 @@ def test_calibrate_errors():
         calibrate(pts, method="power", objective="l3")
     with pytest.raises(ValueError, match=r"does not take the options \['degree'\]"):
         calibrate(pts, method="power", degree=2)
-    with pytest.raises(ValueError, match="objective='l1' is not available for lut"):
-        calibrate(pts, method="lut", objective="l1")
+    with pytest.raises(ValueError, match="objective='l3' is not available for lut"):
+        calibrate(pts, method="lut", objective="l3")
+    with pytest.raises(ValueError, match=r"smoothing=-1; expected a number >= 0"):
+        calibrate(pts, method="lut", smoothing=-1)
     with pytest.raises(ValueError, match="no usable calibration points among 5"):
         calibrate(points_from_frames(_patches(5), np.zeros(5)), method="power")
     with pytest.raises(ValueError, match="power-2pt needs two different loads"):
@@ -356,11 +358,18 @@ def test_piecewise_beats_power_on_a_kinked_law():
                    0.004 * 64 ** 1.05 * (levels / 64) ** 1.35)
     load = np.array([law[f[f > 0].astype(int)].sum() for f in raw])
     pts = points_from_frames(raw, load)
-    piece = calibrate(pts, method="piecewise", knots=(1, 64, 255))
+    # unpenalised least squares recovers the kink exactly ...
+    piece = calibrate(pts, method="piecewise", knots=(1, 64, 255), objective="relative",
+                      smoothing=0)
     power = calibrate(pts, method="power")
     np.testing.assert_allclose(piece.force_table()[3:], law[3:], rtol=1e-6)
     np.testing.assert_allclose(piece.details["segments_b"], [1.05, 1.35], atol=1e-6)
     assert power.metrics["max_abs_error_pct"] > 1.0 > 1e3 * piece.metrics["max_abs_error_pct"]
+    # ... and the default (l1, smoothed toward one power law) still follows it: the
+    # penalty costs far less than the power law's misfit, so the kink stays
+    default = calibrate(pts, method="piecewise", knots=(1, 64, 255))
+    assert default.details["segments_b"][1] - default.details["segments_b"][0] > 0.2
+    assert default.metrics["max_abs_error_pct"] < 0.5 * power.metrics["max_abs_error_pct"]
 
 
 def test_power_table_with_negative_exponent_has_no_force_at_zero_and_no_warning():
@@ -369,3 +378,24 @@ def test_power_table_with_negative_exponent_has_no_force_at_zero_and_no_warning(
 
     table = force_table("power", {"A": 2.0, "b": -0.5})
     assert table[0] == 0.0 and table[4] == pytest.approx(1.0)
+
+
+def test_a_heavily_smoothed_lut_is_the_power_methods_law():
+    """smoothing -> infinity leaves no bend: the table is the l1 power law it is shaped on."""
+    raw = _patches(50, seed=5)
+    load = _power_loads(raw) * np.random.default_rng(7).normal(1.0, 0.02, len(raw))
+    pts = points_from_frames(raw, load)
+    power = calibrate(pts, method="power").force_table()
+    lut = calibrate(pts, method="lut", smoothing=1e9).force_table()
+    np.testing.assert_allclose(lut[3:], power[3:], rtol=0.005)
+
+
+def test_a_table_saved_without_exponent_stays_linear_in_raw():
+    """Tables saved before ``exponent`` existed interpolate linearly in raw, as they did."""
+    from tactilecal.calibration._models import force_table
+
+    params = {"knots": [0.0, 10.0, 255.0], "force_N": [0.0, 1.0, 50.0]}
+    np.testing.assert_allclose(force_table("table", params)[[5, 10, 100]],
+                               [0.5, 1.0, 1.0 + 49.0 * 90.0 / 245.0])
+    curved = force_table("table", {**params, "exponent": 2.0})
+    assert curved[5] == pytest.approx(0.25)  # (5/10)**2 of the way from 0 to 1 N

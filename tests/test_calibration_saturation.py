@@ -1,6 +1,7 @@
 """One saturation default for the CLI and the API (issue 12): same manifest, same numbers."""
 
 import json
+import re
 
 import pytest
 
@@ -122,3 +123,57 @@ def test_a_session_where_every_patch_saturates_names_manifest_and_patches(
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "manifest.csv: " in err[0]
     assert __import__("re").search(message, err[0])
+
+
+def _empty_session(folder, *, blank_frames):
+    """A simulated session whose recordings read 0 everywhere: no patch reaches the law."""
+    import csv
+
+    from tactilecal.io import read_tekscan, write_tekscan
+
+    assert main(["-q", "simulate", "deadweight", str(folder), "--patches", "4",
+                 "--seed", "1"]) == 0
+    with open(folder / "manifest.csv", newline="") as table:
+        rows = list(csv.DictReader(table))
+    for name in {row["file"] for row in rows}:
+        write_tekscan(read_tekscan(folder / name) * 0, folder / name)
+    if not blank_frames:  # every row names frame 1 instead of asking for the plateau
+        for row in rows:
+            row["frame"] = "1"
+        with open(folder / "manifest.csv", "w", newline="") as out:
+            writer = csv.DictWriter(out, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
+    return folder / "manifest.csv", [row["label"] for row in rows]
+
+
+@pytest.mark.parametrize("method", ["power", "zvyagin", "lut", "piecewise", "linear"])
+def test_a_session_where_no_patch_is_loaded_names_manifest_and_patches(tmp_path, capsys,
+                                                                       method):
+    manifest, labels = _empty_session(tmp_path / "empty", blank_frames=False)
+    assert main(["-q", "calibrate", str(manifest), "--method", method]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) in (1, 2)  # zvyagin warns first that it leaves the empty frames out
+    assert "manifest.csv: " in err[-1] and all(label in err[-1] for label in labels)
+    assert "empty frame" in err[-1] or "no loaded sensels (raw > 0)" in err[-1]
+
+
+def test_an_empty_recording_behind_a_blank_frame_names_the_manifest_line(tmp_path, capsys):
+    manifest, labels = _empty_session(tmp_path / "blank", blank_frames=True)
+    assert main(["-q", "calibrate", str(manifest)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert re.search(r"manifest.csv line 2: [^:]+\.csv: every frame has a total raw reading "
+                     "of 0; expected a loaded plateau", err[0])
+
+
+@pytest.mark.parametrize("method", ["zvyagin", "lut", "piecewise"])
+def test_every_patch_saturating_names_manifest_and_patches_for_every_method(
+        tmp_path, capsys, method):
+    folder = tmp_path / "allsat"
+    assert main(["-q", "simulate", "deadweight", str(folder), "--patches", "5",
+                 "--saturated-share", "1.0", "--seed", "1"]) == 0
+    assert main(["-q", "calibrate", str(folder / "manifest.csv"), "--method", method]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "manifest.csv: " in err[0]
+    assert re.search(r"saturated", err[0]) and err[0].count("-00") == 5  # the 5 patches

@@ -73,3 +73,52 @@ def test_censored_zvyagin_needs_two_unsaturated_patches_and_names_the_others():
                                          r"equations need at least 2 \(saturated: b, c, d\)"):
         zvyagin_fit(h, np.array([1.0, 2.0, 3.0, 4.0]), saturated="censored",
                     labels=["a", "b", "c", "d"])
+
+
+def test_robust_free_step_is_the_power_fit_with_the_cross_validated_objective():
+    """Robust's (A0, b0) is the power method's law with the objective its 5-fold CV chose."""
+    from tactilecal.calibration._methods import fit_power
+
+    cal, train = _calibrate("4010N-noisy", 0)
+    final = cal.details["final"]
+    scores = final["objective_cv"]
+    assert set(scores) == {"l1", "relative"} and final["objective"] in scores
+    best = max(scores, key=lambda o: (scores[o][0], -round(scores[o][1], 6)))
+    assert final["objective"] == best
+    used = cal.points["used"].to_numpy()
+    hist = np.array([p.histogram for p in points_from_frames(train.raw.values,
+                                                             train.load_N)])[used]
+    power = fit_power(hist.astype(float), np.asarray(train.load_N)[used],
+                      objective=final["objective"])
+    assert cal.params["b"] == pytest.approx(power.params["b"], rel=1e-9)
+    assert cal.params["A"] == pytest.approx(power.params["A"], rel=1e-9)
+
+
+def test_choose_objective_on_exact_power_law_patches_ties_and_keeps_l1():
+    """Noise-free patches: both objectives predict every held-out patch; l1 wins the tie."""
+    from tactilecal.simulate import patch_histograms
+    from tactilecal.zvyagin._fit import choose_objective
+
+    hist, load, _ = patch_histograms(30, A_N=0.0035, b=1.16, seed=3)
+    sums = np.asarray(hist, dtype=float) @ np.arange(256.0) ** 1.16
+    objective, scores = choose_objective(hist, 0.0035 * sums)
+    assert objective == "l1"
+    for share, mean_error in scores.values():
+        assert share == 1.0 and mean_error < 1e-6
+
+
+def test_choose_objective_skips_an_objective_whose_fit_fails(monkeypatch):
+    from tactilecal.simulate import patch_histograms
+    from tactilecal.zvyagin import _fit
+
+    real = _fit._fit_free
+
+    def failing(h, f, censored, objective):
+        if objective == "l1":
+            raise ValueError("power fit: best exponent b = 0.200 is at the edge of b_bounds")
+        return real(h, f, censored, objective)
+
+    monkeypatch.setattr(_fit, "_fit_free", failing)
+    hist, load, _ = patch_histograms(30, A_N=0.0035, b=1.16, seed=3)
+    objective, scores = _fit.choose_objective(hist, load)
+    assert objective == "relative" and scores["l1"] is None

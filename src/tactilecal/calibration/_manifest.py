@@ -147,7 +147,10 @@ def _pick_frame(rec, text, where, name):
                              f"{frames[0]}..{frames[-1]}); expected one of its frame numbers")
         return int(hits[0]), ""
     total = np.nansum(rec.values.reshape(len(frames), -1), axis=1)
-    i, first, last, cv = find_plateau(total)
+    try:
+        i, first, last, cv = find_plateau(total)
+    except ValueError as exc:  # an empty recording: name the manifest line and its file
+        raise ValueError(f"{where}: {name}: {exc}") from None
     note = (f"frame blank: chose frame {frames[i]}, middle of the plateau frames "
             f"{frames[first]}..{frames[last]} (raw sum {total[i]:.0f}, variation {cv:.2%})")
     return i, note

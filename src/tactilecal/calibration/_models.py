@@ -42,8 +42,16 @@ def _piecewise_power(raw, params):
 
 
 def _table(raw, params):
-    """Monotone lookup table, linear between its knots (``force_N`` at ``knots``)."""
-    return np.where(raw > 0, np.interp(raw, params["knots"], params["force_N"]), 0.0)
+    """Monotone lookup table: ``force_N`` at ``knots``, linear in ``raw**exponent`` between.
+
+    ``exponent`` (default 1: linear in raw, as tables saved before it existed) is the power
+    method's b on the calibration patches (``fit_lut``).
+    """
+    e = float(params.get("exponent", 1.0))
+    knots = np.asarray(params["knots"], dtype=float)
+    with np.errstate(invalid="ignore"):  # negative readings carry no force either way
+        value = np.interp(np.where(raw > 0, raw, 0.0) ** e, knots ** e, params["force_N"])
+    return np.where(raw > 0, value, 0.0)
 
 
 def _polynomial(raw, params):

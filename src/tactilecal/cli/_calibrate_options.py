@@ -11,7 +11,9 @@ def add_fit_options(p):
     p.add_argument("--method", default="power",
                    help="linear, power-2pt, power (default), linear-offset, piecewise, lut, "
                         "polynomial, zvyagin")
-    p.add_argument("--objective", help="power: l2, l1 or relative; others: l2 or relative")
+    p.add_argument("--objective", help="power, piecewise, lut: l1 (default), l2 or relative; "
+                                       "zvyagin: also cv (robust's default); linear-offset, "
+                                       "polynomial: l2 or relative")
     p.add_argument("--mode", choices=("faithful", "robust"),
                    help="zvyagin: follow the paper as written or the robust variant "
                         "(docs/zvyagin.md; default robust, as in the Python API)")
