@@ -51,8 +51,9 @@ def test_method_option_errors():
         calibrate(pts, method="lut", knots=(0, 100))
     with pytest.raises(ValueError, match="objective='l1' is not available for linear-offset"):
         calibrate(pts, method="linear-offset", objective="l1")
-    with pytest.raises(ValueError, match="bootstrap: only [01] of 1 resamples could be fitted"):
-        calibrate(_points(2), method="power-2pt", n_bootstrap=1)
+    with pytest.raises(ValueError, match=r"only [01] out-of-bag errors from 1 resamples "
+                                         r"\([01] could not be fitted\); expected at least 20"):
+        calibrate(_points(2), method="power-2pt", n_interval_resamples=1)
 
 
 def test_area_and_validate_errors(tmp_path):

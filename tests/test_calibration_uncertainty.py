@@ -1,4 +1,5 @@
-"""Parameter and prediction intervals that hold (issue 12): coverage over 50 simulated sessions."""
+"""Prediction intervals that hold (issue 12): coverage over 50 simulated sessions; no
+parameter intervals (they did not hold)."""
 
 
 import numpy as np
@@ -34,39 +35,47 @@ def test_95pct_prediction_interval_holds_90_to_99pct_of_held_out_patches():
     assert 0.90 <= coverage <= 0.99, coverage
 
 
-def test_95pct_interval_of_b_holds_the_true_b_in_90_to_99pct_of_sessions():
-    """50 sessions with the paper's Sensor2 law (A 0.00265 N, b 1.201, 6 % gains, 20 %
-    saturated patches), the independent simulator's parameters of issue 12."""
-    inside = []
-    for seed in range(50):
-        train, _ = family_sessions("5051-sensor2", seed=seed)
-        cal = calibrate(_points(train), n_bootstrap=50, seed=seed)
-        low, high = cal.details["params_interval"]["b"]
-        inside.append(low <= train.sensor.b <= high)
-    assert 0.90 <= np.mean(inside) <= 0.99, np.mean(inside)
+def test_no_parameter_interval_is_reported_and_the_json_says_why(tmp_path):
+    """Issue 12's rule: the bootstrap interval of b held the truth in only 0.38-0.82 of 50
+    sessions on two family members (benchmarks/bench_static_family.py --coverage 50), so
+    no method reports one; the keys stay, as null, with the reason."""
+    from tactilecal.calibration import load_calibration
+    from tactilecal.report import write_report
+
+    train, _ = family_sessions("5051-sensor2", seed=0)
+    for method in ("power", "zvyagin"):
+        cal = calibrate(_points(train), method=method, n_bootstrap=20, seed=1)
+        assert cal.params_stderr == {"A": None, "b": None}
+        assert cal.details["params_interval"] is None and cal.options["n_bootstrap"] == 20
+        assert cal.details["stderr_method"].startswith("none: no parameter interval held")
+        assert "parameter intervals: none: no parameter interval held" in cal.summary()
+        assert "interval" not in cal.summary().split("b = ")[1].splitlines()[0]
+        cal.to_json(tmp_path / f"{method}.json")
+        loaded = load_calibration(tmp_path / f"{method}.json")
+        assert loaded.details["params_interval"] is None and \
+            loaded.params_stderr == {"A": None, "b": None}
+        assert loaded.details["stderr_method"] == cal.details["stderr_method"]
+    single = calibrate(_points(train))  # without n_bootstrap: the same keys, no summary line
+    assert single.details["params_interval"] is None and not single.options["n_bootstrap"]
+    assert "parameter intervals" not in single.summary()
+    html = write_report([tmp_path / "zvyagin.json"], tmp_path / "r.html").read_text()
+    assert "none (no interval of b held 90-99 % in simulation)" in html
 
 
-def test_parameter_intervals_reach_json_and_say_when_unbounded(tmp_path):
+def test_a_calibration_saved_with_an_interval_still_shows_it(tmp_path):
     from tactilecal.calibration import load_calibration
 
     train, _ = family_sessions("5051-sensor2", seed=0)
-    cal = calibrate(_points(train), method="zvyagin", n_bootstrap=20, seed=1)
-    interval = cal.details["params_interval"]
-    assert interval["b"][0] < cal.params["b"] < interval["b"][1]
-    assert cal.options["n_bootstrap"] == 20 and "20 refits" in interval["method"]
-    cal.to_json(tmp_path / "cal.json")
-    assert load_calibration(tmp_path / "cal.json").details["params_interval"] == interval
-    from tactilecal.report import write_report
-
-    html = write_report([tmp_path / "cal.json"], tmp_path / "r.html").read_text()
-    assert "95 % interval" in html and f"{interval['b'][0]:.6g} .. {interval['b'][1]:.6g}" in html
-    # three patches: a ninth of the resamples draw one patch thrice and cannot be fitted,
-    # more than the 2.5 % tail of a 95 % interval
-    clean = [p for p in _points(train) if p.saturated_cells == 0]
-    few = calibrate(clean[:3], method="power", n_bootstrap=40, seed=0)
-    assert "b" not in few.details["params_interval"]
-    assert "refits failed, more than the 2.5% tail" in few.details["params_interval"]["unbounded"]
-    assert "parameter intervals: unbounded" in few.summary()
+    cal = calibrate(_points(train))
+    cal.details["params_interval"] = {"level": 0.95, "method": "normal bootstrap over patches "
+                                      "(20 refits, 0 failed)", "A": [0.002, 0.003],
+                                      "b": [1.1, 1.3]}
+    cal.to_json(tmp_path / "old.json")
+    summary = load_calibration(tmp_path / "old.json").summary()
+    assert "(95% interval 1.1 .. 1.3)" in summary
+    assert "parameter intervals: normal bootstrap over patches (20 refits" in summary
+    cal.details["params_interval"] = {"level": 0.95, "method": "m", "unbounded": "3 of 40 failed"}
+    assert "parameter intervals: unbounded (3 of 40 failed)" in cal.summary()
 
 
 def test_interval_reaches_json_summary_and_validate(tmp_path):

@@ -117,3 +117,16 @@ def test_movie_cli(tmp_path, capsys):
     # the default l1 objective: b's spread is ~1.7x that of least squares on Gaussian
     # noise (measured 1.148 here, relative 1.157), the price of its better worst case
     assert res["params"]["b"] == pytest.approx(1.16, abs=0.02)
+
+
+def test_calibrate_n_bootstrap_gives_no_parameter_interval(sessions, capsys):
+    """--n-bootstrap still parses; the JSON keeps the keys as null and says why (issue 12)."""
+    out = sessions["root"] / "boot.json"
+    assert main(["calibrate", str(sessions["cal"]), "--method", "power", "--n-bootstrap", "20",
+                 "--out", str(out), "--json"]) == 0
+    capsys.readouterr()
+    stored = json.loads(out.read_text())
+    assert stored["params_stderr"] == {"A": None, "b": None}
+    assert stored["details"]["params_interval"] is None
+    assert stored["details"]["stderr_method"].startswith("none: no parameter interval held")
+    assert stored["options"]["n_bootstrap"] == 20

@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from tactilecal._powerfit import NO_STDERR
 from tactilecal._provenance import provenance
 from tactilecal._saturation import resolve_saturated
 from tactilecal._units import N_PER_MM2_TO_KPA
@@ -107,12 +108,13 @@ def calibrate(points, method="power", *, equilibration=None, mask=None, progress
         with sensels at 255 are left out and reported; ``"keep"``; ``keep_saturated`` is
         the older spelling), ``scale_by_working`` (``linear``/``power-2pt``: multiply each load by
         working / all sensels, thesis sec. 3.5), ``sensel_area_mm2`` (default: from the
-        points), ``n_bootstrap`` (default 0: none; else refits of the whole method on
-        resampled patches giving ``params_stderr`` and the 95 % intervals
-        ``details["params_interval"]``, :func:`add_uncertainty`), ``n_interval_resamples``
-        (default 0: none; else the 95 % prediction interval of a new patch's load from the
-        same refits, ``details["prediction_interval"]``, used by :func:`validate`), ``seed``
-        (of the resampling), and the method's own options.
+        points), ``n_interval_resamples`` (default 0: none; else refits of the whole
+        method on resampled patches giving the 95 % prediction interval of a new patch's
+        load, ``details["prediction_interval"]``, used by :func:`validate`), ``seed`` (of
+        the resampling), ``n_bootstrap`` (accepted and recorded, but no parameter interval
+        is reported: ``params_stderr`` and ``details["params_interval"]`` are None and
+        ``details["stderr_method"]`` says why, :func:`add_uncertainty`), and the method's
+        own options.
 
     Returns
     -------
@@ -167,7 +169,7 @@ def _calibrate_points(points, method, options):
         return calibrate_arrays(hist, load, point_meta(points), method=method, **options)
     from tactilecal.calibration._zvyagin import calibrate_zvyagin as zvyagin  # imports us
     n_params, n_interval, seed = _pop_uncertainty(options)
-    result = zvyagin(points, **options)
+    result = no_parameter_interval(zvyagin(points, **options))
     if n_params or n_interval:
         hist, load = points_to_arrays(points)
         add_uncertainty(result, lambda idx: zvyagin([points[k] for k in idx], **options),
@@ -186,26 +188,33 @@ def _pop_uncertainty(options):
 
 
 def add_uncertainty(result, refit, hist, load, *, n_params, n_interval, seed, level=0.95):
-    """Store bootstrap parameter and prediction intervals on ``result`` (in place).
+    """Store the bootstrap prediction interval on ``result`` (in place), and no parameter one.
 
-    One set of ``max(n_params, n_interval)`` refits (:func:`bootstrap_refits`) gives
-    ``params_stderr`` and ``details["params_interval"]`` (if ``n_params``) and
-    ``details["prediction_interval"]`` (if ``n_interval``).
+    ``n_interval`` refits (:func:`bootstrap_refits`) give ``details["prediction_interval"]``.
+    ``n_params`` (``n_bootstrap``) is recorded in the options but refits nothing: no
+    parameter interval held 90-99 % on every simulated family member (issue 12), so
+    ``params_stderr`` stays None and ``details["stderr_method"]`` says why
+    (:func:`no_parameter_interval`).
     """
-    boot = bootstrap_refits(refit, hist, load, n_resamples=max(n_params, n_interval),
-                            seed=seed)
     if n_params:
-        if boot.n_resamples - boot.n_failed < 2:
-            raise ValueError(f"bootstrap: only {boot.n_resamples - boot.n_failed} of "
-                             f"{boot.n_resamples} resamples could be fitted; expected at "
-                             "least 2 (too few distinct points)")
-        result.params_stderr = boot.stderr()
-        result.details["params_interval"] = boot.parameter_intervals(result.params, level)
-        result.details["stderr_method"] = result.details["params_interval"]["method"]
         result.options["n_bootstrap"] = n_params
     if n_interval:
+        boot = bootstrap_refits(refit, hist, load, n_resamples=n_interval, seed=seed)
         result.details["prediction_interval"] = boot.prediction_interval(level).to_dict()
         result.options["n_interval_resamples"] = n_interval
+    return result
+
+
+def no_parameter_interval(result):
+    """Mark ``result`` as carrying no parameter interval, and say why (in place).
+
+    Every result of :func:`calibrate` has ``details["params_interval"] = None`` (null in
+    its JSON; ``params_stderr`` is None per parameter, as every method returns it) and
+    ``details["stderr_method"]`` = :data:`tactilecal._powerfit.NO_STDERR`, unless the
+    method gave its own reason (``power-2pt``: two points define the curve exactly).
+    """
+    result.details["params_interval"] = None
+    result.details.setdefault("stderr_method", NO_STDERR)
     return result
 
 
@@ -259,6 +268,7 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
                                 params=fit.params, params_stderr=fit.params_stderr, used=used,
                                 reasons=reasons, details=fit.details, options=all_options,
                                 sensel_area_mm2=area)
+    no_parameter_interval(result)
     if n_params or n_interval:
         refit_options = {**options, "saturated": saturated,
                          "scale_by_working": scale_by_working, "sensel_area_mm2": area}

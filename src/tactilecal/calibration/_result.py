@@ -254,7 +254,7 @@ class CalibrationResult(SavedResult):
         return "\n".join(lines)
 
     def _param_lines(self):
-        """One line per parameter, with its bootstrap interval or why it has none."""
+        """One line per parameter (with its interval in a calibration saved with one)."""
         intervals = self.details.get("params_interval") or {}
         lines = []
         for name, value in self.params.items():
@@ -264,10 +264,12 @@ class CalibrationResult(SavedResult):
                 val_txt += (f"  ({intervals['level']:.0%} interval {bounds[0]:.6g} .. "
                             f"{bounds[1]:.6g})")
             lines.append(f"  {name} = {val_txt}")
-        if "unbounded" in intervals:
+        if "unbounded" in intervals:  # a calibration saved before issue 12's removal
             lines.append(f"  parameter intervals: unbounded ({intervals['unbounded']})")
         elif intervals:
             lines.append(f"  parameter intervals: {intervals['method']}")
+        elif self.options.get("n_bootstrap"):  # asked for, and not given: say why
+            lines.append(f"  parameter intervals: {self.details.get('stderr_method')}")
         return lines
 
     def _repr_fields(self):

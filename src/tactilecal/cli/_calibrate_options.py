@@ -35,8 +35,9 @@ def add_fit_options(p):
     p.add_argument("--equilibration", metavar="EQ.json",
                    help="per-sensel gains from 'tactilecal equilibrate', applied first")
     p.add_argument("--n-bootstrap", type=non_negative_int, default=0,
-                   help="bootstrap refits for the parameters' 95 %% intervals and standard "
-                        "errors (default 0: none)")
+                   help="accepted and recorded; no parameter interval is reported (none held "
+                        "90-99 %% in simulation, issue 12: the JSON's stderr_method says why); "
+                        "use --intervals")
     p.add_argument("--intervals", type=non_negative_int, default=0, metavar="N",
                    help="bootstrap refits for the 95 %% prediction interval of a new patch's "
                         "load (stored in the JSON, used by validate; default 0: none)")

@@ -31,7 +31,7 @@ def _interval(result, name):
     intervals = result.details.get("params_interval") or {}
     if name in intervals:
         return " .. ".join(f"{x:.6g}" for x in intervals[name])
-    return intervals.get("unbounded", "none (no n_bootstrap)")
+    return intervals.get("unbounded", "none (no interval of b held 90-99 % in simulation)")
 
 
 def _scalar_params(result):
@@ -104,7 +104,7 @@ def calibration_blocks(result, label):
               for k, v in _scalar_params(result)]
     blocks = [
         f"<pre>{html.escape(result.summary())}</pre>",
-        table_html(params, header=("parameter", "value", "bootstrap standard error",
+        table_html(params, header=("parameter", "value", "standard error",
                                    "95 % interval")),
         table_html(sorted(result.metrics.items()), header=("metric", "value")),
         table_html(_record_rows(result), header=("calibration record", "value"), wide=True),
