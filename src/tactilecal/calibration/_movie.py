@@ -363,7 +363,7 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
                          f"{recording.attrs['units']!r}; expected raw readings")
     if isinstance(loads, str | Path):
         loads = read_movie_loads(loads, time_col=time_col, load_col=load_col)
-    dead = find_dead_sensels(recording.values) if mask_dead else None
+    dead = find_dead_sensels(recording.data) if mask_dead else None  # dask: streamed
     hist = _histograms(recording.data, None if dead is None else dead.mask, equilibration,
                        from_quiet(progress, quiet, "calibrate_movie"))
     sums = _frame_sums(hist)
