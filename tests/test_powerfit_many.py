@@ -77,7 +77,8 @@ def test_selected_median_equals_sorted_median(window):
         sums = rng.integers(1, 30, (3, n)).astype(float)  # ratios with many ties
         censored = rng.random(n) < 0.3
         censored[:2] = False
-        cost, A = l1_costs(sums, load, censored, *window)
+        m = len(sums)
+        cost, A = l1_costs(sums, load, censored, np.full(m, window[0]), np.full(m, window[1]))
         for c in range(3):
             expected = powerfit._censored_median(load / sums[c], sums[c], censored)
             assert A[c] == expected

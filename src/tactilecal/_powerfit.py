@@ -231,13 +231,18 @@ class _Sums:
         return (sums, series_sums(self.moments, dT) / self.half) if slope else sums
 
 
-def _costs_many(sums, load_N, objective, censored, window=(-np.inf, np.inf)):
-    """:func:`_power_costs` of (m, n) ``sums``; l1 medians by :func:`l1_costs`."""
+def _costs_many(sums, load_N, objective, censored, window=None):
+    """:func:`_power_costs` of (m, n) ``sums``; l1 medians by :func:`l1_costs`.
+
+    ``window``: (lo, hi) arrays where each exponent's median is expected, default anywhere.
+    """
     if objective == "l1":
         from tactilecal._powerfit_kernels import l1_costs
 
         flags = np.zeros(len(load_N), bool) if censored is None else censored
-        return l1_costs(sums, load_N, flags, float(window[0]), float(window[1]))
+        if window is None:
+            window = np.full(len(sums), -np.inf), np.full(len(sums), np.inf)
+        return l1_costs(sums, load_N, flags, *window)
     w = objective_weights(load_N, objective)
     w2s = w ** 2 * sums
     A = (w2s * load_N).sum(axis=1) / (w2s * sums).sum(axis=1)
@@ -245,12 +250,15 @@ def _costs_many(sums, load_N, objective, censored, window=(-np.inf, np.inf)):
     return (r * r).sum(axis=1), A
 
 
-def _median_window(A, k):
-    """Where the next round's l1 medians are expected: around A at the new bracket."""
-    near = A[max(k - 1, 0):k + 2]
-    spread = float(near.max() - near.min())
-    return near.min() - spread - 1e-12 * abs(near.min()), near.max() + spread + 1e-12 * abs(
-        near.max())
+def _median_window(b_values, grid, A):
+    """Where the l1 medians at ``b_values`` are expected, from A on the last ``grid``.
+
+    A is interpolated (it changes smoothly with b); the window's half width is a twentieth
+    of A's change over the grid step, so that few ratios fall in it.
+    """
+    guess = np.interp(b_values, grid, A)
+    half = 0.05 * np.max(np.abs(np.diff(A))) + 1e-13 * np.abs(guess)
+    return guess - half, guess + half
 
 
 def _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
@@ -269,14 +277,13 @@ def _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
     _check_interior(k, grid, b_bounds)
     lo, hi, n_eval = grid[k - 1], grid[k + 1], n_grid
     sums_at = _Sums(hist, lo, hi)
-    window = _median_window(A, k)
     if objective == "l1":
         while hi - lo > xtol:
-            grid = np.linspace(lo, hi, n_grid)
-            cost, A = _costs_many(sums_at(grid), load_N, objective, censored, window)
+            last, last_A, grid = grid, A, np.linspace(lo, hi, n_grid)
+            cost, A = _costs_many(sums_at(grid), load_N, objective, censored,
+                                  _median_window(grid, last, last_A))
             k, n_eval = int(np.nanargmin(cost)), n_eval + n_grid
             lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, n_grid - 1)]
-            window = _median_window(A, k)
         b = float(grid[k])
     else:
         w2 = objective_weights(load_N, objective) ** 2
@@ -292,6 +299,7 @@ def _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
             n_eval += 2 + info.function_calls
         else:
             b = float(grid[k])
+    window = _median_window([b], grid, A) if objective == "l1" else None
     cost, A = _costs_many(sums_at([b]), load_N, objective, censored, window)
     return float(b), float(A[0]), float(cost[0]), n_eval + 1
 

@@ -31,8 +31,9 @@ def l1_costs(sums, load, censored, window_lo, window_hi):  # pragma: no cover (c
         ``F_T``.
     censored : numpy.ndarray of bool, shape (n,)
         Points whose residual counts only when the prediction exceeds the load.
-    window_lo, window_hi : float
-        Where the medians are expected (``-inf``, ``inf``: anywhere); a wrong window
+    window_lo, window_hi : numpy.ndarray, shape (m,)
+        Where each median is expected (``-inf``, ``inf``: anywhere). A window that misses
+        is moved and widened 4-fold towards the median until it holds it: a wrong window
         costs time, never the result.
 
     Returns
@@ -47,7 +48,7 @@ def l1_costs(sums, load, censored, window_lo, window_hi):  # pragma: no cover (c
     work_r, work_w = np.empty(n), np.empty(n)
     for c in range(m):
         s = sums[c]
-        a = _windowed_median(s, load, censored, window_lo, window_hi, work_r, work_w)
+        a = _windowed_median(s, load, censored, window_lo[c], window_hi[c], work_r, work_w)
         total = 0.0
         for i in range(n):
             r = a * s[i] - load[i]
@@ -63,25 +64,34 @@ def _windowed_median(s, load, censored, lo, hi, work_r, work_w):  # pragma: no c
     """Return the l1 median of ``load / s``, looked for among the ratios in [lo, hi] first.
 
     Ratios below ``lo`` only add their weight; those in the window are copied and
-    selected among. When the median is not in the window, it is selected among all.
+    selected among. A window that misses the median is moved towards it and widened; after
+    a few misses the median is selected among all ratios.
     """
-    target, below, inside, k = 0.0, 0.0, 0.0, 0
-    for i in range(s.size):
-        r = load[i] / s[i]
-        w = s[i] if censored[i] else 2.0 * s[i]
-        target += 0.0 if censored[i] else s[i]
-        if r < lo:
-            below += w
-        elif r <= hi:
-            work_r[k], work_w[k] = r, w
-            k += 1
-            inside += w
-    if not (below < target <= below + inside):
+    for _ in range(6):
+        target, below, inside, k = 0.0, 0.0, 0.0, 0
         for i in range(s.size):
-            work_r[i] = load[i] / s[i]
-            work_w[i] = s[i] if censored[i] else 2.0 * s[i]
-        k, below = s.size, 0.0
-    return _select(work_r[:k], work_w[:k], target - below)
+            r = load[i] / s[i]
+            w = s[i] if censored[i] else 2.0 * s[i]
+            target += 0.0 if censored[i] else s[i]
+            if r < lo:
+                below += w
+            elif r <= hi:
+                work_r[k], work_w[k] = r, w
+                k += 1
+                inside += w
+        width = 4.0 * (hi - lo)
+        if below >= target:  # the median is below the window
+            lo, hi = lo - width, lo
+        elif below + inside < target:  # above it
+            lo, hi = hi, hi + width
+        else:
+            return _select(work_r[:k], work_w[:k], target - below)
+        if not width < np.inf:
+            break
+    for i in range(s.size):
+        work_r[i] = load[i] / s[i]
+        work_w[i] = s[i] if censored[i] else 2.0 * s[i]
+    return _select(work_r[:s.size], work_w[:s.size], target)
 
 
 @njit(nogil=True)
