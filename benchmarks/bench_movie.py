@@ -42,6 +42,7 @@ import xarray as xr
 import tactilecal._powerfit as powerfit
 import tactilecal.calibration._movie as movie
 import tactilecal.dynamic  # noqa: F401  (import time is not part of the calibration)
+from tactilecal._powerfit import COMPILED_MIN_POINTS
 from tactilecal.calibration import calibrate_movie, frame_histograms
 from tactilecal.calibration._calibrate import calibrate_arrays
 from tactilecal.calibration._histogram import COMPILED_MIN_VALUES
@@ -252,8 +253,10 @@ def run_size(raw, loadcell, dtype, repeat_frames, repeat, with_old_movie):
           f" np.sum {min(t['sum']):.3f} s, as uint64 words {min(t['words']):.3f} s, np.copyto "
           f"{copy}; one pass = the fastest, {base:.3f} s ({values.nbytes / base / 1e9:.1f} GB/s)")
     path = "compiled" if values.size >= COMPILED_MIN_VALUES else "NumPy"
-    print(f"  ({n * 1936:,} readings: frame_histograms and calibrate_movie take the {path} "
-          f"path, the switch is at {COMPILED_MIN_VALUES:,})")
+    movie_path = "compiled" if path == "compiled" or n >= COMPILED_MIN_POINTS else "NumPy"
+    print(f"  ({n * 1936:,} readings: frame_histograms takes the {path} path, the switch is "
+          f"at {COMPILED_MIN_VALUES:,}; calibrate_movie (power, numba loaded for its fit from "
+          f"{COMPILED_MIN_POINTS:,} frames) the {movie_path} one)")
     for name, key in (("frame_histograms, compiled", "hist"),
                       ("  NumPy path", "hist_numpy"), ("  former NumPy version", "hist_old"),
                       ("calibrate_movie", "movie"), ("  former implementation", "movie_old"),
