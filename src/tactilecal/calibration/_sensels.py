@@ -36,7 +36,7 @@ def _frame_blocks(raw, chunk_frames):
     chunks, each computed once; an array in memory in ``chunk_frames`` frames, so that a
     uint8 movie is never converted to float64 whole.
     """
-    values = getattr(raw, "data", raw)
+    values = raw.data if hasattr(raw, "dims") else raw  # a DataArray's numpy or dask array
     if not type(values).__module__.startswith("dask."):
         values = np.asarray(values)
     if values.ndim == 2:
@@ -176,14 +176,15 @@ def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=20
 
     Parameters
     ----------
-    raw : array_like or xarray.DataArray, shape (n, rows, cols)
-        Raw frames (NaN for sensels outside the sensor shape).
+    raw : array_like, xarray.DataArray or dask array, shape (n, rows, cols)
+        Raw frames (NaN for sensels outside the sensor shape), any real dtype; a dask
+        array (or a DataArray over one) is read block by block, never whole.
     neighbour_share : float
         Share (0..1] of the existing neighbours that must respond (default all).
     min_frames : int
         Frames of such evidence needed.
     chunk_frames : int
-        Frames processed at once.
+        Frames processed at once (a dask array: its own blocks of frames).
 
     Returns
     -------
