@@ -20,7 +20,8 @@ For each size and storage dtype, interleaved in one run (best of ``--repeat``):
   range, add frame offsets, ``bincount`` per 64 frames), kept below as
   ``old_frame_histograms``; and numba's start-up in a new process, which decides the switch;
 - ``calibrate_movie`` and the former implementation (``old_calibrate_movie`` below: the
-  former histograms, raw sums and kept-frame copy around the same alignment and fits),
+  former histograms, raw sums and kept-frame copy around the same alignment, and the
+  former direct power fits), its peak memory (tracemalloc),
   with where the new one spends its time (histograms, alignment in
   ``tactilecal.dynamic``, the fits in ``calibration._methods`` / ``_calibrate``, the rest),
   and on the same recording as a dask array of 16,384-frame blocks (threads; its result
@@ -32,13 +33,16 @@ relative difference of the fitted parameters.
 
 import argparse
 import time
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
+import tactilecal._powerfit as powerfit
 import tactilecal.calibration._movie as movie
 import tactilecal.dynamic  # noqa: F401  (import time is not part of the calibration)
+from tactilecal._powerfit import COMPILED_MIN_POINTS
 from tactilecal.calibration import calibrate_movie, frame_histograms
 from tactilecal.calibration._calibrate import calibrate_arrays
 from tactilecal.calibration._histogram import COMPILED_MIN_VALUES
@@ -125,7 +129,22 @@ def _old_movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_frac
 
 
 def old_calibrate_movie(recording, loads, *, method="power", min_load_fraction=0.02):
-    """``calibrate_movie`` before this change, for a load-cell time series (no options)."""
+    """``calibrate_movie`` before issue 16, for a load-cell time series (no options).
+
+    Its power fits are the direct ones (every trial exponent a product with all 256
+    histogram columns, l1 medians by sorting): the package keeps that path for fits below
+    ``COMPILED_MIN_POINTS`` points, so it is taken here by raising that threshold.
+    """
+    saved = powerfit.COMPILED_MIN_POINTS
+    powerfit.COMPILED_MIN_POINTS = 2 ** 62
+    try:
+        return _old_calibrate_movie(recording, loads, method=method,
+                                    min_load_fraction=min_load_fraction)
+    finally:
+        powerfit.COMPILED_MIN_POINTS = saved
+
+
+def _old_calibrate_movie(recording, loads, *, method, min_load_fraction):
     hist = _old_histograms(recording.data)
     load, _ = _old_movie_loads(recording, hist, loads, lag_s=None, max_lag_s=None)
     signal_N, _ = movie._first_pass_table(hist, load, method, {}, min_load_fraction)
@@ -234,8 +253,10 @@ def run_size(raw, loadcell, dtype, repeat_frames, repeat, with_old_movie):
           f" np.sum {min(t['sum']):.3f} s, as uint64 words {min(t['words']):.3f} s, np.copyto "
           f"{copy}; one pass = the fastest, {base:.3f} s ({values.nbytes / base / 1e9:.1f} GB/s)")
     path = "compiled" if values.size >= COMPILED_MIN_VALUES else "NumPy"
-    print(f"  ({n * 1936:,} readings: frame_histograms and calibrate_movie take the {path} "
-          f"path, the switch is at {COMPILED_MIN_VALUES:,})")
+    movie_path = "compiled" if path == "compiled" or n >= COMPILED_MIN_POINTS else "NumPy"
+    print(f"  ({n * 1936:,} readings: frame_histograms takes the {path} path, the switch is "
+          f"at {COMPILED_MIN_VALUES:,}; calibrate_movie (power, numba loaded for its fit from "
+          f"{COMPILED_MIN_POINTS:,} frames) the {movie_path} one)")
     for name, key in (("frame_histograms, compiled", "hist"),
                       ("  NumPy path", "hist_numpy"), ("  former NumPy version", "hist_old"),
                       ("calibrate_movie", "movie"), ("  former implementation", "movie_old"),
@@ -247,6 +268,12 @@ def run_size(raw, loadcell, dtype, repeat_frames, repeat, with_old_movie):
     if t["movie_old"]:
         print(f"  speed-up: frame_histograms {min(t['hist_old']) / min(t['hist']):.1f} x, "
               f"calibrate_movie {min(t['movie_old']) / min(t['movie']):.2f} x")
+    tracemalloc.start()
+    calibrate_movie(rec, loadcell)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    print(f"  calibrate_movie peak (tracemalloc, numba's work arrays not traced): "
+          f"{peak / 1e6:.0f} MB, {peak / values.nbytes:.2f} x the array")
     total, sec = min(parts, key=lambda p: p[0])
     fits = sec["calibrate_arrays"] + sec["_first_pass_table"]
     rest = total - sec["_histograms"] - sec["_align_loads"] - fits

@@ -161,3 +161,24 @@ def test_real_iscan_movie_against_a_shifted_copy(iscan_csv):
     t_r = np.arange(0.0, float(total.time[-1]) - 1.0, 0.002)  # 500 Hz "load cell"
     cell = _record(t_r, np.interp(t_r + 0.73, total.time.values, total.values), "cell.csv")
     assert abs(estimate_lag(total, cell) - 0.73) < 0.05  # half a frame
+
+
+@pytest.mark.parametrize("sizes", [(40, 25), (25, 40), (30, 30), (3, 7)])
+def test_normalised_xcorr_is_pearson_on_each_lags_overlap(sizes):
+    """Cumulative sums and one FFT give the correlation of the overlapping parts."""
+    from scipy import signal
+
+    from tactilecal.dynamic._align import _normalised_xcorr
+
+    rng = np.random.default_rng(4)
+    s, r = rng.normal(5.0, 1.0, sizes[0]), rng.normal(-2.0, 3.0, sizes[1])
+    got = _normalised_xcorr(s, r, min_overlap=0.5)
+    lags = signal.correlation_lags(s.size, r.size, mode="full")
+    assert got.shape == lags.shape
+    for value, lag in zip(got, lags, strict=True):
+        a = s[max(lag, 0):min(s.size, lag + r.size)]  # s[i] meets r[i - lag]
+        b = r[max(-lag, 0):max(-lag, 0) + a.size]
+        if a.size < 0.5 * min(s.size, r.size) or a.size < 2:
+            assert value == -np.inf
+        else:
+            assert value == pytest.approx(np.corrcoef(a, b)[0, 1], abs=1e-12)

@@ -14,7 +14,8 @@ import numpy as np
 from scipy import optimize
 
 __all__ = ["Fit", "OBJECTIVES", "DEFAULT_OBJECTIVE", "LS_OBJECTIVE", "B_BOUNDS", "LEVELS",
-           "NO_STDERR", "objective_weights", "fit_power", "fit_power_censored",
+           "COMPILED_MIN_POINTS", "NO_STDERR",
+           "objective_weights", "fit_power", "fit_power_censored",
            "check_unsaturated"]
 
 #: Raw levels 0..255 as floats (the columns of a frame histogram).
@@ -127,17 +128,17 @@ def _minimise_b(hist, load_N, objective, b_bounds, n_grid=13, xtol=1e-10, censor
     relative the zero of the cost's derivative in that bracket is found by
     :func:`scipy.optimize.brentq` (each step one product with two columns); for l1, whose
     cost has no derivative everywhere, the bracket is refined by nested grids.
-    ``censored`` is passed to :func:`_power_costs` (l1 only).
-    Returns ``(b, A, cost, n_evaluations)``.
+    ``censored`` is passed to :func:`_power_costs` (l1 only). From
+    :data:`COMPILED_MIN_POINTS` points on, :func:`_minimise_b_many` does the same with two
+    passes over the histograms. Returns ``(b, A, cost, n_evaluations)``.
     """
+    if len(load_N) >= COMPILED_MIN_POINTS:
+        return _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored)
     lo, hi = (float(v) for v in b_bounds)
     grid = np.linspace(lo, hi, n_grid)
     cost, _ = _power_costs(grid, hist, load_N, objective, censored)
     k = int(np.nanargmin(cost))
-    if k in (0, n_grid - 1):
-        raise ValueError(f"power fit: best exponent b = {grid[k]:.3f} is at the edge of "
-                         f"b_bounds {tuple(b_bounds)}; expected an interior optimum "
-                         "(check the loads)")
+    _check_interior(k, grid, b_bounds)
     lo, hi, n_eval = grid[k - 1], grid[k + 1], n_grid
     if objective == "l1":
         while hi - lo > xtol:
@@ -156,6 +157,150 @@ def _minimise_b(hist, load_N, objective, b_bounds, n_grid=13, xtol=1e-10, censor
         else:  # flat or kinked cost: keep the grid's best
             b = float(grid[k])
     cost, A = _power_costs(np.array([b]), hist, load_N, objective, censored)
+    return float(b), float(A[0]), float(cost[0]), n_eval + 1
+
+
+def _check_interior(k, grid, b_bounds):
+    if k in (0, len(grid) - 1):
+        raise ValueError(f"power fit: best exponent b = {grid[k]:.3f} is at the edge of "
+                         f"b_bounds {tuple(b_bounds)}; expected an interior optimum "
+                         "(check the loads)")
+
+
+# ------------------------------------------------------- many points (movie calibration)
+#: Points from which :func:`_minimise_b` reads the histograms only twice and finds the
+#: l1 medians by selection (:mod:`tactilecal._powerfit_kernels`, numba) instead of sorting.
+#: Below it numba's start-up in a new process would cost more than it saves.
+COMPILED_MIN_POINTS = 4096
+
+
+def _chebyshev_basis(lo, hi, rel_error=1e-18):
+    """Chebyshev coefficients of ``LEVELS**b`` over ``lo <= b <= hi``.
+
+    ``k**b = exp(b ln k)`` is entire in b, so its interpolant at J Chebyshev nodes has
+    coefficients falling like ``(x / 2)**j / j!`` with ``x = (hi - lo) / 2 * ln 255``
+    (Trefethen, *Approximation Theory and Approximation Practice*, 2013, ch. 8); J is
+    chosen so that the first one left out, relative to the smallest value ``k**lo``, is
+    below ``rel_error``. Returns ``(coef (256, J), mid, half)``: for
+    ``t = (b - mid) / half``, ``LEVELS**b = coef @ T(t)`` (:func:`_chebyshev_t`).
+    """
+    mid, half = (hi + lo) / 2.0, (hi - lo) / 2.0
+    x = half * LOG_LEVELS[-1]
+    n_terms, term = 1, 1.0
+    while term * np.exp(x) >= rel_error:
+        term *= (x / 2.0) / n_terms
+        n_terms += 1
+    n_terms = max(n_terms, 4)
+    theta = np.pi * (np.arange(n_terms) + 0.5) / n_terms
+    values = LEVELS[:, None] ** (mid + half * np.cos(theta))[None, :]
+    coef = values @ np.cos(np.outer(np.arange(n_terms), theta)).T * (2.0 / n_terms)
+    coef[:, 0] /= 2.0
+    return coef, mid, half
+
+
+def _chebyshev_t(t, n_terms):
+    """``T_j(t)`` and ``T_j'(t)`` for j < n_terms: two (n_terms, len(t)) arrays."""
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    T, dT = np.zeros((n_terms, t.size)), np.zeros((n_terms, t.size))
+    T[0], T[1], dT[1] = 1.0, t, 1.0
+    for j in range(1, n_terms - 1):
+        T[j + 1] = 2.0 * t * T[j] - T[j - 1]
+        dT[j + 1] = 2.0 * T[j] + 2.0 * t * dT[j] - dT[j - 1]
+    return T, dT
+
+
+class _Sums:
+    """``S_T(b)`` (Zvyagin 2022, eq. 2) for exponents in a bracket, from one product.
+
+    ``hist @ coef`` of :func:`_chebyshev_basis` reads the histograms once; every later
+    ``S_T(b) = hist @ LEVELS**b`` in the bracket is then a product with ``T(t(b))``, of
+    about 20 rather than 256 terms, equal to the direct sum to round-off.
+    """
+
+    def __init__(self, hist, lo, hi):
+        coef, self.mid, self.half = _chebyshev_basis(lo, hi)
+        self.moments = coef.T @ hist.T  # (J, n)
+
+    def __call__(self, b_values, slope=False):
+        """(m, n) sums at ``b_values`` (and their derivatives in b if ``slope``)."""
+        from tactilecal._powerfit_kernels import series_sums
+
+        T, dT = _chebyshev_t((np.asarray(b_values) - self.mid) / self.half,
+                             self.moments.shape[0])
+        sums = series_sums(self.moments, T)
+        return (sums, series_sums(self.moments, dT) / self.half) if slope else sums
+
+
+def _costs_many(sums, load_N, objective, censored, window=None):
+    """:func:`_power_costs` of (m, n) ``sums``; l1 medians by :func:`l1_costs`.
+
+    ``window``: (lo, hi) arrays where each exponent's median is expected, default anywhere.
+    """
+    if objective == "l1":
+        from tactilecal._powerfit_kernels import l1_costs
+
+        flags = np.zeros(len(load_N), bool) if censored is None else censored
+        if window is None:
+            window = np.full(len(sums), -np.inf), np.full(len(sums), np.inf)
+        return l1_costs(sums, load_N, flags, *window)
+    w = objective_weights(load_N, objective)
+    w2s = w ** 2 * sums
+    A = (w2s * load_N).sum(axis=1) / (w2s * sums).sum(axis=1)
+    r = w * (A[:, None] * sums - load_N)
+    return (r * r).sum(axis=1), A
+
+
+def _median_window(b_values, grid, A):
+    """Where the l1 medians at ``b_values`` are expected, from A on the last ``grid``.
+
+    A is interpolated (it changes smoothly with b); the window's half width is a twentieth
+    of A's change over the grid step, so that few ratios fall in it.
+    """
+    guess = np.interp(b_values, grid, A)
+    half = 0.05 * np.max(np.abs(np.diff(A))) + 1e-13 * np.abs(guess)
+    return guess - half, guess + half
+
+
+def _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
+    """:func:`_minimise_b` reading the histograms twice, whatever the number of rounds.
+
+    The same rounds as :func:`_minimise_b`: the first grid over ``b_bounds`` with
+    ``hist @ LEVELS**b``; every later exponent lies in that grid's bracket, where
+    :class:`_Sums` gives ``S_T(b)`` from one more product. l1 medians are selected, not
+    sorted (:mod:`tactilecal._powerfit_kernels`). Same results as the direct sums to
+    round-off (``tests/test_powerfit_many.py``).
+    """
+    lo, hi = (float(v) for v in b_bounds)
+    grid = np.linspace(lo, hi, n_grid)
+    cost, A = _costs_many((LEVELS[:, None] ** grid).T @ hist.T, load_N, objective, censored)
+    k = int(np.nanargmin(cost))
+    _check_interior(k, grid, b_bounds)
+    lo, hi, n_eval = grid[k - 1], grid[k + 1], n_grid
+    sums_at = _Sums(hist, lo, hi)
+    if objective == "l1":
+        while hi - lo > xtol:
+            last, last_A, grid = grid, A, np.linspace(lo, hi, n_grid)
+            cost, A = _costs_many(sums_at(grid), load_N, objective, censored,
+                                  _median_window(grid, last, last_A))
+            k, n_eval = int(np.nanargmin(cost)), n_eval + n_grid
+            lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, n_grid - 1)]
+        b = float(grid[k])
+    else:
+        w2 = objective_weights(load_N, objective) ** 2
+
+        def slope(x):  # _cost_slope on the bracket's sums
+            (S,), (dS,) = sums_at([x], slope=True)
+            p, q = np.sum(w2 * S * load_N), np.sum(w2 * S * S)
+            dp, dq = np.sum(w2 * dS * load_N), 2.0 * np.sum(w2 * dS * S)
+            return -(2.0 * p * dp * q - p * p * dq) / (q * q)
+
+        if slope(lo) < 0 < slope(hi):
+            b, info = optimize.brentq(slope, lo, hi, xtol=xtol, full_output=True)
+            n_eval += 2 + info.function_calls
+        else:
+            b = float(grid[k])
+    window = _median_window([b], grid, A) if objective == "l1" else None
+    cost, A = _costs_many(sums_at([b]), load_N, objective, censored, window)
     return float(b), float(A[0]), float(cost[0]), n_eval + 1
 
 

@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._powerfit import COMPILED_MIN_POINTS
 from tactilecal._progress import from_quiet
 from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
@@ -79,8 +80,12 @@ def read_movie_loads(path, *, time_col=None, load_col=None):
     return force_to_N(values, unit) if kind == "force" else mass_to_N(values, unit)
 
 
-def _histograms(values, mask, equilibration, progress):
+def _histograms(values, mask, equilibration, progress, numba_loaded=False):
     """Float64 histograms of all frames (gains applied and mask skipped chunk by chunk).
+
+    ``numba_loaded``: the caller will import numba anyway (a power fit of
+    ``COMPILED_MIN_POINTS`` frames or more), so its start-up no longer speaks against the
+    compiled counting of a movie below ``COMPILED_MIN_VALUES`` readings.
 
     Float64 because every later use is a matrix product; counts are exact in float64.
     ``values`` may be a dask array (a recording larger than memory, perhaps on a cluster):
@@ -93,7 +98,7 @@ def _histograms(values, mask, equilibration, progress):
     prepare = None if equilibration is None else equilibration.apply
     n = len(values)
     hist = np.empty((n, 256))
-    compiled = values.size >= COMPILED_MIN_VALUES  # the whole movie decides
+    compiled = numba_loaded or values.size >= COMPILED_MIN_VALUES  # the whole movie decides
     if _is_dask(values):
         import dask.array as da
 
@@ -363,9 +368,11 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
                          f"{recording.attrs['units']!r}; expected raw readings")
     if isinstance(loads, str | Path):
         loads = read_movie_loads(loads, time_col=time_col, load_col=load_col)
-    dead = find_dead_sensels(recording.values) if mask_dead else None
+    dead = find_dead_sensels(recording.data) if mask_dead else None  # dask: streamed
+    fits_compiled = method in ("power", "piecewise") and \
+        recording.sizes[recording.dims[0]] >= COMPILED_MIN_POINTS  # fit_power's kernels
     hist = _histograms(recording.data, None if dead is None else dead.mask, equilibration,
-                       from_quiet(progress, quiet, "calibrate_movie"))
+                       from_quiet(progress, quiet, "calibrate_movie"), fits_compiled)
     sums = _frame_sums(hist)
     signal_N, first = None, None
     if lag_s is None and isinstance(loads, xr.DataArray) and method in FITTERS:

@@ -30,6 +30,27 @@ def _as_frames(raw, name="raw"):
     return values
 
 
+def _frame_blocks(raw, chunk_frames):
+    """Frames of any real dtype, not copied or loaded, and the bounds of blocks to read.
+
+    A dask array (a recording larger than memory) is read block by block along its own
+    chunks, each computed once; an array in memory in ``chunk_frames`` frames, so that a
+    uint8 movie is never converted to float64 whole.
+    """
+    values = raw.data if hasattr(raw, "dims") else raw  # a DataArray's numpy or dask array
+    if not type(values).__module__.startswith("dask."):
+        values = np.asarray(values)
+    if values.ndim == 2:
+        values = values[None]
+    if values.ndim != 3:
+        raise ValueError(f"raw has {values.ndim} dimensions; expected 3 (frame, row, col)")
+    if hasattr(values, "chunks") and not isinstance(values, np.ndarray):
+        bounds = np.cumsum((0, *values.chunks[0])).tolist()
+    else:
+        bounds = [*range(0, len(values), max(int(chunk_frames), 1)), len(values)]
+    return values, bounds
+
+
 @dataclass(repr=False)
 class NonWorkingSensels(SavedResult):
     """Sensels that never respond although their neighbours do.
@@ -156,14 +177,15 @@ def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=20
 
     Parameters
     ----------
-    raw : array_like or xarray.DataArray, shape (n, rows, cols)
-        Raw frames (NaN for sensels outside the sensor shape).
+    raw : array_like, xarray.DataArray or dask array, shape (n, rows, cols)
+        Raw frames (NaN for sensels outside the sensor shape), any real dtype; a dask
+        array (or a DataArray over one) is read block by block, never whole.
     neighbour_share : float
         Share (0..1] of the existing neighbours that must respond (default all).
     min_frames : int
         Frames of such evidence needed.
     chunk_frames : int
-        Frames processed at once.
+        Frames processed at once (a dask array: its own blocks of frames).
 
     Returns
     -------
@@ -184,14 +206,14 @@ def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=20
         raise ValueError(f"neighbour_share={neighbour_share}; expected a share in (0, 1]")
     if int(min_frames) < 1:
         raise ValueError(f"min_frames={min_frames}; expected an integer >= 1")
-    values = _as_frames(raw)
-    exists = np.isfinite(values[0])
+    values, bounds = _frame_blocks(raw, chunk_frames)
+    exists = np.isfinite(np.asarray(values[0], dtype=float))
     n_exist = ndimage.convolve(exists.astype(int), _NEIGHBOURS, mode="constant")
     ever = np.zeros(exists.shape, bool)
     evidence = np.zeros(exists.shape, int)
     kernel = _NEIGHBOURS[None]
-    for start in range(0, len(values), chunk_frames):
-        responding = values[start:start + chunk_frames] > 0
+    for start, stop in zip(bounds[:-1], bounds[1:], strict=True):
+        responding = np.asarray(values[start:stop]) > 0  # NaN > 0 is False
         ever |= responding.any(axis=0)
         n_resp = ndimage.convolve(responding.astype(int), kernel, mode="constant")
         evidence += (n_resp >= neighbour_share * np.maximum(n_exist, 1)).sum(axis=0)

@@ -82,28 +82,40 @@ def _parabolic_offset(y, i):
 def _normalised_xcorr(x_sens, x_ref, min_overlap):
     """Pearson correlation of the overlapping parts of two records at every lag.
 
-    All sums over the overlap come from FFT correlations (:func:`scipy.signal.correlate`)
-    with windows of ones, so a lag that overlaps only part of the records is judged on
+    The cross products come from one FFT correlation (:func:`scipy.signal.correlate`); the
+    sums and sums of squares over each lag's overlap from cumulative sums
+    (:func:`_overlap_sums`), so a lag that overlaps only part of the records is judged on
     that part alone: the plain correlation of de-meaned finite records is tilted toward
     the lags that overlap their flat (offset) stretches longest, which moved a
-    ramp-and-hold alignment by several frames.
+    ramp-and-hold alignment by several frames. Lags in the order of
+    :func:`scipy.signal.correlation_lags` (``mode="full"``).
     """
     s = x_sens - x_sens.mean()
     r = x_ref - x_ref.mean()
-
-    def corr(a, b):
-        return signal.correlate(a, b, mode="full", method="fft")
-
-    ones_s, ones_r = np.ones(s.size), np.ones(r.size)
-    n = np.rint(corr(ones_s, ones_r))
-    sum_s, sum_r = corr(s, ones_r), corr(ones_s, r)
-    var_s = corr(s * s, ones_r) - sum_s**2 / np.maximum(n, 1)
-    var_r = corr(ones_s, r * r) - sum_r**2 / np.maximum(n, 1)
-    cov = corr(s, r) - sum_s * sum_r / np.maximum(n, 1)
+    lag = np.arange(-(r.size - 1), s.size)  # where r[0] falls on s
+    sum_s, sum_ss, n = _overlap_sums(s, lag, r.size)
+    sum_r, sum_rr, _ = _overlap_sums(r, -lag, s.size)
+    n = np.maximum(n, 1)
+    var_s = sum_ss - sum_s**2 / n
+    var_r = sum_rr - sum_r**2 / n
+    cov = signal.correlate(s, r, mode="full", method="fft") - sum_s * sum_r / n
     tiny = 1e-12 * max(float(s @ s), float(r @ r), 1e-300)
     ok = (n >= min_overlap * min(s.size, r.size)) & (var_s > tiny) & (var_r > tiny)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(ok, cov / np.sqrt(var_s * var_r), -np.inf)
+
+
+def _overlap_sums(x, start, other_size):
+    """Return sums of ``x`` and ``x**2`` over ``x[start:start + other_size]`` and counts.
+
+    The slice is clipped to ``x``. One cumulative sum each replaces an FFT correlation of
+    ``x`` with a window of ones.
+    """
+    lo = np.clip(start, 0, x.size)
+    hi = np.clip(start + other_size, 0, x.size)
+    c1 = np.concatenate([[0.0], np.cumsum(x)])
+    c2 = np.concatenate([[0.0], np.cumsum(x * x)])
+    return c1[hi] - c1[lo], c2[hi] - c2[lo], hi - lo
 
 
 def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where):

@@ -1,0 +1,128 @@
+"""The power fit for many points (movie calibration) equals the direct one to round-off.
+
+``_minimise_b_many`` reads the histograms twice (a grid, then Chebyshev moments) and finds
+l1 medians by selection; ``_minimise_b`` below ``COMPILED_MIN_POINTS`` sums
+``hist @ LEVELS**b`` for every trial exponent and sorts. Both run the same rounds, so they
+must agree to round-off; 1e-9 relative is the tolerance the movie path promises.
+"""
+
+import numpy as np
+import pytest
+
+import tactilecal._powerfit as powerfit
+from tactilecal.calibration import calibrate_movie, find_dead_sensels, frame_histograms
+from tactilecal.simulate import make_sensor, ramp_hold
+
+
+@pytest.fixture(scope="module", params=[(0, 1), (3, 4)], ids=["sensor0", "sensor3"])
+def movie(request):
+    """Histograms and loads of the loaded frames of a simulated ramp-and-hold movie."""
+    sensor_seed, seed = request.param
+    session = ramp_hold(make_sensor("5051", seed=sensor_seed), seed=seed)
+    hist = frame_histograms(session.raw.values).astype(float)
+    keep = (session.load_N > 0.02 * session.load_N.max()) & (hist[:, 1:].sum(axis=1) > 0)
+    return hist[keep], session.load_N[keep], session
+
+
+def _both(hist, load, objective, censored, monkeypatch):
+    monkeypatch.setattr(powerfit, "COMPILED_MIN_POINTS", 0)  # 2,179 points: force each path
+    many = powerfit._minimise_b(hist, load, objective, powerfit.B_BOUNDS, censored=censored)
+    monkeypatch.setattr(powerfit, "COMPILED_MIN_POINTS", 2 ** 62)
+    direct = powerfit._minimise_b(hist, load, objective, powerfit.B_BOUNDS, censored=censored)
+    return many, direct
+
+
+@pytest.mark.parametrize("objective", ["l1", "l2", "relative", "l1-censored"])
+def test_many_points_fit_equals_direct_fit(movie, objective, monkeypatch):
+    hist, load, _ = movie
+    censored = None
+    if objective == "l1-censored":
+        objective, censored = "l1", np.random.default_rng(2).random(len(load)) < 0.05
+    (b, A, cost, n_eval), (b0, A0, cost0, n_eval0) = _both(hist, load, objective, censored,
+                                                           monkeypatch)
+    # the l1 grid stops at a bracket of 1e-10 in b: that is the agreement to expect
+    assert b == pytest.approx(b0, rel=1e-9, abs=0)
+    assert A == pytest.approx(A0, rel=1e-9, abs=0)
+    assert cost == pytest.approx(cost0, rel=1e-9, abs=0)
+    assert n_eval == n_eval0  # the same rounds
+
+
+def test_many_points_fit_raises_at_the_edge_of_b_bounds(movie, monkeypatch):
+    hist, load, _ = movie
+    monkeypatch.setattr(powerfit, "COMPILED_MIN_POINTS", 0)
+    with pytest.raises(ValueError, match="at the edge of b_bounds"):
+        powerfit._minimise_b(hist, load, "l1", (1.3, 4.0))
+
+
+def test_chebyshev_sums_equal_direct_sums(movie):
+    hist, _, _ = movie
+    sums = powerfit._Sums(hist, 0.85, 1.5)
+    b = np.array([0.85, 0.9, 1.16, 1.2345, 1.5])
+    direct = (hist @ powerfit.LEVELS[:, None] ** b).T
+    np.testing.assert_allclose(sums(b), direct, rtol=1e-13, atol=0)
+    _, slope = sums(b, slope=True)
+    np.testing.assert_allclose(slope, (hist @ (powerfit.LEVELS ** b[:, None]
+                                               * powerfit.LOG_LEVELS).T).T,
+                               rtol=1e-11, atol=0)
+
+
+@pytest.mark.parametrize("window", [(-np.inf, np.inf), (0.9, 1.1), (5.0, 6.0)])
+def test_selected_median_equals_sorted_median(window):
+    """With integer weights every sum is exact, so the two must be equal, ties included."""
+    from tactilecal._powerfit_kernels import l1_costs
+
+    rng = np.random.default_rng(3)
+    for n in (1, 2, 7, 30, 1000, 5001):
+        load = rng.integers(1, 40, n).astype(float)
+        sums = rng.integers(1, 30, (3, n)).astype(float)  # ratios with many ties
+        censored = rng.random(n) < 0.3
+        censored[:2] = False
+        m = len(sums)
+        cost, A = l1_costs(sums, load, censored, np.full(m, window[0]), np.full(m, window[1]))
+        for c in range(3):
+            expected = powerfit._censored_median(load / sums[c], sums[c], censored)
+            assert A[c] == expected
+            r = A[c] * sums[c] - load
+            assert cost[c] == pytest.approx(np.abs(np.where(censored, np.maximum(r, 0), r))
+                                            .sum(), rel=1e-12)
+
+
+def test_dead_sensels_of_a_dask_movie_are_found_block_by_block(movie):
+    _, _, session = movie
+    raw = session.raw.copy()
+    raw[:, 7, 9] = 0.0  # a dead sensel inside the loaded area
+    lazy = raw.chunk({"frame": 700})
+    found, streamed = find_dead_sensels(raw), find_dead_sensels(lazy.data)
+    np.testing.assert_array_equal(found.mask, streamed.mask)
+    np.testing.assert_array_equal(found.evidence_frames, streamed.evidence_frames)
+    assert found.mask[7, 9]
+    a = calibrate_movie(raw, session.loadcell, mask_dead=True, lag_s=0.37)
+    b = calibrate_movie(lazy, session.loadcell, mask_dead=True, lag_s=0.37)
+    assert a.params == b.params
+    assert a.details["non_working_sensels"] == b.details["non_working_sensels"]
+
+
+@pytest.mark.parametrize("storage", ["float64", "float32", "uint8", "dask"])
+def test_movie_calibration_is_the_same_on_either_path(movie, storage, monkeypatch):
+    _, _, session = movie
+    raw = session.raw
+    if storage in ("float32", "uint8"):
+        raw = raw.astype(storage)
+    elif storage == "dask":
+        raw = raw.chunk({"frame": 500})
+    # the bootstrap refits (and the intervals from them) run on the same path
+    options = {"n_bootstrap": 8, "n_interval_resamples": 8} if storage == "float64" else {}
+    monkeypatch.setattr(powerfit, "COMPILED_MIN_POINTS", 0)
+    many = calibrate_movie(raw, session.loadcell, **options)
+    monkeypatch.setattr(powerfit, "COMPILED_MIN_POINTS", 2 ** 62)
+    direct = calibrate_movie(raw, session.loadcell, **options)
+    assert many.details["movie"]["lag_s"] == pytest.approx(direct.details["movie"]["lag_s"],
+                                                           rel=1e-9)
+    for key in ("A", "b"):
+        assert many.params[key] == pytest.approx(direct.params[key], rel=1e-9, abs=0)
+    if options:  # refits equal to 1e-9 give spreads (~1e-3 of b) equal to ~1e-6
+        for key in ("A", "b"):
+            assert many.params_stderr[key] == pytest.approx(direct.params_stderr[key],
+                                                            rel=1e-6)
+        assert many.details["prediction_interval"].keys() == \
+            direct.details["prediction_interval"].keys()
