@@ -48,6 +48,10 @@ base = hwm()
 start = time.perf_counter()
 if what == "reader":
     nbytes = tio.read_tekscan(path).nbytes
+elif what == "reader-numba":  # the numba reader alone (what plain files took before)
+    import tactilecal.io._tekscan_read as module
+    module.PLAIN_MAX_BYTES = 0
+    nbytes = tio.read_tekscan(path).nbytes
 elif what == "pandas":
     nbytes = pd.read_csv(path, header=None, engine="c", dtype=np.float64,
                          na_values=["B"]).to_numpy().nbytes
@@ -113,12 +117,15 @@ def interleaved(pairs, repeat):
 
 
 def eager_row(n_frames, export, plain, repeat):
-    r = interleaved({"reader": ("reader", export, 0), "pandas": ("pandas", plain, 0)}, repeat)
-    reader, pandas = r["reader"], r["pandas"]
-    size = export.stat().st_size
-    print(f"{n_frames:>9} {size / 1e6:>9.0f} {reader['nbytes'] / 1e6:>9.0f} "
+    r = interleaved({"reader": ("reader", export, 0), "numba": ("reader-numba", export, 0),
+                     "pandas": ("pandas", plain, 0)}, repeat)
+    reader, numba, pandas = r["reader"], r["numba"], r["pandas"]
+    size, array = export.stat().st_size, reader["nbytes"]
+    print(f"{n_frames:>9} {size / 1e6:>9.0f} {array / 1e6:>9.0f} "
           f"{size / reader['seconds'] / 1e6:>8.0f} {pandas['seconds'] / reader['seconds']:>8.2f}"
-          f" {reader['peak'] / reader['nbytes']:>8.2f} {pandas['peak'] / pandas['nbytes']:>8.2f}")
+          f" {reader['peak'] / array:>8.2f} {pandas['seconds'] / numba['seconds']:>8.2f}"
+          f" {numba['peak'] / array:>8.2f} {pandas['peak'] / pandas['nbytes']:>8.2f}"
+          f" {reader['seconds']:>7.2f} {pandas['seconds']:>7.2f}")
 
 
 def convert_row(n_frames, export, plain, chunks, repeat, folder):
@@ -158,7 +165,8 @@ def main():
         print(f"44 x 44 sensels, best of {args.repeat} interleaved runs, fresh interpreter each")
         print("\nread_tekscan (eager) vs pandas.read_csv on the same numbers")
         print(f"{'frames':>9} {'file MB':>9} {'array MB':>9} {'MB/s':>8} {'x pandas':>8} "
-              f"{'peak/arr':>8} {'pd/arr':>8}")
+              f"{'peak/arr':>8} {'nb x pd':>8} {'nb pk/ar':>8} {'pd/arr':>8} {'s':>7} "
+              f"{'pd s':>7}")
         for n in sizes:
             eager_row(n, *files[n], args.repeat)
         if args.eager_only:

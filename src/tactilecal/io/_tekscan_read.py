@@ -16,12 +16,17 @@ values of whole frames straight into the result (``_tekscan_blocks``). Memory is
 plus one block of bytes; with ``chunks`` the second pass is left to dask, block by block.
 """
 
+import os
+
 import numpy as np
 import xarray as xr
 
 from tactilecal._validate import check_size
 
 __all__ = ["read_tekscan"]
+
+PLAIN_MAX_BYTES = None
+"""Largest data block (bytes after ``ASCII_DATA @@``) the NumPy reader tries; None: any."""
 
 
 def read_tekscan(path, *, chunks=None):
@@ -76,14 +81,27 @@ def read_tekscan(path, *, chunks=None):
     """
     from pathlib import Path
 
-    # numba is imported with the kernels, on the first read (not on ``import tactilecal.io``)
-    from tactilecal.io._tekscan_blocks import check_block_sums, check_stray_f, raise_range
-    from tactilecal.io._tekscan_index import index_export
+    from tactilecal.io._tekscan_layout import read_header
 
     name = str(path)
     chunks = _check_chunks(chunks)
     with open(Path(path), "rb") as f:
-        index = index_export(f, name, whole=chunks is None)
+        head = read_header(f, name)
+        size = os.fstat(f.fileno()).st_size - head.body
+        if chunks is None and (PLAIN_MAX_BYTES is None or size <= PLAIN_MAX_BYTES):
+            # a plain export is read by NumPy alone, without numba's start-up
+            from tactilecal.io._tekscan_numpy import read_plain
+
+            plain = read_plain(f, name, head)
+            if plain is not None:
+                values, index = plain
+                _check_frames(index.numbers, index.times, index.lines, index.header, name)
+                return _recording(values, index)
+        # numba is imported with the kernels, on the first read that needs them
+        from tactilecal.io._tekscan_blocks import check_block_sums, check_stray_f, raise_range
+        from tactilecal.io._tekscan_index import index_export
+
+        index = index_export(f, name, whole=chunks is None, header=head)
         check_stray_f(f, index)
         if chunks is not None:
             check_size(min(chunks, len(index.numbers)) * index.rows * index.cols,
