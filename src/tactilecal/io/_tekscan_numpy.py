@@ -72,10 +72,13 @@ def read_plain(f, name, head):
 
 
 def _read(f, name, head):
-    n_frames = _count_frames(f, head.body)
     per_frame = head.rows * head.cols
+    size = os.fstat(f.fileno()).st_size - head.body
+    n_frames = _header_frames(head)
+    if n_frames is None or 2 * n_frames * per_frame > size:
+        n_frames = _count_frames(f, head.body)
     n_values = max(n_frames, 1) * per_frame
-    if n_values > MAX_VALUES or 2 * n_values > os.fstat(f.fileno()).st_size - head.body:
+    if n_values > MAX_VALUES or 2 * n_values > size:
         raise _NotPlain  # more values than the file has room for (a value and a comma each)
     values = np.empty((max(n_frames, 1), head.rows, head.cols))
     flat = values.reshape(-1)
@@ -86,6 +89,20 @@ def _read(f, name, head):
     if not parts or parts[-1].end is None or any(p.end is not None for p in parts[:-1]):
         raise _NotPlain  # no @@, or F lines after it
     return values, _index(f, name, head, parts, n_frames, raw)
+
+
+def _header_frames(head):
+    """``END_FRAME - START_FRAME + 1`` when both are given and say 2 frames or more, else None.
+
+    Checked at the end (the frame lines found must be as many): a header that does not say
+    how many frames follow (frames missing, or edited) sends the file to the numba reader.
+    """
+    first, last = (head.header.get(key, ("", 0))[0].strip() for key in ("START_FRAME",
+                                                                       "END_FRAME"))
+    if not (first.isascii() and first.isdigit() and last.isascii() and last.isdigit()):
+        return None
+    n = int(last) - int(first) + 1
+    return n if n >= 2 else None
 
 
 def _count_frames(f, body):
