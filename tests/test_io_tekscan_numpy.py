@@ -184,3 +184,15 @@ def test_frames_missing_from_the_numbering_go_to_the_numba_reader(tmp_path, monk
     data = read_tekscan(path)
     assert data.frame.values.tolist() == [1, 2, 4]
     assert data.identical(_numba_read(path, monkeypatch))
+
+
+def test_an_export_above_the_size_limit_goes_to_the_numba_reader(tmp_path, monkeypatch):
+    path = _movie(tmp_path, _raw())
+    expected = read_tekscan(path)
+
+    def refuse(*args):
+        raise AssertionError("the NumPy reader was tried")
+
+    monkeypatch.setattr(_tekscan_numpy, "read_plain", refuse)
+    monkeypatch.setattr(_tekscan_read, "PLAIN_MAX_BYTES", path.stat().st_size // 2)
+    assert read_tekscan(path).identical(expected)

@@ -10,10 +10,15 @@ Layout, as written by Tekscan I-Scan 6.10I and F-Scan 6.33 (the two real exports
     ...
     @@
 
-The file is read twice, in blocks, by numba kernels over its bytes (``_tekscan_kernels``):
-once to index the frames and check the structure (``_tekscan_index``), once to parse the
-values of whole frames straight into the result (``_tekscan_blocks``). Memory is the result
-plus one block of bytes; with ``chunks`` the second pass is left to dask, block by block.
+An export of up to :data:`PLAIN_MAX_BYTES` of data in the plain form every real export seen
+has (whole numbers and ``B``) is read in one pass by NumPy alone (``_tekscan_numpy``), without
+importing numba. Any other file, a larger one and every lazy read go to the numba reader,
+which defines the checks and the messages (the NumPy reader hands over at the first
+departure, raising nothing): the file is read twice, in blocks, by numba kernels over its
+bytes (``_tekscan_kernels``): once to index the frames and check the structure
+(``_tekscan_index``), once to parse the values of whole frames straight into the result
+(``_tekscan_blocks``). Memory is the result plus a few blocks of bytes; with ``chunks`` the
+second pass is left to dask, block by block.
 """
 
 import os
@@ -25,8 +30,14 @@ from tactilecal._validate import check_size
 
 __all__ = ["read_tekscan"]
 
-PLAIN_MAX_BYTES = None
-"""Largest data block (bytes after ``ASCII_DATA @@``) the NumPy reader tries; None: any."""
+PLAIN_MAX_BYTES = 2**27
+"""Largest data block (bytes after ``ASCII_DATA @@``) the NumPy reader tries; None: any.
+
+Below it numba's start-up (import and loading its cached kernels, 0.2-0.6 s once per process)
+outweighs its faster parse; above it the numba reader is the faster (about 1.75x the NumPy
+reader at 100,000 frames of 44 x 44, ``benchmarks/README.md``). 128 MiB is about 19,000
+frames of 44 x 44.
+"""
 
 
 def read_tekscan(path, *, chunks=None):
