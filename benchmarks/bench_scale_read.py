@@ -11,7 +11,8 @@ alternate ``--repeat`` times; the best time and the lowest peak are kept.
 
 * ``read_tekscan`` (eager) against ``pandas.read_csv(plain, engine="c")``: throughput ratio
   (pandas time / reader time; goal >= 1.0) and peak memory / the float64 array (goal <= 1.5;
-  pandas' own ratio printed beside it). Sizes ``--sizes`` (frames).
+  pandas' own ratio printed beside it); also each of its two readers forced at every size
+  (the NumPy reader of plain files, the numba reader). Sizes ``--sizes`` (frames).
 * ``convert`` to Zarr in blocks of ``--chunks`` frames against a streamed
   ``pandas.read_csv(plain, chunksize=...)`` over the same numbers (parse only, nothing
   written): time ratio, and peak memory / one block of float64 (bounded, whatever the file).
@@ -19,7 +20,7 @@ alternate ``--repeat`` times; the best time and the lowest peak are kept.
   frames is about 10 GB of export).
 
 Usage: ``python benchmarks/bench_scale_read.py [--sizes 10000,100000] [--large 300000]
-[--chunks 1000] [--repeat 3] [--folder DIR] [--eager-only]``
+[--chunks 1000] [--repeat 3] [--folder DIR] [--data DIR] [--eager-only]``
 """
 
 import argparse
@@ -47,6 +48,10 @@ what, path, chunks, size = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.a
 base = hwm()
 start = time.perf_counter()
 if what == "reader":
+    nbytes = tio.read_tekscan(path).nbytes
+elif what in ("reader-numba", "reader-numpy"):  # one reader whatever the size
+    import tactilecal.io._tekscan_read as module
+    module.PLAIN_MAX_BYTES = 0 if what == "reader-numba" else None
     nbytes = tio.read_tekscan(path).nbytes
 elif what == "pandas":
     nbytes = pd.read_csv(path, header=None, engine="c", dtype=np.float64,
@@ -89,6 +94,17 @@ def write_files(folder, n_frames, seed=0, distinct=500):
     return export, plain
 
 
+def stored_files(folder, n_frames):
+    """The files of :func:`write_files` in ``folder``, written first if absent."""
+    export, plain = folder / f"movie{n_frames}.csv", folder / f"plain{n_frames}.csv"
+    done = folder / f"movie{n_frames}.done"
+    if not done.exists():
+        folder.mkdir(parents=True, exist_ok=True)
+        write_files(folder, n_frames)
+        done.touch()
+    return export, plain
+
+
 def measure(what, path, chunks, target=""):
     """Run one measurement in a fresh interpreter; return its JSON dict."""
     out = subprocess.run([sys.executable, "-c", CHILD, what, str(path), str(chunks), str(SIZE),
@@ -113,12 +129,18 @@ def interleaved(pairs, repeat):
 
 
 def eager_row(n_frames, export, plain, repeat):
-    r = interleaved({"reader": ("reader", export, 0), "pandas": ("pandas", plain, 0)}, repeat)
-    reader, pandas = r["reader"], r["pandas"]
+    r = interleaved({"reader": ("reader", export, 0), "numpy": ("reader-numpy", export, 0),
+                     "numba": ("reader-numba", export, 0), "pandas": ("pandas", plain, 0)},
+                    repeat)
+    pandas, array = r["pandas"], r["reader"]["nbytes"]
     size = export.stat().st_size
-    print(f"{n_frames:>9} {size / 1e6:>9.0f} {reader['nbytes'] / 1e6:>9.0f} "
-          f"{size / reader['seconds'] / 1e6:>8.0f} {pandas['seconds'] / reader['seconds']:>8.2f}"
-          f" {reader['peak'] / reader['nbytes']:>8.2f} {pandas['peak'] / pandas['nbytes']:>8.2f}")
+    cells = [f"{n_frames:>9} {size / 1e6:>9.0f} {array / 1e6:>9.0f}"]
+    for name in ("reader", "numpy", "numba"):
+        cells.append(f"{pandas['seconds'] / r[name]['seconds']:>8.2f} "
+                     f"{r[name]['peak'] / array:>8.2f}")
+    cells.append(f"{pandas['peak'] / pandas['nbytes']:>8.2f} {r['reader']['seconds']:>7.2f} "
+                 f"{pandas['seconds']:>7.2f}")
+    print(" ".join(cells))
 
 
 def convert_row(n_frames, export, plain, chunks, repeat, folder):
@@ -142,6 +164,9 @@ def main():
     parser.add_argument("--chunks", type=int, default=1000, help="frames per convert block")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--folder", default=None, help="where the files go (default: TMPDIR)")
+    parser.add_argument("--data", default=None,
+                        help="keep the simulated files in this folder and reuse them "
+                             "(1 000 000 frames: 7 GB export + 7 GB CSV)")
     parser.add_argument("--eager-only", action="store_true",
                         help="no convert rows (e.g. to measure a reader without convert)")
     args = parser.parse_args()
@@ -152,13 +177,16 @@ def main():
         large = [args.large] if args.large and not args.eager_only else []
         for n in sizes + large:
             start = time.perf_counter()
-            files[n] = write_files(folder, n)
-            print(f"wrote {n} frames ({files[n][0].stat().st_size / 1e9:.2f} GB) in "
+            files[n] = stored_files(Path(args.data), n) if args.data else write_files(folder, n)
+            print(f"{n} frames ({files[n][0].stat().st_size / 1e9:.2f} GB) ready in "
                   f"{time.perf_counter() - start:.0f} s", file=sys.stderr)
         print(f"44 x 44 sensels, best of {args.repeat} interleaved runs, fresh interpreter each")
         print("\nread_tekscan (eager) vs pandas.read_csv on the same numbers")
-        print(f"{'frames':>9} {'file MB':>9} {'array MB':>9} {'MB/s':>8} {'x pandas':>8} "
-              f"{'peak/arr':>8} {'pd/arr':>8}")
+        print("x pd = pandas time / reader time; pk/ar = peak / float64 array; "
+              "numpy, numba: that reader forced at every size")
+        print(f"{'frames':>9} {'file MB':>9} {'array MB':>9} {'x pd':>8} {'pk/ar':>8} "
+              f"{'numpy xpd':>8} {'pk/ar':>8} {'numba xpd':>8} {'pk/ar':>8} {'pd/arr':>8} "
+              f"{'s':>7} {'pd s':>7}")
         for n in sizes:
             eager_row(n, *files[n], args.repeat)
         if args.eager_only:

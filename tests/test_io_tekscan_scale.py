@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tactilecal.io import _tekscan_index, read_tekscan
+from tactilecal.io import _tekscan_index, _tekscan_read, read_tekscan
 
 
 def _movie(tmp_path, values, *, units="raw", newline="\n", sep=",", fmt=None, name="m.csv",
@@ -71,6 +71,7 @@ def test_blocks_smaller_than_a_line_or_a_frame_read_the_same(tmp_path, monkeypat
     values = _raw_values()
     path = _movie(tmp_path, values, newline=newline, raw_sums=True)
     whole = read_tekscan(path)
+    monkeypatch.setattr(_tekscan_read, "PLAIN_MAX_BYTES", 0)  # the numba reader, not NumPy's
     monkeypatch.setattr(_tekscan_index, "BLOCK_BYTES", block_bytes)
     data = read_tekscan(path)
     np.testing.assert_array_equal(data.values, values)

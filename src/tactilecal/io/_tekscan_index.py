@@ -11,119 +11,51 @@ reported: terminator, lines after it, unknown lines, frame lines, rows per frame
 
 import os
 import re
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from tactilecal._validate import check_size
 from tactilecal.io import _tekscan_kernels as kernels
-from tactilecal.io._header import header_attrs, integer, parse_header_lines
+from tactilecal.io._tekscan_layout import Index, line_text, read_header
 
 __all__ = ["BLOCK_BYTES", "Index", "index_export", "line_text"]
 
 BLOCK_BYTES = 16 * 2**20
 """Bytes read at a time while indexing, and bytes of frames parsed at a time when eager."""
 
-_MARKER = re.compile(rb"^[ \t]*ASCII_DATA[ \t]*@@[ \t]*\r?$", re.MULTILINE)
 _FRAME = re.compile(r"Frame[ \t]+(\d+)[ \t]*(?:,[ \t]*([^,]*?)[ \t]*(?:,|$))?")
 _RAW_SUM = re.compile(r"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)")
-_HEADER_STEP = 2**20
 _COLUMNS = {"starts": np.int64, "lines": np.int64, "counts": np.int64, "numbers": np.int64,
             "times": np.float64, "raw_sums": np.float64}
 _INFO = kernels.INFO_SLOTS
 _STATE = kernels.STATE_SLOTS
 
 
-@dataclass
-class Index:
-    """Where the frames of an export are, and what its header says.
-
-    ``starts[k]`` is the byte offset of frame ``k``'s first line and ``starts[-1]`` that of the
-    ``@@`` terminator, so frame ``k`` is the byte range ``starts[k]:starts[k + 1]``.
-    """
-
-    name: str
-    rows: int
-    cols: int
-    header: dict
-    attrs: dict
-    first_line: int
-    numbers: np.ndarray
-    times: np.ndarray
-    raw_sums: np.ndarray
-    lines: np.ndarray
-    starts: np.ndarray
-    spaced: bool
-    stat: tuple = field(default=())
-    stray_f: tuple | None = None
-
-    @property
-    def raw(self):
-        """True when the values must be raw readings (``UNITS raw``, or no UNITS)."""
-        return self.attrs.get("units") in (None, "raw")
-
-
-def index_export(f, name, *, whole=True):
+def index_export(f, name, *, whole=True, header=None):
     """Index the open export ``f`` (binary); raise the first structural fault found.
 
     ``whole`` (the values will be read into one array) also checks their number against
     :data:`tactilecal._validate.MAX_VALUES`; a lazy read checks each block instead.
+    ``header`` is the file's :class:`~tactilecal.io._tekscan_layout.Header` if already read.
 
     Returns
     -------
     Index
     """
-    raw, marker = _read_header(f, name)
-    header = parse_header_lines(_decode(raw[:marker.start()]).splitlines(), name)
-    header_lines = raw.count(b"\n", 0, marker.start()) + 1
-    for key in ("ROWS", "COLS"):
-        if key not in header:
-            raise ValueError(f"{name} has no {key} line in its header (lines 1-"
-                             f"{header_lines}); expected "
-                             f"'{key} <number of sensel {key.lower()}>'")
-    rows = integer(header, "ROWS", name, minimum=1)
-    cols = integer(header, "COLS", name, minimum=1)
-    attrs = header_attrs(header, name)
-    first_line = raw.count(b"\n", 0, marker.end()) + 1
-    scan = _scan(f, marker.end(), first_line, cols, name)
-    numbers, times, raw_sums, lines = _check_structure(f, scan, first_line, rows, header,
-                                                       name)
+    head = read_header(f, name) if header is None else header
+    rows, cols, first_line = head.rows, head.cols, head.first_line
+    scan = _scan(f, head.body, first_line, cols, name)
+    numbers, times, raw_sums, lines = _check_structure(f, scan, first_line, rows,
+                                                       head.header, name)
     _check_lines(f, scan, rows, cols, lines, name, whole)
-    body = marker.end()
-    starts = scan["starts"] if len(scan["starts"]) else np.array([body])
+    starts = scan["starts"] if len(scan["starts"]) else np.array([head.body])
     stat = os.fstat(f.fileno())
-    return Index(name=name, rows=rows, cols=cols, header=header, attrs=attrs,
+    return Index(name=name, rows=rows, cols=cols, header=head.header, attrs=head.attrs,
                  first_line=first_line, numbers=numbers, times=times, raw_sums=raw_sums,
                  lines=lines, starts=np.append(starts, scan["state"][_STATE["end"]]),
                  spaced=bool(scan["state"][_STATE["spaced"]] == 1),
                  stat=(stat.st_size, stat.st_mtime_ns),
                  stray_f=_slot(scan["info"], "stray_f"))
-
-
-def _decode(header_bytes):
-    try:
-        return header_bytes.decode("utf-8")
-    except UnicodeDecodeError:
-        return header_bytes.decode("cp1252", errors="replace")
-
-
-def _read_header(f, name):
-    """Read up to the ``ASCII_DATA @@`` line; return the bytes read and the marker match."""
-    raw = b""
-    while True:
-        chunk = f.read(_HEADER_STEP if len(raw) < 64 * _HEADER_STEP else len(raw))
-        raw += chunk
-        # the marker line may straddle the previous read: search from the last line start
-        marker = _MARKER.search(raw, max(0, raw.rfind(b"\n", 0, len(raw) - len(chunk))))
-        if marker is not None and (marker.end() < len(raw) or not chunk):
-            return raw, marker
-        if not chunk:
-            break
-    if not raw or raw.isspace():
-        raise ValueError(f"{name} is empty; expected a Tekscan ASCII export "
-                         "('KEY value' header, 'ASCII_DATA @@', frames, '@@')")
-    raise ValueError(f"{name} has no 'ASCII_DATA @@' line (after "
-                     f"{len(raw.splitlines())} lines); expected a Tekscan ASCII export")
 
 
 def _scan(f, offset, first_line, cols, name):
@@ -195,12 +127,6 @@ def _float(text, where):
         return float(text)
     except ValueError:
         raise ValueError(f"{where} is {text!r}; expected a number") from None
-
-
-def line_text(f, offset, length):
-    """Return the first 60 characters of the line at byte ``offset`` (``length`` bytes)."""
-    f.seek(offset)
-    return f.read(length).decode("utf-8", errors="replace")[:60]
 
 
 def _slot(info, key):

@@ -10,11 +10,18 @@ Layout, as written by Tekscan I-Scan 6.10I and F-Scan 6.33 (the two real exports
     ...
     @@
 
-The file is read twice, in blocks, by numba kernels over its bytes (``_tekscan_kernels``):
-once to index the frames and check the structure (``_tekscan_index``), once to parse the
-values of whole frames straight into the result (``_tekscan_blocks``). Memory is the result
-plus one block of bytes; with ``chunks`` the second pass is left to dask, block by block.
+An export of up to :data:`PLAIN_MAX_BYTES` of data in the plain form every real export seen
+has (whole numbers and ``B``) is read in one pass by NumPy alone (``_tekscan_numpy``), without
+importing numba. Any other file, a larger one and every lazy read go to the numba reader,
+which defines the checks and the messages (the NumPy reader hands over at the first
+departure, raising nothing): the file is read twice, in blocks, by numba kernels over its
+bytes (``_tekscan_kernels``): once to index the frames and check the structure
+(``_tekscan_index``), once to parse the values of whole frames straight into the result
+(``_tekscan_blocks``). Memory is the result plus a few blocks of bytes; with ``chunks`` the
+second pass is left to dask, block by block.
 """
+
+import os
 
 import numpy as np
 import xarray as xr
@@ -22,6 +29,15 @@ import xarray as xr
 from tactilecal._validate import check_size
 
 __all__ = ["read_tekscan"]
+
+PLAIN_MAX_BYTES = 2**27
+"""Largest data block (bytes after ``ASCII_DATA @@``) the NumPy reader tries; None: any.
+
+Below it numba's start-up (import and loading its cached kernels, 0.2-0.6 s once per process)
+outweighs its faster parse; above it the numba reader is the faster (about 1.75x the NumPy
+reader at 100,000 frames of 44 x 44, ``benchmarks/README.md``). 128 MiB is about 19,000
+frames of 44 x 44.
+"""
 
 
 def read_tekscan(path, *, chunks=None):
@@ -76,14 +92,27 @@ def read_tekscan(path, *, chunks=None):
     """
     from pathlib import Path
 
-    # numba is imported with the kernels, on the first read (not on ``import tactilecal.io``)
-    from tactilecal.io._tekscan_blocks import check_block_sums, check_stray_f, raise_range
-    from tactilecal.io._tekscan_index import index_export
+    from tactilecal.io._tekscan_layout import read_header
 
     name = str(path)
     chunks = _check_chunks(chunks)
     with open(Path(path), "rb") as f:
-        index = index_export(f, name, whole=chunks is None)
+        head = read_header(f, name)
+        size = os.fstat(f.fileno()).st_size - head.body
+        if chunks is None and (PLAIN_MAX_BYTES is None or size <= PLAIN_MAX_BYTES):
+            # a plain export is read by NumPy alone, without numba's start-up
+            from tactilecal.io._tekscan_numpy import read_plain
+
+            plain = read_plain(f, name, head)
+            if plain is not None:
+                values, index = plain
+                _check_frames(index.numbers, index.times, index.lines, index.header, name)
+                return _recording(values, index)
+        # numba is imported with the kernels, on the first read that needs them
+        from tactilecal.io._tekscan_blocks import check_block_sums, check_stray_f, raise_range
+        from tactilecal.io._tekscan_index import index_export
+
+        index = index_export(f, name, whole=chunks is None, header=head)
         check_stray_f(f, index)
         if chunks is not None:
             check_size(min(chunks, len(index.numbers)) * index.rows * index.cols,

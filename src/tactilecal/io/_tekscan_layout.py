@@ -1,0 +1,117 @@
+"""Header and frame index of a Tekscan ASCII export, in Python and NumPy only (no numba).
+
+:func:`read_header` reads and checks everything up to the ``ASCII_DATA @@`` line;
+:class:`Index` is what both readers of the data (the numba kernels of ``_tekscan_index`` and
+the NumPy parser of ``_tekscan_numpy``) find about the frames. Neither imports numba, so the
+NumPy parser can read a small export without numba's start-up.
+"""
+
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from tactilecal.io._header import header_attrs, integer, parse_header_lines
+
+__all__ = ["Header", "Index", "read_header", "line_text"]
+
+_MARKER = re.compile(rb"^[ \t]*ASCII_DATA[ \t]*@@[ \t]*\r?$", re.MULTILINE)
+_HEADER_STEP = 2**20
+
+
+@dataclass(frozen=True)
+class Header:
+    """The parsed header of an export and where its data begin."""
+
+    header: dict
+    attrs: dict
+    rows: int
+    cols: int
+    first_line: int
+    body: int
+    """Byte offset of the first line after ``ASCII_DATA @@``."""
+
+
+@dataclass
+class Index:
+    """Where the frames of an export are, and what its header says.
+
+    ``starts[k]`` is the byte offset of frame ``k``'s first line and ``starts[-1]`` that of the
+    ``@@`` terminator, so frame ``k`` is the byte range ``starts[k]:starts[k + 1]``.
+    """
+
+    name: str
+    rows: int
+    cols: int
+    header: dict
+    attrs: dict
+    first_line: int
+    numbers: np.ndarray
+    times: np.ndarray
+    raw_sums: np.ndarray
+    lines: np.ndarray
+    starts: np.ndarray
+    spaced: bool
+    stat: tuple = field(default=())
+    stray_f: tuple | None = None
+
+    @property
+    def raw(self):
+        """True when the values must be raw readings (``UNITS raw``, or no UNITS)."""
+        return self.attrs.get("units") in (None, "raw")
+
+
+def read_header(f, name):
+    """Read and check the header of the open export ``f`` (binary) up to ``ASCII_DATA @@``.
+
+    Raises
+    ------
+    ValueError
+        Empty file, no ``ASCII_DATA @@`` line, no ``ROWS``/``COLS`` line, or a header value
+        :func:`~tactilecal.io._header.header_attrs` refuses; messages name the file and line.
+    """
+    raw, marker = _read_header(f, name)
+    header = parse_header_lines(_decode(raw[:marker.start()]).splitlines(), name)
+    header_lines = raw.count(b"\n", 0, marker.start()) + 1
+    for key in ("ROWS", "COLS"):
+        if key not in header:
+            raise ValueError(f"{name} has no {key} line in its header (lines 1-"
+                             f"{header_lines}); expected "
+                             f"'{key} <number of sensel {key.lower()}>'")
+    rows = integer(header, "ROWS", name, minimum=1)
+    cols = integer(header, "COLS", name, minimum=1)
+    attrs = header_attrs(header, name)
+    return Header(header=header, attrs=attrs, rows=rows, cols=cols,
+                  first_line=raw.count(b"\n", 0, marker.end()) + 1, body=marker.end())
+
+
+def _decode(header_bytes):
+    try:
+        return header_bytes.decode("utf-8")
+    except UnicodeDecodeError:
+        return header_bytes.decode("cp1252", errors="replace")
+
+
+def _read_header(f, name):
+    """Read up to the ``ASCII_DATA @@`` line; return the bytes read and the marker match."""
+    raw = b""
+    while True:
+        chunk = f.read(_HEADER_STEP if len(raw) < 64 * _HEADER_STEP else len(raw))
+        raw += chunk
+        # the marker line may straddle the previous read: search from the last line start
+        marker = _MARKER.search(raw, max(0, raw.rfind(b"\n", 0, len(raw) - len(chunk))))
+        if marker is not None and (marker.end() < len(raw) or not chunk):
+            return raw, marker
+        if not chunk:
+            break
+    if not raw or raw.isspace():
+        raise ValueError(f"{name} is empty; expected a Tekscan ASCII export "
+                         "('KEY value' header, 'ASCII_DATA @@', frames, '@@')")
+    raise ValueError(f"{name} has no 'ASCII_DATA @@' line (after "
+                     f"{len(raw.splitlines())} lines); expected a Tekscan ASCII export")
+
+
+def line_text(f, offset, length):
+    """Return the first 60 characters of the line at byte ``offset`` (``length`` bytes)."""
+    f.seek(offset)
+    return f.read(length).decode("utf-8", errors="replace")[:60]

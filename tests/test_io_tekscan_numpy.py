@@ -1,0 +1,198 @@
+"""The NumPy reader of plain exports (issue 16) against the numba reader it stands in for.
+
+Known truth: the numba reader (forced with ``PLAIN_MAX_BYTES = 0``) defines the result and
+every error message; the NumPy reader must give an identical DataArray, or hand the file
+over (``read_plain`` returns None) so that the numba reader's message is raised unchanged.
+"""
+
+import importlib.util
+import random
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tactilecal.io import _tekscan_numpy, _tekscan_read, read_tekscan
+from tactilecal.io._tekscan_layout import read_header
+
+FUZZ = Path(__file__).resolve().parents[1] / "benchmarks" / "fuzz.py"
+
+
+def _numba_read(path, monkeypatch):
+    with monkeypatch.context() as patch:
+        patch.setattr(_tekscan_read, "PLAIN_MAX_BYTES", 0)
+        return read_tekscan(path)
+
+
+def _plain(path):
+    with open(path, "rb") as f:
+        return _tekscan_numpy.read_plain(f, str(path), read_header(f, str(path)))
+
+
+def _outcome(read, path):
+    try:
+        return read(path)
+    except (ValueError, TypeError) as exc:
+        return f"{type(exc).__name__}: {exc}"
+
+
+def _movie(tmp_path, values, *, newline="\n", units="raw", frame_lines=True, name="m.csv"):
+    n, rows, cols = values.shape
+    lines = [f"ROWS {rows}", f"COLS {cols}", f"UNITS {units}", "SECONDS_PER_FRAME 0.01",
+             "START_FRAME 1", f"END_FRAME {n}", "ASCII_DATA @@", ""]
+    for k in range(n):
+        if frame_lines:
+            lines.append(f"Frame {k + 1}, {k * 0.01:.2f},, 1/1/2020 1:00:00.00PM,,,"
+                         f"Raw Sum=,,{np.nansum(values[k]):.0f}")
+        lines += [",".join("B" if np.isnan(v) else str(int(v)) for v in row)
+                  for row in values[k]]
+        lines.append("")
+    path = tmp_path / name
+    path.write_bytes((newline.join(lines + ["@@"]) + newline).encode())
+    return path
+
+
+def _raw(n=12, rows=5, cols=7, seed=0, high=256):
+    values = np.random.default_rng(seed).integers(0, high, size=(n, rows, cols)).astype(float)
+    values[:, 0, :2] = np.nan
+    return values
+
+
+@pytest.mark.parametrize("newline", ["\n", "\r\n"])
+@pytest.mark.parametrize("block_bytes", [1, 37, 1000, 2**21])
+def test_plain_movie_reads_as_the_numba_reader_reads_it(tmp_path, monkeypatch, newline,
+                                                        block_bytes):
+    values = _raw()
+    path = _movie(tmp_path, values, newline=newline)
+    expected = _numba_read(path, monkeypatch)
+    monkeypatch.setattr(_tekscan_numpy, "BLOCK_BYTES", block_bytes)
+    assert _plain(path) is not None  # the NumPy reader took it
+    data = read_tekscan(path)
+    np.testing.assert_array_equal(data.values, values)
+    assert data.identical(expected)
+
+
+@pytest.mark.parametrize("high, units", [(10**4, "kPa"), (10**8, "kPa"), (10**15, "kPa")])
+def test_whole_numbers_of_up_to_15_digits_read_exactly(tmp_path, monkeypatch, high, units):
+    """4, 8 and 15 digits: the 32-bit and 64-bit word paths and the digit-by-digit one."""
+    values = _raw(high=high, seed=3)
+    values[0, 1, :3] = [0, high - 1, 7]
+    path = _movie(tmp_path, values, units=units)
+    assert _plain(path) is not None
+    data = read_tekscan(path)
+    np.testing.assert_array_equal(data.values, values)
+    assert data.identical(_numba_read(path, monkeypatch))
+
+
+def test_single_frame_without_frame_line(tmp_path, monkeypatch):
+    values = _raw(n=1)
+    path = _movie(tmp_path, values, frame_lines=False)
+    assert _plain(path) is not None
+    assert read_tekscan(path).identical(_numba_read(path, monkeypatch))
+
+
+@pytest.mark.parametrize("fixture", ["iscan_csv", "fscan_asf", "fscan_right_asf"])
+def test_real_exports_are_plain_and_read_the_same(request, monkeypatch, fixture):
+    path = request.getfixturevalue(fixture)
+    assert _plain(path) is not None
+    assert read_tekscan(path).identical(_numba_read(path, monkeypatch))
+
+
+@pytest.mark.parametrize("old, new", [
+    (b"\n17,", b"\n17.5,"),           # a decimal
+    (b"\n17,", b"\n+17,"),            # a sign
+    (b"\n17,", b"\n 17,"),            # a space
+    (b",17,", b",1_7,"),              # an underscore
+    (b",17,", b",17\r,"),             # a lone CR
+    (b",17,", b",,"),                 # an empty value
+    (b",17,", b",17,1,"),             # one value too many
+    (b",17,", b",256,"),              # not a raw reading
+    (b"Raw Sum=,,", b"Raw Sum=,,1"),  # a Raw Sum that is not the frame's sum
+    (b"Frame 2,", b"Frame 1,"),       # frame numbers not increasing
+    (b"Frame 2,", b"Frame \xc2\xb2,"),  # not ASCII
+    (b"\n@@", b"\n@@ end"),           # a bad terminator
+    (b"\n@@", b"\nnot a row\n@@"),    # an unknown line
+])
+def test_a_departure_from_the_plain_form_goes_to_the_numba_reader(tmp_path, monkeypatch,
+                                                                   old, new):
+    values = _raw(n=3, rows=4, cols=5)
+    values[:, 1:, :2] = 17
+    path = _movie(tmp_path, values)
+    text = path.read_bytes()
+    assert old in text
+    path.write_bytes(text.replace(old, new, 1))
+    assert _plain(path) is None
+    assert str(_outcome(read_tekscan, path)) == str(
+        _outcome(lambda p: _numba_read(p, monkeypatch), path))
+
+
+def test_huge_rows_and_cols_are_refused_before_allocating(tmp_path):
+    path = _movie(tmp_path, _raw(n=2))
+    path.write_bytes(path.read_bytes().replace(b"ROWS 5", b"ROWS 100000000"))
+    assert _plain(path) is None  # 2e9 values cannot fit in the file: not even allocated
+
+
+@pytest.fixture(scope="module")
+def fuzz():
+    spec = importlib.util.spec_from_file_location("tactilecal_fuzz_numpy", FUZZ)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_mutated_exports_read_or_fail_as_with_the_numba_reader(fuzz, tmp_path, monkeypatch):
+    """300 seeded mutations (byte flips, lines dropped or repeated, lone CR, hostile cells)."""
+    seeds = [path for kind, path in fuzz.make_seeds(tmp_path / "seeds") if kind == "recording"]
+    rng = random.Random(16)
+    taken = 0
+    for k in range(300):
+        source = seeds[k % len(seeds)]
+        mutated, what = fuzz.mutate(rng, "recording", source.read_bytes())
+        path = tmp_path / f"mutant{source.suffix}"
+        path.write_bytes(mutated)
+        try:
+            taken += _plain(path) is not None
+        except ValueError:  # the header is refused: one function for both readers
+            pass
+        ours = _outcome(read_tekscan, path)
+        theirs = _outcome(lambda p: _numba_read(p, monkeypatch), path)
+        if isinstance(ours, str) or isinstance(theirs, str):
+            assert ours == theirs, what
+        else:
+            assert ours.identical(theirs), what
+    assert 30 <= taken <= 270  # both readers were exercised
+
+
+def test_a_plain_export_is_read_without_importing_numba(tmp_path):
+    path = _movie(tmp_path, _raw())
+    code = ("import sys; from tactilecal.io import read_tekscan; "
+            f"read_tekscan({str(path)!r}); print('numba' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_frames_missing_from_the_numbering_go_to_the_numba_reader(tmp_path, monkeypatch):
+    """END_FRAME - START_FRAME + 1 sizes the result; a gap (frames 1, 2, 4) is no plain file."""
+    path = _movie(tmp_path, _raw(n=3))
+    text = path.read_bytes().replace(b"Frame 3,", b"Frame 4,").replace(b"END_FRAME 3",
+                                                                        b"END_FRAME 4")
+    path.write_bytes(text)
+    assert _plain(path) is None
+    data = read_tekscan(path)
+    assert data.frame.values.tolist() == [1, 2, 4]
+    assert data.identical(_numba_read(path, monkeypatch))
+
+
+def test_an_export_above_the_size_limit_goes_to_the_numba_reader(tmp_path, monkeypatch):
+    path = _movie(tmp_path, _raw())
+    expected = read_tekscan(path)
+
+    def refuse(*args):
+        raise AssertionError("the NumPy reader was tried")
+
+    monkeypatch.setattr(_tekscan_numpy, "read_plain", refuse)
+    monkeypatch.setattr(_tekscan_read, "PLAIN_MAX_BYTES", path.stat().st_size // 2)
+    assert read_tekscan(path).identical(expected)
