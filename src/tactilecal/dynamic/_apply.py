@@ -111,14 +111,16 @@ def _native(x):
     return np.ascontiguousarray(x, dtype=dtype)
 
 
-def _chunk(block, filt, precision, method):
+def _chunk(block, filt, precision, method, workers=1):
     """Filter one dask chunk (with its overlap) in memory (direct method, or a whole record).
 
     Rows within the method's reach of the chunk's ends see the reflection of the chunk, not
-    the record; ``map_overlap`` trims exactly those rows.
+    the record; ``map_overlap`` trims exactly those rows. ``workers`` threads: 1 when dask
+    runs several chunks at once (its threads are the parallelism; one per core inside
+    each of them would oversubscribe the cores), -1 for an array of one chunk.
     """
     x2d = np.asarray(block).reshape(block.shape[0], -1)
-    return _apply_array(x2d, filt, -1, None, precision, method).reshape(block.shape)
+    return _apply_array(x2d, filt, workers, None, precision, method).reshape(block.shape)
 
 
 def _extended_rows(x, start, stop, half):
@@ -183,7 +185,7 @@ def _apply_dask(arr, filt, precision, method):
         arr = arr.astype(float)
     if len(arr.chunks[0]) == 1:
         return arr.map_blocks(_chunk, dtype=float, filt=filt, precision=precision,
-                              method=method)
+                              method=method, workers=-1 if arr.npartitions == 1 else 1)
     if plan is not None:
         minimum = plan.factor * (plan.correction.size // 2 + 1)  # stage 2's reach, frames
         if min(arr.chunks[0][:-1]) < minimum:  # else its windows span many chunks
@@ -196,7 +198,8 @@ def _apply_dask(arr, filt, precision, method):
         arr = arr.rechunk({0: _aligned_chunks(arr.shape[0], size, depth)})
     return da.map_overlap(_chunk, arr, depth={0: depth} | {axis: 0 for axis in range(1, arr.ndim)},
                           boundary="none", trim=True, dtype=float, filt=filt,
-                          precision=precision, method="direct")
+                          precision=precision, method="direct",
+                          workers=-1 if arr.npartitions == 1 else 1)
 
 
 def _dask_array(name, layer, chunks, dtype, dependencies):
@@ -562,7 +565,9 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
         convolves with the FIR at the full rate.
     causal : bool
         For a rational filter (``filt.rational``): apply the causal inverse ``1 / H``
-        (second-order sections, :func:`scipy.signal.sosfilt`; for streaming and real time)
+        (second-order sections in transposed direct form II, as
+        :func:`scipy.signal.sosfilt`, run by a numba kernel over whole rows of the
+        recording; for streaming and real time)
         instead of the offline one (default: the centred FIR of ``1 / H``, tapered to 1
         above the band like every filter, so noise above the band is not amplified, through
         the same multirate and dask paths). Zero-phase (log) and ``wiener`` filters have no
