@@ -376,7 +376,8 @@ def main():
                         help="frames per chunk read by the cluster's workers")
     parser.add_argument("--frames", type=int, nargs="+",
                         help="scaling table: the filter at these record lengths (frames), "
-                             "against the baseline and in memory, each size on its own")
+                             "against the baseline and in memory, each size on its own "
+                             "(unless --skip-throughput); --cluster at each of them")
     parser.add_argument("--chunks", type=int, nargs="+", default=[8192],
                         help="dask chunk sizes (frames) of --frames")
     args = parser.parse_args()
@@ -386,7 +387,7 @@ def main():
         throughput(args.seconds, args.subset, args.repeat)
     if args.stages:
         stages(args.seconds, args.repeat)
-    if args.frames:
+    if args.frames and not args.skip_throughput:
         scaling(args.frames, args.chunks, args.repeat)
     if args.cluster:
         for n in args.frames or [int(args.seconds * 4000)]:
