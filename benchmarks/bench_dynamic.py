@@ -1,7 +1,9 @@
 """Benchmark of the dynamic calibration (issues 5 and 16): accuracy on simulated truth, speed.
 
 Run: ``python benchmarks/bench_dynamic.py [--seconds 8] [--seeds 0 1 2] [--skip-accuracy]
-[--skip-throughput] [--stages] [--cluster] [--chunk-frames 8192]``
+[--skip-throughput] [--stages] [--cluster] [--chunk-frames 8192] [--frames 8192 32768 131072
+--chunks 8192 16384 4096]`` (``--frames``: the scaling rows at those record lengths in place
+of the ``--seconds`` throughput, and the cluster at each of them)
 
 Accuracy (Gillis 2013 Table 4.2 sessions from ``tactilecal.simulate``): the full sine sweep
 1..140 Hz (sensor 4000 Hz, load cell 5000 Hz starting ``lag_s`` later, white noise) with a
@@ -376,14 +378,15 @@ def main():
                         help="frames per chunk read by the cluster's workers")
     parser.add_argument("--frames", type=int, nargs="+",
                         help="scaling table: the filter at these record lengths (frames), "
-                             "against the baseline and in memory, each size on its own "
-                             "(unless --skip-throughput); --cluster at each of them")
+                             "against the baseline and in memory, each size on its own, "
+                             "instead of the --seconds throughput (unless "
+                             "--skip-throughput); --cluster at each of them")
     parser.add_argument("--chunks", type=int, nargs="+", default=[8192],
                         help="dask chunk sizes (frames) of --frames")
     args = parser.parse_args()
     if not args.skip_accuracy:
         accuracy(args.seeds)
-    if not args.skip_throughput:
+    if not args.skip_throughput and not args.frames:
         throughput(args.seconds, args.subset, args.repeat)
     if args.stages:
         stages(args.seconds, args.repeat)
