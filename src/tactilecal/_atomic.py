@@ -5,6 +5,7 @@ import glob
 import os
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 
@@ -82,6 +83,62 @@ def dask_tasks_finished():
     with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool, \
             dask.config.set(scheduler=pool):
         yield
+
+
+#: Seconds to wait, after a failure on a distributed client, for the tasks still running.
+DRAIN_TIMEOUT_S = 120.0
+#: Worker task states of a task that runs or may still start (:mod:`distributed`'s
+#: worker state machine); ``memory``, ``error`` and ``released`` ones do not write.
+_LIVE_STATES = frozenset({"waiting", "ready", "constrained", "executing", "long-running",
+                          "cancelled", "resumed", "fetch", "flight"})
+
+
+def distributed_client():
+    """Return the :mod:`dask.distributed` client dask computes on now, or None."""
+    from dask.base import get_scheduler
+
+    owner = getattr(get_scheduler(), "__self__", None)
+    return owner if type(owner).__module__.startswith("distributed") else None
+
+
+def compute_drained(client, delayed, *, timeout_s=DRAIN_TIMEOUT_S):
+    """Compute ``delayed`` on a distributed ``client``; on failure, raise after its tasks.
+
+    The counterpart of :func:`dask_tasks_finished` for :mod:`dask.distributed`: a running
+    task cannot be interrupted, so on an exception the computation is cancelled and the
+    workers are polled until none of its tasks (the future's dependencies, as the
+    scheduler names them after fusion) runs or waits to run, at most ``timeout_s``
+    seconds. A writer's clean-up after that finds no task writing into its temporary
+    output any more.
+    """
+    future = client.compute(delayed)
+    try:
+        return future.result()
+    except BaseException:
+        keys = client.run_on_scheduler(_task_keys, key=future.key)
+        client.cancel(future)
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline and any(
+                client.run(_live_tasks, keys=keys).values()):
+            time.sleep(0.02)
+        raise
+
+
+def _task_keys(dask_scheduler, key):
+    """Keys of task ``key`` and everything it depends on (run on the scheduler)."""
+    stack, seen = [dask_scheduler.tasks.get(key)], set()
+    while stack:
+        ts = stack.pop()
+        if ts is not None and ts.key not in seen:
+            seen.add(ts.key)
+            stack.extend(ts.dependencies)
+    return seen
+
+
+def _live_tasks(dask_worker, keys):
+    """How many of ``keys`` run or may still start on this worker (run on each worker)."""
+    tasks = dask_worker.state.tasks
+    return sum(1 for key in keys if key in tasks and tasks[key].state in _LIVE_STATES)
 
 
 def remove_stale(path):

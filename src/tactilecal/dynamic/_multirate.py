@@ -53,7 +53,9 @@ from tactilecal._numba import njit
 from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
 
 __all__ = ["MultiratePlan", "plan_multirate", "BlockLayout", "apply_multirate",
-           "filter_block", "decimate", "correct", "interpolate", "reflected_margins",
+           "filter_block", "decimate", "fft_length", "fft_columns",
+           "correct", "interpolate",
+           "reflected_margins",
            "run_tasks"]
 
 #: Attenuation (dB) of the anti-aliasing / interpolation low-pass in its stop band.
@@ -344,7 +346,7 @@ def _threads(workers):
 
 
 def decimate(before, rows, after, plan, first, n_lines, *, precision="single", workers=1,
-             reference=None):
+             reference=None, spare=0):
     """Stage 1: the decimated record, sensel-major, and each sensel's sum over it.
 
     Decimated row ``k`` is centred on frame ``first + P k`` of ``rows`` (block
@@ -353,11 +355,13 @@ def decimate(before, rows, after, plan, first, n_lines, *, precision="single", w
     relative to the dynamic part; the correction ``D`` has no DC gain, so the reference
     does not change the result). Returns ``(lines, sums)``: ``(sensels, n_lines)`` of the
     precision's type, and float64 sums (NaN for a sensel with a NaN anywhere under the
-    low-pass).
+    low-pass). ``lines`` has ``spare`` more columns of zeros, so that stage 2's last FFT
+    block reads them in place (:func:`correct`).
     """
     m = rows.shape[1]
     ref = np.array(rows[0] if reference is None else reference, dtype=float)
-    lines = np.empty((m, n_lines), dtype=PRECISIONS[precision])
+    lines = np.empty((m, n_lines + spare), dtype=PRECISIONS[precision])
+    lines[:, n_lines:] = 0
     ranges = _ranges(n_lines, DECIMATED_PER_TASK if _threads(workers) > 1 else max(n_lines, 1))
     sums = np.zeros((max(len(ranges), 1), m))  # one row per task: no shared writes
     tasks = [lambda i=i, a=a, b=b: _decimate_rows(
@@ -367,21 +371,45 @@ def decimate(before, rows, after, plan, first, n_lines, *, precision="single", w
     return lines, sums.sum(axis=0)
 
 
+def fft_length(plan, n_out):
+    """FFT length of stage 2 for ``n_out`` corrected samples (even, 5-smooth).
+
+    One block when the window of ``n_out + 2 half`` samples fits (a dask chunk's window is
+    often shorter than 4 correction lengths, and padding it to that length measured 1.1x
+    slower), else blocks of ``BLOCK_FFT`` samples, at least 4 correction lengths.
+    """
+    window = n_out + 2 * (plan.correction.size // 2)
+    n_fft = fft.next_fast_len(min(window, max(BLOCK_FFT, 4 * plan.correction.size)),
+                              real=True)
+    return n_fft + n_fft % 2  # even, so that the half-spectrum's length gives it back
+
+
+def fft_columns(plan, n_out):
+    """Columns of decimated samples stage 2's FFT blocks span for ``n_out`` outputs.
+
+    At least the ``n_out + 2 half`` it needs; the rest, up to the end of the last block,
+    may hold any finite values (:func:`correct`).
+    """
+    n_fft = fft_length(plan, n_out)
+    step = n_fft - 2 * (plan.correction.size // 2)
+    return (max(-(-n_out // step), 1) - 1) * step + n_fft
+
+
 def correct(lines, plan, n_out, *, workers=1, out=None):
     """Stage 2: ``out[:, q] = sum_j D[j] lines[:, q + j]`` for ``q < n_out``.
 
     Overlap-save FFTs along the (contiguous) lines of ``lines`` (sensel-major, at least
-    ``n_out + 2 half`` columns). ``out`` may be ``lines`` itself: each line's blocks are
-    done left to right and a block's result lands left of the columns the next one reads.
-    Returns ``out[:, :n_out]``.
+    ``n_out + 2 half`` columns). Columns beyond those (any finite values, e.g. the zeros
+    of :func:`decimate`'s ``spare``) are read instead of padding a copy of the last
+    block to the FFT length (:func:`fft_length`). ``out`` may be ``lines`` itself: each
+    line's blocks are done left to right and a block's result lands left of the columns
+    the next one reads. Returns ``out[:, :n_out]``.
     """
     half = plan.correction.size // 2
     m, n_in = lines.shape
     if n_in < n_out + 2 * half:
         raise ValueError(f"stage 2 needs {n_out + 2 * half} decimated rows; got {n_in}")
-    n_fft = fft.next_fast_len(max(min(BLOCK_FFT, n_out + 2 * half),
-                                  4 * plan.correction.size), real=True)
-    n_fft += n_fft % 2  # even, so that the half-spectrum's length gives it back
+    n_fft = fft_length(plan, n_out)
     step = n_fft - 2 * half
     gain = centred_spectrum(plan.correction, n_fft, phase=plan.phase)
     gain = gain.astype(np.result_type(lines.dtype, np.complex64) if plan.phase else lines.dtype)
@@ -390,7 +418,7 @@ def correct(lines, plan, n_out, *, workers=1, out=None):
     def run(s0, s1):
         for t0 in range(0, n_out, step):
             width = min(step, n_out - t0)
-            block = lines[s0:s1, t0:t0 + width + 2 * half]
+            block = lines[s0:s1, t0:min(t0 + n_fft, n_in)]
             spectrum = fft.rfft(block, n=n_fft, axis=-1)
             spectrum *= gain
             y = fft.irfft(spectrum, n=n_fft, axis=-1, overwrite_x=True)
@@ -465,8 +493,9 @@ def filter_block(before, rows, after, offset, plan, *, precision="single", worke
             clock.append(time.perf_counter())
             timings[stage] = clock[-1] - clock[-2]
 
+    spare = fft_columns(plan, layout.corrected) - layout.decimated
     lines, sums = decimate(before, rows, after, plan, layout.first_frame, layout.decimated,
-                           precision=precision, workers=workers)
+                           precision=precision, workers=workers, spare=spare)
     lap("decimate")
     if check is not None:
         check(sums)

@@ -7,7 +7,12 @@ import json
 import numpy as np
 import xarray as xr
 
-from tactilecal._atomic import atomic_path, dask_tasks_finished
+from tactilecal._atomic import (
+    atomic_path,
+    compute_drained,
+    dask_tasks_finished,
+    distributed_client,
+)
 from tactilecal._jsonutil import dumps
 
 __all__ = ["read_netcdf", "write_netcdf"]
@@ -55,11 +60,16 @@ def write_netcdf(data, path):
     if encoded:
         out.attrs[_JSON_ATTRS] = ",".join(encoded)
     engine = _engine()
-    finished = dask_tasks_finished() if out.chunks is not None else contextlib.nullcontext()
     with atomic_path(path, suffix=".nc") as tmp:
         try:
-            with finished:
-                out.to_netcdf(tmp, engine=engine)
+            # the temporary file is removed only after every block stopped writing
+            client = distributed_client() if out.chunks is not None else None
+            if client is not None:
+                compute_drained(client, out.to_netcdf(tmp, engine=engine, compute=False))
+            else:
+                with dask_tasks_finished() if out.chunks is not None else \
+                        contextlib.nullcontext():
+                    out.to_netcdf(tmp, engine=engine)
         except ValueError as exc:
             if engine != "scipy":
                 raise
