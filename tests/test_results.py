@@ -250,9 +250,11 @@ def test_zvyagin_result_is_the_calibrations_method_result(calibrations, tmp_path
 
 
 def test_zvyagin_details_keep_their_keys(calibrations):
-    """The JSON format is unchanged: details hold to_details() and the two stderr keys."""
+    """The JSON format is kept: details hold to_details(), the two stderr keys, and (issue
+    12) every calibration's null params_interval with the stderr_method saying why."""
     cal = calibrations["zvyagin"]
-    expected = set(cal.method_result.to_details()) | {"conditional_stderr", "stderr_note"}
+    expected = set(cal.method_result.to_details()) | {"conditional_stderr", "stderr_note",
+                                                      "params_interval", "stderr_method"}
     assert set(cal.details) == expected
 
 
