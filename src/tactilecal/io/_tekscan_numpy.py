@@ -5,8 +5,8 @@ pandas' whole parse of a 10,000-frame export. This reader needs NumPy only. It r
 export the way the numba reader does, in blocks of whole frames, but with array operations
 over each block's bytes: the line ends (LF), each line's first byte (blank line, ``F`` frame
 line, row of values, ``@@``), the commas of the rows of values, and per value its last one to
-:data:`_MAX_DIGITS` bytes (digits, ``B`` alone), accumulated as ``sum(digit * 10**i)`` in
-integers, exact, so that each value equals ``float(token)``.
+:data:`_MAX_DIGITS` bytes (digits, ``B`` alone), combined in integers (:func:`_whole_numbers`),
+exact, so that each value equals ``float(token)``.
 
 It reads only the *plain* form every real export seen has (``docs/data-model.md``): rows of
 whole numbers and ``B`` separated by single commas, LF or CR LF line ends, frame lines the
@@ -286,8 +286,9 @@ def _whole_numbers(b, stops, length):
 
     Up to 8 digits, the bytes before each stop are loaded as one little-endian word, those
     before the token masked to 0 (leading zeros) and the digits combined pairwise by SWAR
-    multiplications (``x * 10 + (x >> 8)``, then ``* 100`` and ``* 10000``: Lemire,
-    "Quickly parsing eight digits", 2022); longer tokens digit by digit.
+    multiplications (``x * 10 + (x >> 8)``, then ``* 100`` and ``* 10000``; the eight-digit
+    SWAR step of Lemire 2021, "Number parsing at a gigabyte per second", Software: Practice
+    and Experience 51(8)); longer tokens digit by digit.
     """
     width = int(length.max())
     if width > 8:
