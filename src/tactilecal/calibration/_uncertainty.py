@@ -12,7 +12,7 @@ No parameter interval is reported (issue 12: an interval that does not hold 90-9
 removed). Measured on ~50 sessions of each member of :data:`tactilecal.simulate.FAMILY`
 (``python benchmarks/bench_static_family.py --skip-accuracy --coverage 50 --methods
 power,zvyagin --refits 20``), the normal bootstrap interval of b (``b +/- 1.96 sd`` of the
-refits, Efron & Tibshirani eq. 13.2) held the true b in only 0.78 of the sessions on
+refits, Efron & Tibshirani eq. 13.2) held the true b in only 0.80 of the sessions on
 9500-b1.4 and 0.38 on 4010N-noisy (0.82 and 0.42 at 100 refits), for the power method and
 Zvyagin's default alike (whose robust mode ends with the same fit; equal intervals in every
 session): there the best-fitting law itself is biased (gain spread and read noise meeting
