@@ -35,7 +35,7 @@ def test_movie_recovers_law_and_lag(session):
     assert "frames outside the load record" in movie["report"]
 
 
-def test_movie_one_load_per_frame(session, tmp_path):
+def test_movie_one_load_per_frame(session, tmp_path, assert_names_by_bytes):
     path = tmp_path / "loads.csv"
     path.write_text("Load (N)\n" + "\n".join(f"{v:.6f}" for v in session.load_N) + "\n")
     loads = read_movie_loads(path)
@@ -43,6 +43,7 @@ def test_movie_one_load_per_frame(session, tmp_path):
     res = calibrate_movie(session.raw, path)
     assert res.details["movie"]["lag_s"] is None
     assert res.params["b"] == pytest.approx(1.16, abs=0.005)
+    assert_names_by_bytes(res.provenance, [path])  # the movie was made in memory
     path.write_text("Load (N)\n" + "\n".join(f"{v:.6f}" for v in session.load_N[:-1]) + "\n")
     with pytest.raises(ValueError, match="loads have 2399 values and no time column; "
                                          "expected 2400 "):

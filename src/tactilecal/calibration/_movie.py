@@ -16,6 +16,7 @@ import xarray as xr
 
 from tactilecal._powerfit import COMPILED_MIN_POINTS
 from tactilecal._progress import from_quiet
+from tactilecal._provenance import provenance_of
 from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
 from tactilecal.calibration._methods import FITTERS
@@ -366,7 +367,8 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     if recording.attrs.get("units", "raw") != "raw":
         raise ValueError(f"recording {recording.attrs.get('source', '')!r} has units "
                          f"{recording.attrs['units']!r}; expected raw readings")
-    if isinstance(loads, str | Path):
+    files = [loads] if isinstance(loads, str | Path) else []
+    if files:
         loads = read_movie_loads(loads, time_col=time_col, load_col=load_col)
     dead = find_dead_sensels(recording.data) if mask_dead else None  # dask: streamed
     fits_compiled = method in ("power", "piecewise") and \
@@ -399,4 +401,5 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
         result.details["non_working_sensels"] = dead.to_dict()
     if equilibration is not None:
         result.details["equilibration"] = equilibration.to_dict()
+    result.provenance = provenance_of([recording, loads], files=files)
     return result
