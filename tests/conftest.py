@@ -54,3 +54,15 @@ def assert_names_by_bytes():
             for p in paths}
 
     return check
+
+
+@pytest.fixture(scope="session")
+def fuzz():
+    """The fuzzing engine ``benchmarks/fuzz.py`` (a script, so loaded from its file)."""
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "fuzz.py"
+    spec = importlib.util.spec_from_file_location("tactilecal_fuzz", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

@@ -5,23 +5,9 @@ hundred run in seconds, on the real exports when ``../shared/realdata`` is prese
 files tactilecal writes itself either way.
 """
 
-import importlib.util
 import random
-from pathlib import Path
-
-import pytest
 
 from tactilecal.cli import main
-
-ENGINE = Path(__file__).resolve().parents[1] / "benchmarks" / "fuzz.py"
-
-
-@pytest.fixture(scope="module")
-def fuzz():
-    spec = importlib.util.spec_from_file_location("tactilecal_fuzz", ENGINE)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def test_mutated_inputs_give_documented_errors_or_valid_data(fuzz, tmp_path):

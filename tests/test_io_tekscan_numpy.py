@@ -5,19 +5,15 @@ every error message; the NumPy reader must give an identical DataArray, or hand 
 over (``read_plain`` returns None) so that the numba reader's message is raised unchanged.
 """
 
-import importlib.util
 import random
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from tactilecal.io import _tekscan_numpy, _tekscan_read, read_tekscan
 from tactilecal.io._tekscan_layout import read_header
-
-FUZZ = Path(__file__).resolve().parents[1] / "benchmarks" / "fuzz.py"
 
 
 def _numba_read(path, monkeypatch):
@@ -132,14 +128,6 @@ def test_huge_rows_and_cols_are_refused_before_allocating(tmp_path):
     path = _movie(tmp_path, _raw(n=2))
     path.write_bytes(path.read_bytes().replace(b"ROWS 5", b"ROWS 100000000"))
     assert _plain(path) is None  # 2e9 values cannot fit in the file: not even allocated
-
-
-@pytest.fixture(scope="module")
-def fuzz():
-    spec = importlib.util.spec_from_file_location("tactilecal_fuzz_numpy", FUZZ)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def test_mutated_exports_read_or_fail_as_with_the_numba_reader(fuzz, tmp_path, monkeypatch):
