@@ -9,9 +9,10 @@ sensel); and, where present, positive ``sensel_area_mm2``, ``row_spacing_mm``,
 ``col_spacing_mm`` and ``seconds_per_frame``. Raw readings are whole numbers 0..255 (NaN
 outside the sensor's shape); calibrated values are finite and not negative.
 
-The readers produce such arrays; the analysis, calibration and writers check what they are
-given with :func:`check_recording`, so a hand-made array that breaks the model is a
-one-line error naming the recording and the part, not a wrong number further on.
+The readers produce such arrays; the analysis functions and ``CalibrationResult.apply``
+check what they are given with :func:`check_recording`, so a hand-made array that breaks
+the model is a one-line error naming the recording and the part, not a wrong number
+further on.
 """
 
 import numpy as np

@@ -110,7 +110,7 @@ def _source(record):
 
 def provenance_attr(prov):
     """Return ``prov`` as JSON text, for a NetCDF/Zarr attribute (``attrs["provenance"]``)."""
-    return json.dumps(prov, sort_keys=False)
+    return json.dumps(prov)
 
 
 def sidecar_path(path):
