@@ -243,10 +243,12 @@ def test_every_static_output_names_its_inputs_by_their_bytes(session, tmp_path, 
                           [i["path"] for i in cal.provenance["inputs"]])
     assert main(["-q", "apply", str(cal_path), str(session["recording"]), "--out",
                  str(nc)]) == 0
-    assert_names_by_bytes(json.loads(read_netcdf(nc).attrs["provenance"]),
-                          [session["recording"]])
+    applied = json.loads(read_netcdf(nc).attrs["provenance"])
+    assert_names_by_bytes(applied, [session["recording"]])
+    assert applied["options"] == {"units": "kPa"}
     table = tmp_path / "summary.csv"
     assert main(["-q", "analyze", str(nc), "--out", str(table)]) == 0
     capsys.readouterr()
-    assert_names_by_bytes(json.loads((tmp_path / "summary.provenance.json").read_text()),
-                          [nc])
+    side = json.loads((tmp_path / "summary.provenance.json").read_text())
+    assert_names_by_bytes(side, [nc])
+    assert side["options"] == {"cal": None, "threshold_kPa": 0.0}

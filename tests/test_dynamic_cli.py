@@ -73,6 +73,7 @@ def test_apply_csv_keeps_columns(files, filter_json, assert_names_by_bytes):
     assert after["Force (N)"].std() > before["Force (N)"].std()  # dynamic part restored
     side = json.loads((files["d"] / "corrected.provenance.json").read_text())
     assert_names_by_bytes(side, [files["blind_sensor"]])
+    assert side["options"] == {"method": "auto", "causal": False}
     assert side["dynamic_filter"]["A"] == json.loads(filter_json.read_text())["A"]
 
 
@@ -91,7 +92,9 @@ def test_apply_netcdf_every_sensel(files, filter_json, assert_names_by_bytes):
     span = float(np.ptp(rec.values))
     np.testing.assert_allclose(back.values, expected.values, atol=5e-6 * span)  # float32 FFTs
     assert "dynamic_filter" in back.attrs
-    assert_names_by_bytes(json.loads(back.attrs["provenance"]), [src])
+    prov = json.loads(back.attrs["provenance"])
+    assert_names_by_bytes(prov, [src])
+    assert prov["options"] == {"method": "auto", "causal": False, "chunk_frames": 5000}
 
 
 def test_fit_sums_a_recording(files, tmp_path):

@@ -33,6 +33,7 @@ def _traced(stored, source):
     """Check the output names the export it came from by its bytes; return it without that."""
     prov = json.loads(stored.attrs.pop("provenance"))
     assert prov["inputs"][0]["sha256"] == hashlib.sha256(source.read_bytes()).hexdigest()
+    assert set(prov["options"]) == {"chunks"}
     return stored
 
 

@@ -73,7 +73,7 @@ def provenance(files, sensors=()):
     return out
 
 
-def provenance_of(records=(), files=()):
+def provenance_of(records=(), files=(), options=None):
     """Return the provenance of a result computed from ``records`` (and more ``files``).
 
     Parameters
@@ -85,15 +85,19 @@ def provenance_of(records=(), files=()):
         Objects without attributes (plain arrays) add nothing.
     files : iterable of path
         Further input files (a manifest, a filter).
+    options : dict, optional
+        The options the result was computed with (stored as ``options``), for outputs that
+        do not record them otherwise (a CSV table, a filtered NetCDF).
 
     Returns
     -------
     dict
-        As :func:`provenance`.
+        As :func:`provenance`, plus ``options`` when given.
     """
     records = [r for r in records if hasattr(r, "attrs")]
     sources = [_source(r) for r in records]
-    return provenance([*files, *filter(None, sources)], [sensor_of(r.attrs) for r in records])
+    out = provenance([*files, *filter(None, sources)], [sensor_of(r.attrs) for r in records])
+    return out if options is None else {**out, "options": dict(options)}
 
 
 def _source(record):

@@ -196,7 +196,8 @@ class CalibrationResult(SavedResult):
         out.attrs = {**recording.attrs, "units": units, "calibration_method": self.method,
                      "calibration_json": self.to_json_text(),
                      "saturation_pressure_kPa": float(self.saturation_pressure_kPa),
-                     "provenance": provenance_attr(provenance_of([recording]))}
+                     "provenance": provenance_attr(provenance_of([recording],
+                                                                 options={"units": units}))}
         return out
 
     def _check_sensor(self, recording, source):

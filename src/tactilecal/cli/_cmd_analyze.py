@@ -42,7 +42,8 @@ def run(args):
     if args.out:
         with atomic_path(args.out) as tmp:
             table.to_csv(tmp, index=False)
-        inputs = provenance_of([recording], files=[args.cal] if args.cal else [])
+        inputs = provenance_of([recording], files=[args.cal] if args.cal else [],
+                               options={"cal": args.cal, "threshold_kPa": args.threshold_kpa})
         side = write_sidecar(args.out, inputs)
         info(args, f"per-frame table written to {args.out} (provenance: {side})")
     bar.update()

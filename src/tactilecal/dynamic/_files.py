@@ -57,7 +57,8 @@ def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progr
     table[value_cols] = np.asarray(filtered.values)
     with atomic_path(out) as tmp:
         table.to_csv(tmp, index=False, float_format="%.10g")
-    write_sidecar(out, {**provenance_of([series]), "dynamic_filter": filt.to_dict()})
+    write_sidecar(out, {**provenance_of([series], options={"method": method, "causal": causal}),
+                        "dynamic_filter": filt.to_dict()})
     return len(value_cols), len(table)
 
 
@@ -92,7 +93,8 @@ def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=Fa
     if lazy and data.dims and data.dims[0] in data.chunksizes:
         data = data.chunk({data.dims[0]: chunk_frames})
     out = apply_filter(data, filt, progress=progress, method=method, causal=causal)
-    out.attrs["provenance"] = provenance_attr(provenance_of([data]))
+    options = {"method": method, "causal": causal, "chunk_frames": chunk_frames}
+    out.attrs["provenance"] = provenance_attr(provenance_of([data], options=options))
     return out
 
 

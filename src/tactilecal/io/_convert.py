@@ -68,7 +68,7 @@ def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES):
     """
     _check_suffix(target)
     data = read_tekscan(source, chunks=chunks)
-    data.attrs["provenance"] = provenance_attr(provenance_of([data]))
+    data.attrs["provenance"] = provenance_attr(provenance_of([data], options={"chunks": chunks}))
     write_lazy(data, target)
     return data
 
