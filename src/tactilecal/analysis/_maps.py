@@ -8,10 +8,9 @@ dask-backed arrays) and returns a DataArray with dim ``frame`` and the recording
 import numpy as np
 import xarray as xr
 
+from tactilecal._model import check_recording
 from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.analysis._units import (
-    _check_dims,
-    _units,
     force_map_N,
     pressure_map_kPa,
     saturated_sensels,
@@ -56,9 +55,9 @@ def loaded_mask(recording, *, threshold_kPa=0.0, calibration=None):
         If ``threshold_kPa`` is negative, or non-zero for a raw recording without
         calibration.
     """
-    _check_dims(recording)
+    _, kind = check_recording(recording)
     threshold_kPa = _non_negative("threshold_kPa", threshold_kPa)
-    if _units(recording)[1] == "raw" and calibration is None:
+    if kind == "raw" and calibration is None:
         if threshold_kPa != 0:
             raise ValueError(f"threshold_kPa is {threshold_kPa!r} but the recording is raw "
                              "and no calibration was given; expected 0 (loaded = raw > 0)")

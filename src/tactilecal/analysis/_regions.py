@@ -4,10 +4,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._model import check_recording, recording_name
 from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.analysis._units import (
-    _check_dims,
-    _name,
     force_map_N,
     pressure_map_kPa,
     sensel_area_mm2,
@@ -25,7 +24,7 @@ def _plane_mask(recording, mask, what):
     if values.dtype != bool or values.shape != shape:
         raise ValueError(f"{what} has dtype {values.dtype} and shape {values.shape}; "
                          f"expected a boolean array of shape {shape} (rows, cols) "
-                         f"of {_name(recording)}")
+                         f"of {recording_name(recording)}")
     return xr.DataArray(values, dims=("row", "col"),
                         coords={"row": recording["row"], "col": recording["col"]})
 
@@ -60,13 +59,13 @@ def select_region(recording, region):
     >>> float(select_region(rec, (0, 2, 1, 3)).sum())
     4.0
     """
-    _check_dims(recording)
+    check_recording(recording)
     if isinstance(region, tuple) and len(region) == 4 and not np.asarray(region).dtype == bool:
         r0, r1, c0, c1 = (int(v) for v in region)
         rows, cols = recording.sizes["row"], recording.sizes["col"]
         if not (0 <= r0 < r1 <= rows and 0 <= c0 < c1 <= cols):
             raise ValueError(f"region box {region} is empty or outside the {rows} x {cols} "
-                             f"sensels of {_name(recording)}; expected 0 <= row_start < "
+                             f"sensels of {recording_name(recording)}; expected 0 <= row_start < "
                              "row_stop <= rows and 0 <= col_start < col_stop <= cols")
         mask = np.zeros((rows, cols), dtype=bool)
         mask[r0:r1, c0:c1] = True
@@ -157,7 +156,7 @@ def _window_shape(recording, window, area_mm2):
     h, w = (int(v) for v in window)
     if not (1 <= h <= rows and 1 <= w <= cols):
         raise ValueError(f"window of {h} x {w} sensels does not fit the {rows} x {cols} "
-                         f"sensels of {_name(recording)}; expected 1..{rows} rows and "
+                         f"sensels of {recording_name(recording)}; expected 1..{rows} rows and "
                          f"1..{cols} columns")
     return h, w
 

@@ -19,15 +19,6 @@ SATURATION_TOLERANCE = 1e-3
 (exports round pressures, e.g. 1514 kPa for a saturation pressure of 1514.73 kPa)."""
 
 
-def _name(recording):
-    return recording_name(recording)
-
-
-def _units(recording):
-    """Return ``(unit, kind)`` of a recording: kind is raw, pressure or force."""
-    return recording_units(recording)
-
-
 def saturated_sensels(recording):
     """Count the saturated sensels of every frame, and say by which rule.
 
@@ -44,7 +35,7 @@ def saturated_sensels(recording):
     """
     from tactilecal._units import pressure_to_kPa
 
-    unit, kind = _units(recording)
+    unit, kind = recording_units(recording)
     if kind == "raw":
         return (recording >= 255).sum(("row", "col")), "raw value 255"
     limit_kPa = recording.attrs.get("saturation_pressure_kPa")
@@ -54,11 +45,6 @@ def saturated_sensels(recording):
     threshold = float(limit_kPa) / pressure_to_kPa(1.0, unit) * (1 - SATURATION_TOLERANCE)
     return ((recording >= threshold).sum(("row", "col")),
             f"value >= {threshold:.6g} {unit} (saturation pressure - 0.1 %)")
-
-
-def _check_dims(recording):
-    """Check the recording against the data model (dims, coordinates, units, attributes)."""
-    check_recording(recording)
 
 
 def sensel_area_mm2(recording):
@@ -86,7 +72,7 @@ def spacing_mm(recording):
 def _calibrated(recording, calibration, units):
     """Apply ``calibration`` (object with ``apply`` or a JSON path) to a raw recording."""
     if calibration is None:
-        raise ValueError(f"{_name(recording)}: units are 'raw'; give a calibration "
+        raise ValueError(f"{recording_name(recording)}: units are 'raw'; give a calibration "
                          "(calibration=... or --cal CAL.json) to get pressure or force")
     if not hasattr(calibration, "apply"):
         from tactilecal.calibration import load_calibration
@@ -130,10 +116,9 @@ def force_map_N(recording, *, calibration=None):
     >>> float(force_map_N(rec).sum())
     10.0
     """
-    _check_dims(recording)
     from tactilecal._units import force_to_N, pressure_to_kPa
 
-    unit, kind = _units(recording)
+    unit, kind = check_recording(recording)
     if kind == "raw":
         return force_map_N(_calibrated(recording, calibration, "N"))
     if kind == "force":
@@ -174,10 +159,9 @@ def pressure_map_kPa(recording, *, calibration=None):
     >>> float(pressure_map_kPa(rec)[0, 0, 0])
     2000.0
     """
-    _check_dims(recording)
     from tactilecal._units import force_to_N, pressure_to_kPa
 
-    unit, kind = _units(recording)
+    unit, kind = check_recording(recording)
     if kind == "raw":
         return pressure_map_kPa(_calibrated(recording, calibration, "kPa"))
     if kind == "pressure":
