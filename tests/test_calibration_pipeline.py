@@ -252,3 +252,19 @@ def test_every_static_output_names_its_inputs_by_their_bytes(session, tmp_path, 
     side = json.loads((tmp_path / "summary.provenance.json").read_text())
     assert_names_by_bytes(side, [nc])
     assert side["options"] == {"cal": None, "threshold_kPa": 0.0}
+
+
+def test_a_file_changed_since_it_was_hashed_is_hashed_again(tmp_path):
+    """The digest is kept per (path, size, mtime): a rewritten file never keeps its old one."""
+    import hashlib
+    import os
+
+    from tactilecal._provenance import file_provenance
+
+    path = tmp_path / "rec.csv"
+    path.write_bytes(b"frame 1")
+    assert file_provenance(path)["sha256"] == hashlib.sha256(b"frame 1").hexdigest()
+    path.write_bytes(b"frame 2")  # same size
+    later = path.stat().st_mtime_ns + 10 ** 9
+    os.utime(path, ns=(later, later))
+    assert file_provenance(path)["sha256"] == hashlib.sha256(b"frame 2").hexdigest()

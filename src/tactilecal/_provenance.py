@@ -6,6 +6,7 @@ be traced back to the bytes it came from) and on which sensor: the export header
 (``tekscan_HARDWARE`` in the recording's attributes).
 """
 
+import functools
 import hashlib
 import json
 from datetime import UTC, datetime
@@ -20,17 +21,28 @@ __all__ = ["file_provenance", "sensor_of", "provenance", "provenance_of", "prove
 
 
 def file_provenance(path):
-    """Absolute path, size, modification time (UTC) and SHA-256 of a file."""
+    """Absolute path, size, modification time (UTC) and SHA-256 of a file.
+
+    A file read twice in one process (a recording that is calibrated and then summarised,
+    a manifest calibrated and validated) is hashed once: the digest is kept for as long as
+    the file's size and modification time (in ns) stay the same.
+    """
     path = Path(path).resolve()
-    digest = hashlib.sha256()
-    with path.open("rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            digest.update(block)
     stat = path.stat()
     return {"path": str(path), "size_bytes": stat.st_size,
             "modified_utc": datetime.fromtimestamp(stat.st_mtime, UTC).isoformat(
                 timespec="seconds"),
-            "sha256": digest.hexdigest()}
+            "sha256": _sha256(str(path), stat.st_size, stat.st_mtime_ns)}
+
+
+@functools.lru_cache(maxsize=1024)
+def _sha256(path, size_bytes, mtime_ns):
+    """SHA-256 of ``path`` (its size and mtime are part of the cache key only)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
 
 
 def sensor_of(attrs):
