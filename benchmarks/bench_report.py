@@ -10,25 +10,16 @@ report draws), so the ratio says what the figures and the page cost on top.
 
 import argparse
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from _timing import run_times
 
 from tactilecal.analysis import summary
 from tactilecal.calibration import calibrate, points_from_frames
 from tactilecal.report import write_report
 from tactilecal.simulate import deadweight_session, make_sensor, ramp_hold
-
-
-def _best(fn, repeat):
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def main():
@@ -45,9 +36,9 @@ def main():
     session = deadweight_session(sensor, n_patches=40, seed=2)
     cal = calibrate(points_from_frames(session.raw, session.load_N), method="power")
     out = Path(tempfile.mkdtemp()) / "report.html"
-    base = _best(lambda: summary(cal.apply(rec)).compute(), args.repeat)
+    base = run_times(lambda: summary(cal.apply(rec)).compute(), args.repeat).min()
     for label, kw in (("calibrated", {"calibration": cal}), ("raw", {})):
-        took = _best(lambda kw=kw: write_report([rec], out, **kw), args.repeat)
+        took = run_times(lambda kw=kw: write_report([rec], out, **kw), args.repeat).min()
         print(f"{args.frames} frames {label}: write_report {took:.2f} s, "
               f"{took / base:.1f}x analysis.summary ({base:.2f} s), page "
               f"{out.stat().st_size / 1e6:.1f} MB")
