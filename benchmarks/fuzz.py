@@ -37,14 +37,14 @@ from pathlib import Path
 import numpy as np
 
 from tactilecal.calibration import (
+    Equilibration,
     calibrate,
     equilibrate,
     load_calibration,
-    load_equilibration,
     load_points,
     points_from_frames,
 )
-from tactilecal.dynamic import CorrectionFilter, RationalModel, load_filter
+from tactilecal.dynamic import CorrectionFilter, RationalModel
 from tactilecal.io import read_tekscan, read_timeseries
 from tactilecal.simulate import deadweight_session, make_sensor
 
@@ -299,8 +299,8 @@ READERS = {
     "manifest": (load_points, _check_points),
     "timeseries": (read_timeseries, _check_series),
     "calibration": (load_calibration, _check_calibration),
-    "equilibration": (load_equilibration, _check_equilibration),
-    "filter": (load_filter, _check_filter),
+    "equilibration": (Equilibration.from_json, _check_equilibration),
+    "filter": (CorrectionFilter.from_json, _check_filter),
 }
 
 

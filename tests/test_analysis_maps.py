@@ -189,16 +189,16 @@ def test_cof_path_and_peak_map_figures():
     rec = moving_patch()
     s = analysis.summary(rec)
     # default threshold 5 % of the 18 N peak: the 5 loaded frames of 6
-    ax = analysis.plot_cof_path(s)
+    ax = rec.tactile.plot_cof_path(summary=s)
     assert ax.get_title() == "5 of 6 frames with force >= 0.9 N"
-    assert analysis.plot_cof_path(s, min_force_N=10.0).get_title() == (
+    assert rec.tactile.plot_cof_path(summary=s, min_force_N=10.0).get_title() == (
         "3 of 6 frames with force >= 10 N")
-    peak = analysis.plot_pressure_map(rec)
+    peak = rec.tactile.plot_pressure_map()
     shown = peak.images[0].get_array()
     # row r is loaded in frames k = r-2..r at 50 (k + 1) kPa: its peak is 50 (min(r, 4) + 1)
     expected = 50.0 * (np.minimum(np.arange(7), 4) + 1)
     np.testing.assert_allclose(shown[:7, 2:6], np.repeat(expected[:, None], 4, axis=1))
     assert np.nanmax(shown[7:]) == 0.0 and peak.get_title() == "peak over all frames"
     raw = rec.fillna(0.0).clip(max=255).assign_attrs(units="raw")
-    raw_map = analysis.plot_pressure_map(raw)
+    raw_map = raw.tactile.plot_pressure_map()
     assert raw_map.images[0].colorbar.ax.get_ylabel() == "raw reading"

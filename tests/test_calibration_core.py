@@ -326,18 +326,11 @@ def test_plots_return_axes():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from tactilecal.calibration import (
-        plot_calibration_curve,
-        plot_error_histogram,
-        plot_points,
-    )
-
     raw = _patches(20)
     raw[0, 5, 5] = 255
     res = calibrate(points_from_frames(raw, _power_loads(raw), sensel_area_mm2=1.6),
                     method="power")
-    for fn in (plot_calibration_curve, plot_points, plot_error_histogram):
-        ax = fn(res)
+    for ax in (res.plot_curve(), res.plot_points(), res.plot_error_histogram()):
         assert ax.has_data()
         plt.close(ax.figure)
 

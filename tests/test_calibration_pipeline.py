@@ -12,11 +12,11 @@ import pytest
 
 from tactilecal.calibration import (
     METHODS,
+    Equilibration,
     NonWorkingSensels,
     calibrate,
     equilibrate,
     find_dead_sensels,
-    load_equilibration,
     load_points,
 )
 from tactilecal.calibration._manifest import load_frames
@@ -79,7 +79,7 @@ def test_cli_and_python_give_the_same_numbers(session, method, capsys):
 
 
 def test_preprocessing_is_recorded_and_applied(session):
-    eq = load_equilibration(session["eq"])
+    eq = Equilibration.from_json(session["eq"])
     dead = find_dead_sensels(load_frames(session["manifest"], equilibration=eq))
     assert dead.mask.any()  # the simulated sensor's dead sensels under the pads
     by_path = calibrate(session["manifest"], method="power", equilibration=session["eq"],
@@ -102,7 +102,7 @@ def test_preprocessing_is_recorded_and_applied(session):
 
 
 def test_mask_kinds_agree(session):
-    eq = load_equilibration(session["eq"])
+    eq = Equilibration.from_json(session["eq"])
     dead = find_dead_sensels(load_frames(session["manifest"], equilibration=eq))
     results = [calibrate(session["manifest"], method="power", equilibration=eq, mask=mask)
                for mask in ("detect", dead, dead.mask)]
@@ -140,7 +140,7 @@ def test_validate_reads_a_manifest_with_the_recorded_gains(session):
     from tactilecal.calibration import validate
 
     result = calibrate(session["manifest"], method="power", equilibration=session["eq"])
-    eq = load_equilibration(session["eq"])
+    eq = Equilibration.from_json(session["eq"])
     by_path = validate(result, session["manifest"])
     by_hand = validate(result, load_points(session["manifest"], equilibration=eq))
     without = validate(result, load_points(session["manifest"]))

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 from tactilecal.calibration import (
+    Equilibration,
     calibrate,
     equilibrate,
     find_dead_sensels,
-    load_equilibration,
     points_from_frames,
     validate,
 )
@@ -51,7 +51,7 @@ def test_equilibration_recovers_gains(tmp_path):
         assert lv["cv_after"] < 0.2 * lv["cv_before"]
     path = tmp_path / "eq.json"
     eq.to_json(path)
-    back = load_equilibration(path)
+    back = Equilibration.from_json(path)
     np.testing.assert_allclose(back.gain, eq.gain)
     out = back.apply(raw.values[:1])
     assert np.isnan(out[0][sensor.dead]).all() and np.nanmax(out) <= 255
@@ -85,7 +85,7 @@ def test_equilibration_errors(tmp_path):
     bad = tmp_path / "x.json"
     bad.write_text('{"kind": "calibration"}')
     with pytest.raises(ValueError, match="x.json is not an equilibration JSON"):
-        load_equilibration(bad)
+        Equilibration.from_json(bad)
     bad.write_text("[")
     with pytest.raises(ValueError, match="x.json: not valid JSON"):
-        load_equilibration(bad)
+        Equilibration.from_json(bad)

@@ -7,7 +7,7 @@ import pytest
 from tactilecal.calibration import calibrate, load_calibration, points_from_frames
 from tactilecal.cli import main
 from tactilecal.simulate import deadweight_session, make_sensor
-from tactilecal.zvyagin import compare_table, plot_pair_chart
+from tactilecal.zvyagin import compare_table
 from tactilecal.zvyagin._plots import as_zvyagin_result
 
 
@@ -51,7 +51,7 @@ def test_plot_bad_arguments(cal_files, tmp_path, capsys):
     assert main(["plot", str(cal_files["power"]), "--out", str(tmp_path), "--dpi", "0"]) == 1
     assert "argument --dpi: '0'; expected a finite number > 0" in capsys.readouterr().err
     with pytest.raises(ValueError, match=r"method 'power' has no Zvyagin details"):
-        plot_pair_chart(load_calibration(cal_files["power"]))
+        as_zvyagin_result(load_calibration(cal_files["power"]))
 
 
 def test_compare_table_and_curves(cal_files, tmp_path, capsys):

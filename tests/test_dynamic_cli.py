@@ -86,9 +86,9 @@ def test_apply_netcdf_every_sensel(files, filter_json, assert_names_by_bytes):
                  "--chunk-frames", "5000"]) == 0
     back = read_netcdf(out)
     assert back.dims == rec.dims and back.shape == rec.shape
-    from tactilecal.dynamic import apply_filter, load_filter
+    from tactilecal.dynamic import CorrectionFilter, apply_filter
 
-    expected = apply_filter(rec, load_filter(filter_json))
+    expected = apply_filter(rec, CorrectionFilter.from_json(filter_json))
     span = float(np.ptp(rec.values))
     np.testing.assert_allclose(back.values, expected.values, atol=5e-6 * span)  # float32 FFTs
     assert "dynamic_filter" in back.attrs
@@ -173,17 +173,16 @@ def test_apply_method_direct_matches_auto(files):
 def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path):
     # the library calls behind the CLI: the same numbers as apply_filter on the data
     from tactilecal.dynamic import (
+        CorrectionFilter,
         apply_filter,
         evaluate,
         filter_recording,
         filter_timeseries_csv,
-        load_filter,
         read_record,
-        write_evaluation,
     )
     from tactilecal.io import recording_format
 
-    filt = load_filter(filter_json)
+    filt = CorrectionFilter.from_json(filter_json)
     out = tmp_path / "c.csv"
     assert recording_format(files["blind_sensor"]) is None  # a time series, not a recording
     assert filter_timeseries_csv(filt, files["blind_sensor"], out) == (1, len(
@@ -199,7 +198,7 @@ def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path)
     np.testing.assert_allclose(lazy.values, apply_filter(rec, filt).values,
                                atol=5e-6 * float(np.ptp(rec.values)))  # float32 FFTs
     ev = evaluate(filt, read_record(files["blind_sensor"]), read_record(files["blind_cell"]))
-    written = write_evaluation(ev, filt, tmp_path, extra={"filter": "F"})
+    written = ev.save(tmp_path, filt, extra={"filter": "F"})
     stored = json.loads((tmp_path / "evaluation.json").read_text())
     assert set(stored) == set(written) == {*ev.to_dict(), "filter", "figures"}
     assert stored["filter"] == "F" and stored["figures"] == written["figures"]

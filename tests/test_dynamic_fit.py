@@ -14,7 +14,6 @@ from tactilecal.dynamic import (
     evaluate,
     fit_filter,
     fit_transfer,
-    load_filter,
     transfer_function,
 )
 from tactilecal.simulate import random_sine_sets, sine_sweep
@@ -79,14 +78,14 @@ def test_blind_test_rms_error_drops(filt):
 def test_filter_json_round_trip(filt, tmp_path):
     path = tmp_path / "FILTER.json"
     filt.save(path)
-    back = load_filter(path)
+    back = CorrectionFilter.from_json(path)
     f = np.linspace(0, 500, 101)
     np.testing.assert_allclose(back.gain(f), filt.gain(f))
     np.testing.assert_allclose(back.taps, filt.taps)
     assert back.fit.A == filt.fit.A and back.lag_s == filt.lag_s
     resp = CorrectionFilter.from_response(filt.fit.f_hz, filt.fit.measured, fs_hz=1000.0)
     resp.save(path)
-    back = load_filter(path)
+    back = CorrectionFilter.from_json(path)
     np.testing.assert_allclose(back.gain(f), resp.gain(f))
 
 
@@ -169,13 +168,13 @@ def test_bad_filter_files(tmp_path):
     bad = tmp_path / "bad.json"
     bad.write_text("{not json")
     with pytest.raises(ValueError, match="bad.json: not valid JSON"):
-        load_filter(bad)
+        CorrectionFilter.from_json(bad)
     bad.write_text('{"model": "log"}')
     with pytest.raises(ValueError, match="bad.json: not a tactilecal dynamic filter"):
-        load_filter(bad)
+        CorrectionFilter.from_json(bad)
     bad.write_text("[1, 2]")
     with pytest.raises(ValueError, match="bad.json: JSON list; expected an object"):
-        load_filter(bad)
+        CorrectionFilter.from_json(bad)
 
 
 def test_more_error_messages(sweep):

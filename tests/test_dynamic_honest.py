@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from tactilecal.cli import main
-from tactilecal.dynamic import RationalModel, fit_filter, load_filter
+from tactilecal.dynamic import CorrectionFilter, RationalModel, fit_filter
 from tactilecal.dynamic._fit import complex_r2
 from tactilecal.simulate import sine_sweep, through_response
 
@@ -44,7 +44,7 @@ def test_forced_filter_is_marked_in_filter_json(viscoelastic, tmp_path):
     filt.save(path)
     saved = json.loads(path.read_text())
     assert saved["forced"] is True and saved["fit"]["r2_complex"] < 0.9
-    assert load_filter(path).forced == filt.forced
+    assert CorrectionFilter.from_json(path).forced == filt.forced
 
 
 def test_cli_refuses_in_one_line_and_forces_on_request(viscoelastic, tmp_path, capsys):

@@ -11,7 +11,7 @@ import pytest
 from scipy import signal
 
 from tactilecal.cli import main
-from tactilecal.dynamic import RationalModel, apply_filter, evaluate, fit_filter, load_filter
+from tactilecal.dynamic import CorrectionFilter, RationalModel, apply_filter, evaluate, fit_filter
 from tactilecal.simulate import random_sine_sets, sine_sweep, through_response
 
 RATES = {"fs_sensor_hz": 1000.0, "fs_reference_hz": 1250.0, "sensor_noise_N": 0.2,
@@ -90,7 +90,7 @@ def test_rational_filter_json_round_trip_and_cli(sweep, tmp_path, capsys):
     path = tmp_path / "FILTER.json"
     filt.save(path)
     assert json.loads(path.read_text())["rational"]["gain"] == pytest.approx(filt.rational.gain)
-    back = load_filter(path)
+    back = CorrectionFilter.from_json(path)
     np.testing.assert_allclose(back.sos(), filt.sos())
     log_filter = tmp_path / "LOG.json"
     fit_filter(sweep.sensor, sweep.reference, model="log", force=True).save(log_filter)

@@ -12,14 +12,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tactilecal.dynamic import (
-    CorrectionFilter,
-    RationalModel,
-    apply_filter,
-    evaluate,
-    fit_filter,
-    load_filter,
-)
+from tactilecal.dynamic import CorrectionFilter, RationalModel, apply_filter, evaluate, fit_filter
 from tactilecal.dynamic._multirate import plan_multirate
 from tactilecal.dynamic._wiener import wiener_correction
 from tactilecal.simulate import random_sine_sets, sine_sweep, through_response
@@ -67,11 +60,12 @@ def test_wiener_filter_json_round_trip_keeps_the_phase(creep_sweep, tmp_path):
     assert stored["model"] == "wiener" and len(stored["response"]["phase_rad"]) > 100
     assert set(stored["correction"]) == {"f_hz", "gain", "phase_deg"}
     f_hz = np.linspace(0, 250, 101)
-    np.testing.assert_allclose(load_filter(path).target(f_hz), filt.target(f_hz), atol=1e-12)
+    np.testing.assert_allclose(CorrectionFilter.from_json(path).target(f_hz), filt.target(f_hz),
+                               atol=1e-12)
     stored["response"]["phase_rad"] = stored["response"]["phase_rad"][:-1]
     path.write_text(json.dumps(stored))
     with pytest.raises(ValueError, match="key 'response' of .*lengths"):
-        load_filter(path)
+        CorrectionFilter.from_json(path)
 
 
 @pytest.fixture(scope="module")
@@ -116,19 +110,18 @@ def test_the_offline_inverse_restores_amplitude_and_phase_of_a_tone(visco_filter
 
 
 def test_figures_show_the_phase_of_the_correction_and_of_the_errors(creep_sweep, tmp_path):
-    from tactilecal.dynamic import plot_error, plot_transfer
     from tactilecal.report import write_report
 
     filt = fit_filter(*creep_sweep, model="wiener")
-    fig = plot_transfer(filt)
+    fig = filt.plot_transfer()
     assert len(fig.axes) == 2 and "phase" in fig.axes[1].get_ylabel()
     line = next(ln for ln in fig.axes[1].lines if ln.get_label() == "correction")
     f_hz, phase = line.get_data()
     np.testing.assert_allclose(phase, np.degrees(np.angle(filt.target(f_hz))))
-    assert len(plot_transfer(CorrectionFilter.from_model(
-        ("log10", {"A": 0.11}), fs_hz=1000, band_hz=(1, 100))).axes) == 1  # zero phase
+    assert len(CorrectionFilter.from_model(
+        ("log10", {"A": 0.11}), fs_hz=1000, band_hz=(1, 100)).plot_transfer().axes) == 1
     ev = evaluate(filt, *creep_sweep)
-    error_fig = plot_error(ev)
+    error_fig = ev.plot_error()
     assert [ax.get_ylabel() for ax in error_fig.axes] == ["amplitude error (%)",
                                                            "phase error (deg)"]
     filt.save(tmp_path / "FILTER.json")
@@ -172,7 +165,7 @@ def test_a_filter_file_whose_parameters_give_no_usable_correction_is_refused(
     stored["params"] = params
     path.write_text(json.dumps(stored))
     with pytest.raises(ValueError, match=match):
-        load_filter(path)
+        CorrectionFilter.from_json(path)
 
 
 def test_auto_takes_the_next_candidate_when_the_chosen_one_is_refused():

@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 
 from tactilecal.calibration import (
+    Equilibration,
     calibrate,
     equilibrate,
     load_calibration,
-    load_equilibration,
     points_from_frames,
 )
-from tactilecal.dynamic import CorrectionFilter, load_filter
+from tactilecal.dynamic import CorrectionFilter
 
 
 def _power_json(tmp_path):
@@ -97,13 +97,13 @@ def _equilibration_json(tmp_path):
 def test_impossible_gain_is_an_error_naming_the_cell(tmp_path, value, error, match):
     path = _edit(_equilibration_json(tmp_path), lambda d: d["gain"][0].__setitem__(0, value))
     with pytest.raises(error, match=match):
-        load_equilibration(path)
+        Equilibration.from_json(path)
 
 
 def test_ragged_gain_table_is_an_error(tmp_path):
     path = _edit(_equilibration_json(tmp_path), lambda d: d["gain"][0].pop())
     with pytest.raises(ValueError, match=r"key 'gain' of .*eq.json is not a table"):
-        load_equilibration(path)
+        Equilibration.from_json(path)
 
 
 def _filter_json(tmp_path):
@@ -113,7 +113,7 @@ def _filter_json(tmp_path):
 
 
 def test_untouched_filter_reads(tmp_path):
-    assert load_filter(_filter_json(tmp_path)).params == {"A": 0.11}
+    assert CorrectionFilter.from_json(_filter_json(tmp_path)).params == {"A": 0.11}
 
 
 @pytest.mark.parametrize(("key", "value", "error", "match"), [
@@ -129,7 +129,7 @@ def test_untouched_filter_reads(tmp_path):
 def test_impossible_filter_key_is_an_error_naming_it(tmp_path, key, value, error, match):
     path = _edit(_filter_json(tmp_path), lambda d: d.update({key: value}))
     with pytest.raises(error, match=match):
-        load_filter(path)
+        CorrectionFilter.from_json(path)
 
 
 @pytest.mark.parametrize("value", [-3.5, "abc", [1, 2], {"gain": 1}])
@@ -137,4 +137,4 @@ def test_filter_with_a_malformed_rational_model_is_an_error_naming_the_key(tmp_p
     """Found by the fuzz test: a 'rational' key on a log filter was read without a check."""
     path = _edit(_filter_json(tmp_path), lambda d: d.update(rational=value))
     with pytest.raises((TypeError, ValueError), match=r"key 'rational' of .*FILTER.json"):
-        load_filter(path)
+        CorrectionFilter.from_json(path)

@@ -18,11 +18,10 @@ from tactilecal.calibration import (
     equilibrate,
     find_dead_sensels,
     load_calibration,
-    load_equilibration,
     points_from_frames,
     validate,
 )
-from tactilecal.dynamic import CorrectionFilter, load_filter
+from tactilecal.dynamic import CorrectionFilter
 from tactilecal.simulate import deadweight_session, make_sensor
 from tactilecal.zvyagin import ZvyaginResult
 
@@ -159,7 +158,7 @@ def test_untagged_files_of_earlier_versions_load(calibrations, points, tmp_path)
         (tmp_path / name).write_text(json.dumps(data))
         assert isinstance(tactilecal.load(tmp_path / name), cls)
     assert load_calibration(tmp_path / "cal.json").params == calibrations["zvyagin"].params
-    np.testing.assert_array_equal(load_equilibration(tmp_path / "eq.json").gain,
+    np.testing.assert_array_equal(Equilibration.from_json(tmp_path / "eq.json").gain,
                                   _equilibration().gain)
 
 
@@ -177,7 +176,7 @@ def test_filter_file_of_an_earlier_version_loads(tmp_path):
     """FILTER.json always carried the tag: a file without "format" is not a filter."""
     data = _filters()[0].to_dict()
     (tmp_path / "FILTER.json").write_text(json.dumps(data, default=np.ndarray.tolist))
-    assert load_filter(tmp_path / "FILTER.json").params == {"A": 0.11}
+    assert CorrectionFilter.from_json(tmp_path / "FILTER.json").params == {"A": 0.11}
 
 
 # ---------------------------------------------------------------- bad files
@@ -220,9 +219,9 @@ def test_a_file_of_another_kind_is_refused_naming_both_tags(calibrations, tmp_pa
     with pytest.raises(ValueError, match=r"key 'format' of .*cal.json is "
                                          r"'tactilecal-calibration/1'; expected "
                                          r"'tactilecal-equilibration/1'"):
-        load_equilibration(tmp_path / "cal.json")
+        Equilibration.from_json(tmp_path / "cal.json")
     with pytest.raises(ValueError, match=r"cal.json: not a tactilecal dynamic filter"):
-        load_filter(tmp_path / "cal.json")
+        CorrectionFilter.from_json(tmp_path / "cal.json")
 
 
 def test_zvyagin_details_that_cannot_be_read_name_the_key(calibrations, tmp_path):

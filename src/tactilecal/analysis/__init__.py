@@ -8,7 +8,8 @@ vectorised over frames and carry the ``time`` coordinate.
 
 Importing this package registers the xarray accessor ``recording.tactile``
 (``analysis._accessor.TactileAccessor``): ``rec.tactile.force()``, ``.area()``, ``.centre()``,
-``.peak()``, ``.pressure_map()``, ``.calibrate(cal)``...
+``.peak()``, ``.pressure_map()``, ``.calibrate(cal)``... and its figures,
+``.plot_pressure_map()``, ``.plot_force_time()``, ``.plot_cof_path()``, ``.plot_profiles()``.
 """
 
 from tactilecal._deprecated import moved_names
@@ -22,13 +23,7 @@ from tactilecal.analysis._maps import (
     summary,
     total_force,
 )
-from tactilecal.analysis._plots import (
-    peak_frame,
-    plot_cof_path,
-    plot_force_time,
-    plot_pressure_map,
-    plot_profiles,
-)
+from tactilecal.analysis._plots import peak_frame
 from tactilecal.analysis._regions import (
     column_profile,
     high_pressure_zones,
@@ -46,7 +41,6 @@ __all__ = [
     "row_profile", "column_profile", "select_region", "high_pressure_zones", "label_zones",
     "max_window_load", "peak_frame", "describe", "frame_table", "overview",
     "creep", "hysteresis",
-    "plot_pressure_map", "plot_force_time", "plot_cof_path", "plot_profiles",
 ]
 
 __getattr__ = moved_names(__name__, {
@@ -54,4 +48,6 @@ __getattr__ = moved_names(__name__, {
     "HysteresisResult": ("_time", "HysteresisResult", "hysteresis() returns it"),
     "loaded_mask": ("_maps", "loaded_mask", "use pressure_map_kPa(recording) > threshold"),
     "FRAME_COLUMNS": ("_describe", "FRAME_COLUMNS", "the columns of frame_table()"),
+    **{name: ("_plots", name, f"use the accessor method recording.tactile.{name}()")
+       for name in ("plot_pressure_map", "plot_force_time", "plot_cof_path", "plot_profiles")},
 })

@@ -4,11 +4,14 @@ Registered on :class:`xarray.DataArray` with :func:`xarray.register_dataarray_ac
 (the xarray documentation's "Extending xarray using accessors") when
 :mod:`tactilecal.analysis` is imported. Every method delegates to the function of
 :mod:`tactilecal.analysis` it names, with the recording as first argument, so
-``rec.tactile.force()`` is ``total_force(rec)``, number for number.
+``rec.tactile.force()`` is ``total_force(rec)``, number for number. The figures of a
+recording are methods too (``rec.tactile.plot_pressure_map()``, ...), drawn on
+:class:`matplotlib.figure.Figure` without pyplot state.
 """
 
 import xarray as xr
 
+from tactilecal.analysis import _plots
 from tactilecal.analysis._maps import (
     centre_of_force,
     contact_area,
@@ -98,3 +101,43 @@ class TactileAccessor:
     def summary(self, *, threshold_kPa=0.0, calibration=None):
         """Every per-frame quantity in one Dataset: :func:`tactilecal.analysis.summary`."""
         return summary(self._rec, threshold_kPa=threshold_kPa, calibration=calibration)
+
+    # ---------------------------------------------------------------- figures
+    def plot_pressure_map(self, frame=None, *, calibration=None, ax=None):
+        """Pressure map [kPa] of one frame, or each sensel's peak over the recording.
+
+        ``frame`` is a 0-based frame position (default: the peak-pressure map); a raw
+        recording without ``calibration`` is drawn in raw readings (0..255). Returns the
+        matplotlib Axes.
+        """
+        return _plots.plot_pressure_map(self._rec, frame, calibration=calibration, ax=ax)
+
+    def plot_profiles(self, frame, *, nonworking=None, calibration=None, axes=None):
+        """Row and column profiles [kPa] of one frame (means skipping blank sensels).
+
+        ``nonworking``: a mask of non-working sensels to skip too. Returns the row-profile
+        and the column-profile Axes.
+        """
+        return _plots.plot_profiles(self._rec, frame, nonworking=nonworking,
+                                    calibration=calibration, axes=axes)
+
+    def plot_force_time(self, *, calibration=None, summary=None, ax=None):
+        """Total force [N] and contact area [mm2] against time, the peak frame marked.
+
+        ``summary``: the recording's :meth:`summary` if already computed (else computed
+        here). Returns the matplotlib Axes.
+        """
+        if summary is None:
+            summary = self.summary(calibration=calibration)
+        return _plots.plot_force_time(summary, ax=ax)
+
+    def plot_cof_path(self, *, calibration=None, summary=None, min_force_N=None, ax=None):
+        """Centre-of-force path [mm], coloured by time.
+
+        Frames with a total force below ``min_force_N`` (default 5 % of the peak) are not
+        drawn: with almost no load the centre is noise. ``summary``: the recording's
+        :meth:`summary` if already computed. Returns the matplotlib Axes.
+        """
+        if summary is None:
+            summary = self.summary(calibration=calibration)
+        return _plots.plot_cof_path(summary, min_force_N=min_force_N, ax=ax)

@@ -3,7 +3,8 @@
 A calibration point is one loaded frame reduced to its 256-bin histogram of raw values
 (:class:`CalibrationPoint`); every method fits a per-sensel law ``f(raw)`` in newtons on
 those histograms (:func:`calibrate`), giving a :class:`CalibrationResult` with parameters,
-uncertainty, the error on every point and a JSON round-trip (:func:`load_calibration`).
+uncertainty, the error on every point, its figures (``cal.plot_curve()``,
+``cal.save_figures(folder)``) and a JSON round-trip (:func:`load_calibration`).
 See ``docs/static-calibration.md``.
 """
 
@@ -12,11 +13,6 @@ from tactilecal.calibration._calibrate import METHODS, calibrate, validate
 from tactilecal.calibration._header import header_calibration
 from tactilecal.calibration._manifest import load_points
 from tactilecal.calibration._movie import calibrate_movie
-from tactilecal.calibration._plots import (
-    plot_calibration_curve,
-    plot_error_histogram,
-    plot_points,
-)
 from tactilecal.calibration._points import CalibrationPoint, frame_histograms, points_from_frames
 from tactilecal.calibration._result import CalibrationResult, load_calibration
 from tactilecal.calibration._sensels import (
@@ -24,7 +20,6 @@ from tactilecal.calibration._sensels import (
     NonWorkingSensels,
     equilibrate,
     find_dead_sensels,
-    load_equilibration,
 )
 from tactilecal.calibration._validation import ValidationResult
 
@@ -32,9 +27,8 @@ __all__ = [
     "calibrate", "validate", "METHODS", "CalibrationResult", "load_calibration",
     "CalibrationPoint", "load_points", "points_from_frames", "frame_histograms",
     "calibrate_movie", "header_calibration",
-    "equilibrate", "Equilibration", "load_equilibration", "find_dead_sensels",
-    "NonWorkingSensels",
-    "plot_calibration_curve", "plot_points", "plot_error_histogram", "ValidationResult",
+    "equilibrate", "Equilibration", "find_dead_sensels", "NonWorkingSensels",
+    "ValidationResult",
 ]
 
 _RESULT = "use CalibrationResult.force_table() or .predict_sensel_force(raw)"
@@ -55,4 +49,11 @@ __getattr__ = moved_names(__name__, {
                            "use calibrate(..., n_interval_resamples=N)"),
     "prediction_interval": ("_uncertainty", "prediction_interval",
                             "use calibrate(..., n_interval_resamples=N)"),
+    "plot_calibration_curve": ("_plots", "plot_calibration_curve",
+                               "use the method CalibrationResult.plot_curve()"),
+    "plot_points": ("_plots", "plot_points", "use the method CalibrationResult.plot_points()"),
+    "plot_error_histogram": ("_plots", "plot_error_histogram",
+                             "use the method CalibrationResult.plot_error_histogram()"),
+    "load_equilibration": ("_sensels", "load_equilibration", "use "
+                           "Equilibration.from_json(path) or tactilecal.load(path)"),
 })

@@ -1,13 +1,18 @@
 """Figures of a calibration: the curve, predicted vs applied load, the error histogram.
 
-matplotlib is imported inside each function so that importing the package stays fast.
+They are the methods ``plot_curve``, ``plot_points``, ``plot_error_histogram`` and
+``save_figures`` of :class:`~tactilecal.calibration.CalibrationResult`. matplotlib is
+imported inside each function so that importing the package stays fast.
 """
+
+from pathlib import Path
 
 import numpy as np
 
+from tactilecal._atomic import atomic_path
 from tactilecal._units import N_PER_MM2_TO_KPA
 
-__all__ = ["plot_calibration_curve", "plot_points", "plot_error_histogram"]
+__all__ = ["plot_calibration_curve", "plot_points", "plot_error_histogram", "save_figures"]
 
 
 def _axes(ax):
@@ -96,3 +101,45 @@ def plot_error_histogram(result, ax=None):
     ax.set_xlabel("error (% of applied load)")
     ax.set_ylabel("points")
     return ax
+
+
+#: The PNG files of a calibration that is not Zvyagin's, and what draws each.
+FIGURES = {"calibration_curve": plot_calibration_curve, "calibration_points": plot_points,
+           "calibration_errors": plot_error_histogram}
+
+
+def save_figures(result, outdir, *, dpi=120):
+    """Write a calibration's figures as PNG files into ``outdir`` (atomically).
+
+    A Zvyagin calibration writes the paper's Figures 7-11 and E(b0)
+    (:meth:`tactilecal.zvyagin.ZvyaginResult.save_figures`); any other writes the
+    calibration curve, predicted vs applied loads and the error histogram (:data:`FIGURES`).
+
+    Parameters
+    ----------
+    outdir : str or os.PathLike
+        An existing folder.
+    dpi : int
+        Resolution of the PNG files.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written, in the order drawn.
+    """
+    if result.method == "zvyagin":
+        from tactilecal.zvyagin import ZvyaginResult
+
+        zvyagin = result.method_result or ZvyaginResult.from_details(result.details)
+        return zvyagin.save_figures(outdir, dpi=dpi)
+    from matplotlib.figure import Figure
+
+    paths = []
+    for name, draw in FIGURES.items():
+        fig = Figure(figsize=(5.5, 4.2), layout="constrained")
+        draw(result, ax=fig.add_subplot())
+        path = Path(outdir) / f"{name}.png"
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=dpi)
+        paths.append(path)
+    return paths

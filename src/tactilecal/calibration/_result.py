@@ -13,6 +13,7 @@ from tactilecal._result import SavedResult
 from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal._version import __version__
+from tactilecal.calibration import _plots
 from tactilecal.calibration._models import MODELS, force_table, sensel_force
 from tactilecal.zvyagin import ZvyaginResult
 
@@ -229,6 +230,12 @@ class CalibrationResult(SavedResult):
             raise ValueError("sensel area unknown: neither the calibration nor the recording "
                              "has sensel_area_mm2; expected a positive area to give pressures")
         return area
+
+    # ------------------------------------------------------------------ figures
+    plot_curve = _plots.plot_calibration_curve
+    plot_points = _plots.plot_points
+    plot_error_histogram = _plots.plot_error_histogram
+    save_figures = _plots.save_figures
 
     # ------------------------------------------------------------------ reporting
     def summary(self):

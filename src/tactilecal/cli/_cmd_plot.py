@@ -1,10 +1,7 @@
 """``tactilecal plot CAL.json --out DIR``: the figures of a calibration as PNG files."""
 
-
 from tactilecal._atomic import make_folder
 from tactilecal.cli._common import info, positive_int, print_json
-
-GENERIC = ("calibration_curve", "calibration_points", "calibration_errors")
 
 
 def register(subparsers):
@@ -24,40 +21,13 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
-def _generic_figures(result, outdir, dpi):
-    from matplotlib.figure import Figure
-
-    from tactilecal._atomic import atomic_path
-    from tactilecal.calibration import (
-        plot_calibration_curve,
-        plot_error_histogram,
-        plot_points,
-    )
-
-    paths = []
-    for name, func in zip(GENERIC, (plot_calibration_curve, plot_points, plot_error_histogram),
-                          strict=True):
-        fig = Figure(figsize=(5.5, 4.2), layout="constrained")
-        func(result, ax=fig.add_subplot())
-        path = outdir / f"{name}.png"
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=dpi)
-        paths.append(path)
-    return paths
-
-
 def run(args):
     """Run ``tactilecal plot``."""
     from tactilecal.calibration import load_calibration
 
     result = load_calibration(args.calibration)
     outdir = make_folder(args.out, what="--out")
-    if result.method == "zvyagin":
-        from tactilecal.zvyagin import save_figures
-
-        paths = save_figures(result, outdir, dpi=args.dpi)
-    else:
-        paths = _generic_figures(result, outdir, args.dpi)
+    paths = result.save_figures(outdir, dpi=args.dpi)
     if args.json:
         print_json({"calibration": str(args.calibration), "method": result.method,
                     "figures": [str(p) for p in paths]})

@@ -30,10 +30,10 @@ def register(sub):
 
 def run(args):
     """Run ``tactilecal dynamic apply``."""
-    from tactilecal.dynamic import filter_recording, filter_timeseries_csv, load_filter
+    from tactilecal.dynamic import CorrectionFilter, filter_recording, filter_timeseries_csv
     from tactilecal.io import recording_format
 
-    filt = load_filter(args.filter)
+    filt = CorrectionFilter.from_json(args.filter)
     options = {"method": args.method, "causal": args.causal,
                "progress": partial(progress, desc="filtering", quiet=args.quiet)}
     if recording_format(args.input) is None:  # a time-series CSV

@@ -24,16 +24,16 @@ def run(args):
     """Run ``tactilecal dynamic evaluate``."""
     import numpy as np
 
-    from tactilecal.dynamic import evaluate, load_filter, read_record, write_evaluation
+    from tactilecal.dynamic import CorrectionFilter, evaluate, read_record
 
-    filt = load_filter(args.filter)
+    filt = CorrectionFilter.from_json(args.filter)
     ev = evaluate(filt, read_record(args.sensor), read_record(args.reference),
                   progress=partial(progress, desc="filtering", quiet=args.quiet))
     result = {**ev.to_dict(), "filter": args.filter, "sensor": args.sensor,
               "reference": args.reference}
     if args.out:
-        result = write_evaluation(ev, filt, make_folder(args.out, what="--out"),
-                                  extra={k: result[k] for k in ("filter", "sensor", "reference")})
+        result = ev.save(make_folder(args.out, what="--out"), filt,
+                         extra={k: result[k] for k in ("filter", "sensor", "reference")})
     if args.json:
         print_json(result)
     else:

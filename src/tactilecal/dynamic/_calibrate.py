@@ -10,8 +10,10 @@ import numpy as np
 from scipy import signal
 
 from tactilecal._provenance import provenance_of
+from tactilecal.dynamic import _plots
 from tactilecal.dynamic._align import align
 from tactilecal.dynamic._apply import apply_filter
+from tactilecal.dynamic._files import write_evaluation
 from tactilecal.dynamic._filter import CorrectionFilter
 from tactilecal.dynamic._fit import fit_transfer
 from tactilecal.dynamic._ratfit import (
@@ -353,6 +355,26 @@ class Evaluation:
         """``rms_before_N / rms_after_N``."""
         return self.rms_before_N / self.rms_after_N
 
+    @classmethod
+    def from_dict(cls, data):
+        """Rebuild an evaluation from :meth:`to_dict` (``evaluation.json``), without records.
+
+        The per-frequency errors and the figures from them come back (:meth:`plot_error`);
+        the records were not stored, so they are empty and :meth:`plot_time` and
+        :meth:`plot_spectra` have nothing to draw. A missing number is NaN.
+        """
+        def array(key):
+            return None if data.get(key) is None else np.asarray(data[key], float)
+
+        nan, empty = float("nan"), np.empty(0)
+        return cls(**{k: float(data.get(k, nan)) for k in ("lag_s", "static_factor", "fs_hz",
+                                                            "rms_before_N", "rms_after_N")},
+                   f_hz=array("f_hz"), error_before_pct=array("error_before_pct"),
+                   error_after_pct=array("error_after_pct"), time_s=empty, sensor=empty,
+                   corrected=empty, reference=empty,
+                   phase_before_deg=array("phase_before_deg"),
+                   phase_after_deg=array("phase_after_deg"), provenance=data.get("provenance"))
+
     def to_dict(self):
         """Return the JSON-ready figures (without the records)."""
         return {"lag_s": self.lag_s, "static_factor": self.static_factor,
@@ -371,6 +393,20 @@ class Evaluation:
         return (f"dynamic RMS error {self.rms_before_N:.4g} N before, {self.rms_after_N:.4g} N "
                 f"after ({self.improvement:.2f}x smaller); lag {self.lag_s:.6g} s, static "
                 f"factor {self.static_factor:.4g}{phase}")
+
+    # figures (Gillis 2013, Figs 4.10-4.14), drawn by ``_plots``
+    plot_time = _plots.plot_time
+    plot_spectra = _plots.plot_spectra
+    plot_error = _plots.plot_error
+
+    def save(self, folder, filt, *, extra=None):
+        """Write ``evaluation.json`` and the figures into ``folder``; return what the JSON holds.
+
+        The figures are ``time.png``, ``spectra.png``, ``error.png`` and ``transfer.png`` (of
+        ``filt``, the evaluated :class:`CorrectionFilter`); ``extra`` adds keys to the JSON
+        (e.g. the input file names). See :func:`tactilecal.dynamic._files.write_evaluation`.
+        """
+        return write_evaluation(self, filt, folder, extra=extra)
 
 
 def _amplitude_error_pct(x, ref, fs_hz, nperseg, min_coherence):

@@ -29,6 +29,7 @@ from scipy import fft, signal
 
 from tactilecal._result import SavedResult
 from tactilecal._validate import check_number, check_type, require_keys
+from tactilecal.dynamic import _plots
 from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
 from tactilecal.dynamic._rational import RationalModel
 
@@ -405,6 +406,8 @@ class CorrectionFilter(SavedResult):
         return [("model", self.model), ("params", self.params), ("fs_hz", self.fs_hz),
                 ("band_hz", self.band_hz), ("outside", self.outside),
                 ("n_taps", self.n_taps), ("lag_s", self.lag_s), ("forced", self.forced)]
+
+    plot_transfer = _plots.plot_transfer  # thesis Figure 4.9
 
     def summary(self):
         """Return a one-line description."""

@@ -98,8 +98,6 @@ def _draw_curves(calibrations):
 # ---------------------------------------------------------------- one calibration
 def calibration_blocks(result, label):
     """Summary, parameters, points table and figures of one calibration result."""
-    from tactilecal.calibration import plot_calibration_curve, plot_error_histogram, plot_points
-
     params = [(k, v, result.params_stderr.get(k), _interval(result, k))
               for k, v in _scalar_params(result)]
     blocks = [
@@ -108,16 +106,16 @@ def calibration_blocks(result, label):
                                    "95 % interval")),
         table_html(sorted(result.metrics.items()), header=("metric", "value")),
         table_html(_record_rows(result), header=("calibration record", "value"), wide=True),
-        figure_html(plot_calibration_curve(result, ax=new_axes()),
+        figure_html(result.plot_curve(ax=new_axes()),
                     f"{label}: calibration curve",
                     "The line is the fitted law; each point is one calibration patch's "
                     "applied load per loaded sensel at its mean raw reading; open points "
                     "were not used (saturated or rejected)."),
-        figure_html(plot_points(result, ax=new_axes()),
+        figure_html(result.plot_points(ax=new_axes()),
                     f"{label}: calibrated against applied load",
                     "Each point is a calibration patch; on the diagonal the calibrated load "
                     "equals the applied one, and the vertical distance is its error."),
-        figure_html(plot_error_histogram(result, ax=new_axes()),
+        figure_html(result.plot_error_histogram(ax=new_axes()),
                     f"{label}: error histogram",
                     "How many patches the calibration misses by how much, in percent of the "
                     "applied load; a narrow peak at 0 is a good calibration."),
@@ -165,19 +163,20 @@ _ZVYAGIN_FIGURES = (
 
 
 def _zvyagin_blocks(result, label):
-    from tactilecal import zvyagin
+    from tactilecal.zvyagin import ZvyaginResult
 
     if result.details.get("method") != "zvyagin":
         return [note_html(f"{label}: the calibration file holds no Zvyagin intermediates "
                           "(details), so the paper's figures cannot be drawn")]
-    return [figure_html(getattr(zvyagin, name)(result), f"{label}: Zvyagin (2022) {title}",
-                        how) for name, title, how in _ZVYAGIN_FIGURES]
+    zvyagin = result.method_result or ZvyaginResult.from_details(result.details)
+    return [figure_html(getattr(zvyagin, name)(), f"{label}: Zvyagin (2022) {title}", how)
+            for name, title, how in _ZVYAGIN_FIGURES]
 
 
 # ---------------------------------------------------------------- dynamic filter
 def filter_blocks(data, label):
     """Parameters and transfer-function figure of a dynamic filter (FILTER.json content)."""
-    from tactilecal.dynamic import CorrectionFilter, plot_transfer
+    from tactilecal.dynamic import CorrectionFilter
 
     keys = ("model", "A", "log_base", "lag_s", "fs_hz", "band_hz", "outside", "n_taps")
     blocks = [table_html([(k, data.get(k)) for k in keys if k in data],
@@ -196,7 +195,7 @@ def filter_blocks(data, label):
         blocks.append(note_html(f"{label} stores no fitted transfer function (made from a "
                                 "model, not a sweep): the figure shows the filter's gain only"))
     blocks.append(figure_html(
-        plot_transfer(CorrectionFilter.from_dict(data, where=label)),
+        CorrectionFilter.from_dict(data, where=label).plot_transfer(),
         f"{label}: transfer function, fitted model and filter gain (Gillis 2013, Fig. 4.9)",
         "Grey points are the measured ratio load cell / sensor per frequency, the line the "
         "fitted model, red the filter's gain: the filter multiplies each frequency by it, so "
@@ -206,7 +205,7 @@ def filter_blocks(data, label):
 
 def evaluation_blocks(data, label):
     """Blind test of a dynamic filter (``tactilecal dynamic evaluate`` output)."""
-    from tactilecal.dynamic import plot_error
+    from tactilecal.dynamic import Evaluation
 
     rows = [("RMS error of the dynamic part before the filter [N]", data["rms_before_N"]),
             ("RMS error after the filter [N]", data["rms_after_N"]),
@@ -218,12 +217,10 @@ def evaluation_blocks(data, label):
     if not data.get("f_hz"):
         return blocks + [note_html(f"{label} holds no per-frequency errors, so the gain and "
                                    "phase figure is not drawn")]
-    ev = SimpleNamespace(**{k: None if data.get(k) is None else np.asarray(data[k], float)
-                            for k in ("f_hz", "error_before_pct", "error_after_pct",
-                                      "phase_before_deg", "phase_after_deg")})
     return blocks + [figure_html(
-        plot_error(ev), f"{label}: amplitude and phase error before and after the filter "
-                        "(Gillis 2013, Fig. 4.12)",
+        Evaluation.from_dict(data).plot_error(),
+        f"{label}: amplitude and phase error before and after the filter (Gillis 2013, "
+        "Fig. 4.12)",
         "Each point is one coherent frequency of the blind test: orange is the sensor with "
         "its static calibration only, blue after the dynamic filter; a good filter brings "
         "the blue points to 0 % and 0 degrees across the band.")]
@@ -288,23 +285,24 @@ def _calibrated_blocks(recording, label, threshold_kPa, nonworking, cof_min_forc
                                 f"saturation ({s.attrs['saturation_rule']}): their force "
                                 "and pressures are lower bounds, not measurements"))
     return blocks + [
-        figure_html(analysis.plot_force_time(s), f"{label}: total force and contact area "
-                    "against time",
+        figure_html(recording.tactile.plot_force_time(summary=s),
+                    f"{label}: total force and contact area against time",
                     "Blue is the total force (left axis), orange the area of sensels above "
                     "the threshold (right axis); the dotted line marks the peak-force frame."),
-        figure_html(analysis.plot_pressure_map(recording), f"{label}: peak-pressure map",
+        figure_html(recording.tactile.plot_pressure_map(), f"{label}: peak-pressure map",
                     "Each sensel's largest pressure over the whole recording: where the "
                     "contact carried load at any time, and how much at most."),
-        figure_html(analysis.plot_pressure_map(recording, i),
+        figure_html(recording.tactile.plot_pressure_map(i),
                     f"{label}: pressure map at the peak-force frame",
                     "The pressure on every sensel at the moment of largest total force; "
                     "blank cells are sensels without a reading."),
-        figure_html(analysis.plot_cof_path(s, min_force_N=cof_min_force_N),
+        figure_html(recording.tactile.plot_cof_path(summary=s,
+                                                    min_force_N=cof_min_force_N),
                     f"{label}: centre-of-force path",
                     "The force-weighted centre of the contact, coloured by time; frames "
                     "with less force than the threshold in the title are left out, because "
                     "with almost no load the centre is the mean of noise."),
-        figure_html(analysis.plot_profiles(recording, i, nonworking=nonworking),
+        figure_html(recording.tactile.plot_profiles(i, nonworking=nonworking),
                     f"{label}: row and column profiles at the peak-force frame",
                     "The mean pressure of each sensel row (left, row position downwards) "
                     "and column (right) at the peak-force frame, blank and non-working "
@@ -337,7 +335,7 @@ def _coord(values, dim):
 
 
 def _raw_blocks(recording, label, *, cof_min_share):
-    from tactilecal import analysis
+    import tactilecal.analysis  # noqa: F401 - registers the recording.tactile accessor
 
     s = _raw_summary(recording)
     i = int(np.nanargmax(s.raw_sum)) if np.isfinite(s.raw_sum).any() else 0
@@ -358,7 +356,7 @@ def _raw_blocks(recording, label, *, cof_min_share):
                     "against time",
                     "Blue is the sum of all raw readings of a frame (a stand-in for load that "
                     "is not proportional to it), orange the area of sensels reading above 0."),
-        figure_html(analysis.plot_pressure_map(recording), f"{label}: peak raw map",
+        figure_html(recording.tactile.plot_pressure_map(), f"{label}: peak raw map",
                     "Each sensel's largest raw reading over the recording (255 is "
                     "saturation): where the contact carried load at any time."),
         figure_html(_draw_raw_centre(s, min_sum), f"{label}: centre of the raw readings",

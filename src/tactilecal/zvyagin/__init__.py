@@ -6,7 +6,8 @@ Zones. Sensors 22(19), 7290. https://doi.org/10.3390/s22197290
 The four steps of the paper are separate functions on raw-value histograms of the patches
 (:func:`search_separation`, :func:`solve_pairs`, :func:`fit_power_law`,
 :func:`minimise_energy`); :func:`zvyagin_fit` runs them all and returns a
-:class:`ZvyaginResult` holding every intermediate. From calibration points,
+:class:`ZvyaginResult` holding every intermediate and drawing the paper's figures
+(``result.plot_d_map()``, ... ``result.save_figures(folder)``). From calibration points,
 ``tactilecal.calibrate(points, method="zvyagin")`` runs it and returns a
 :class:`tactilecal.calibration.CalibrationResult` whose ``method_result`` is the
 :class:`ZvyaginResult` (this package does not import :mod:`tactilecal.calibration`: the
@@ -20,22 +21,11 @@ from tactilecal.zvyagin._calibrate import MODES, OPTIONS, zvyagin_fit
 from tactilecal.zvyagin._compare import compare_table, format_compare_table, plot_compare
 from tactilecal.zvyagin._fit import energy, fit_power_law, minimise_energy
 from tactilecal.zvyagin._pairs import solve_pairs
-from tactilecal.zvyagin._plots import (
-    plot_ab_scatter,
-    plot_calibration_curves,
-    plot_d_map,
-    plot_energy,
-    plot_pair_chart,
-    plot_patch_errors,
-    save_figures,
-)
 from tactilecal.zvyagin._result import ZvyaginResult
 
 __all__ = [
     "zvyagin_fit", "ZvyaginResult", "MODES", "OPTIONS", "energy",
     "search_separation", "solve_pairs", "fit_power_law", "minimise_energy",
-    "plot_d_map", "plot_pair_chart", "plot_ab_scatter", "plot_calibration_curves",
-    "plot_patch_errors", "plot_energy", "save_figures",
     "compare_table", "format_compare_table", "plot_compare",
 ]
 
@@ -48,13 +38,18 @@ __getattr__ = moved_names(__name__, {
        for name in ("patch_power_sums", "saturation_pressure_MPa")},
     **{name: ("_pairs", name, _STEP) for name in ("polynomial_roots", "quartic_coefficients")},
     "load_groups": ("_calibrate", "load_groups", _STEP),
+    **{name: ("_plots", name, f"use the method ZvyaginResult.{name}() (a calibration's "
+                              f"cal.method_result.{name}())")
+       for name in ("plot_d_map", "plot_pair_chart", "plot_ab_scatter",
+                    "plot_calibration_curves", "plot_patch_errors", "plot_energy",
+                    "save_figures")},
     "SENSEL_AREA_5051_MM2": ("_calibrate", "SENSEL_AREA_5051_MM2",
                              "use tactilecal.sensors.get_sensor('5051').sensel_area_mm2"),
     "PAIR_CATEGORIES": ("_result", "PAIR_CATEGORIES", "see ZvyaginResult's docstring"),
-    "as_zvyagin_result": ("_plots", "as_zvyagin_result", "the plots accept a "
-                          "CalibrationResult of method 'zvyagin' directly"),
-    "plot_error_histogram": ("_plots", "plot_patch_errors", "renamed plot_patch_errors (it "
-                             "clashed with tactilecal.calibration.plot_error_histogram)"),
+    "as_zvyagin_result": ("_plots", "as_zvyagin_result", "a calibration of method "
+                          "'zvyagin' holds it as cal.method_result"),
+    "plot_error_histogram": ("_plots", "plot_patch_errors", "use the method "
+                             "ZvyaginResult.plot_patch_errors()"),
     "calibrate_zvyagin": ("tactilecal.zvyagin", "_calibrate_zvyagin",
                           "use tactilecal.calibrate(points, method='zvyagin', **options)"),
 })

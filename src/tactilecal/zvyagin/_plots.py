@@ -8,7 +8,6 @@ import numpy as np
 
 from tactilecal._atomic import atomic_path
 from tactilecal._units import N_PER_MM2_TO_KPA
-from tactilecal.zvyagin._result import ZvyaginResult
 
 __all__ = ["as_zvyagin_result", "plot_d_map", "plot_pair_chart", "plot_ab_scatter",
            "plot_calibration_curves", "plot_patch_errors", "plot_energy", "save_figures"]
@@ -29,6 +28,8 @@ def as_zvyagin_result(obj):
     ValueError
         If ``obj`` is a calibration of another method (no Zvyagin details).
     """
+    from tactilecal.zvyagin._result import ZvyaginResult  # it draws with this module
+
     if isinstance(obj, ZvyaginResult):
         return obj
     if isinstance(getattr(obj, "method_result", None), ZvyaginResult):
@@ -236,7 +237,7 @@ def save_figures(result, outdir, *, dpi=120):
     >>> from tactilecal.zvyagin import zvyagin_fit
     >>> from tactilecal.simulate import patch_histograms
     >>> res = zvyagin_fit(*patch_histograms(20, seed=1)[:2])
-    >>> sorted(p.name for p in save_figures(res, tempfile.mkdtemp()))[:2]
+    >>> sorted(p.name for p in res.save_figures(tempfile.mkdtemp()))[:2]
     ['zvyagin_ab.png', 'zvyagin_curves.png']
     """
     from pathlib import Path

@@ -5,6 +5,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tactilecal._result import ShortRepr
+from tactilecal.zvyagin import _plots
 from tactilecal.zvyagin._fit import saturation_pressure_MPa
 
 __all__ = ["ZvyaginResult", "PAIR_CATEGORIES", "summarise_d_map"]
@@ -181,6 +182,15 @@ class ZvyaginResult(ShortRepr):
         ]
         lines += [f"left out {self.labels[k]}: {why}" for k, why in self.excluded.items()]
         return "\n".join(lines)
+
+    # --- figures: the paper's Figures 7-11 and E(b0), drawn by ``_plots`` ----------------
+    plot_d_map = _plots.plot_d_map
+    plot_pair_chart = _plots.plot_pair_chart
+    plot_ab_scatter = _plots.plot_ab_scatter
+    plot_calibration_curves = _plots.plot_calibration_curves
+    plot_patch_errors = _plots.plot_patch_errors
+    plot_energy = _plots.plot_energy
+    save_figures = _plots.save_figures
 
     # --- JSON -------------------------------------------------------------------------
     def to_details(self, *, max_pairs=20000):
