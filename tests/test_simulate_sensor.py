@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from tactilecal.simulate import make_sensor, sensor_geometry
+from tactilecal.simulate import make_sensor
+from tactilecal.simulate._sensor import sensor_geometry
 from tactilecal.simulate._sensor import SimulatedSensor
 
 ATTRS = ("sensor_type", "units", "row_spacing_mm", "col_spacing_mm", "sensel_area_mm2",
@@ -143,3 +144,16 @@ def test_sensor_model_objects_are_accepted():
     assert (s.rows, s.cols, s.row_spacing_mm, s.col_spacing_mm, s.sensel_area_mm2) == \
         (10, 20, 2.0, 3.0, 6.0)
     assert make_sensor(get_sensor("5101")).row_spacing_mm == 2.54
+
+
+def test_a_law_given_as_pressure_per_count_scales_with_the_sensel_area():
+    # A_N = A_kPa * area_mm2 / 1000: 2.17 kPa is 0.0035 N on the 5051's 1.6129 mm2 sensels
+    # and 0.056 N on the 9500's 25.8064 mm2 (16x the area)
+    a_kpa = 0.0035e3 / 1.6129
+    assert make_sensor("5051", A_kPa=a_kpa).A_N == pytest.approx(0.0035, rel=1e-12)
+    assert make_sensor("9500", A_kPa=a_kpa).A_N == pytest.approx(0.0035 * 16, rel=1e-12)
+    assert make_sensor("9500").A_N == 0.0035  # the default stays a force per sensel
+    with pytest.raises(ValueError, match=r"A_N = 0.004 and A_kPa = 2.0; expected one of them"):
+        make_sensor(A_N=0.004, A_kPa=2.0)
+    with pytest.raises(ValueError, match=r"A_kPa: got -1.0; expected a positive number"):
+        make_sensor(A_kPa=-1.0)

@@ -2,33 +2,22 @@
 
 from collections import Counter
 
+from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal.cli._common import info, print_json
+from tactilecal.sensors import get_sensor
 
-__all__ = ["run_deadweight", "run_ramp_hold", "run_dynamic", "scaled_sensor"]
+__all__ = ["run_deadweight", "run_ramp_hold", "run_dynamic", "A_KPA"]
 
-_REF_A_N = 0.0035
-"""Default law: A_N = 0.0035 N on a 5051 sensel (1.27 mm pitch, Zvyagin 2022 Table 2)."""
-
-
-def scaled_sensor(model, seed):
-    """Return ``make_sensor(model)`` with ``A_N`` scaled to the 5051's pressure per count.
-
-    ``A_N = 0.0035 N * sensel_area_mm2 / 1.6129 mm2``, so a 9500 (25.8 mm2 sensels) reads
-    the same raw value as a 5051 under the same pressure instead of saturating.
-    """
-    from tactilecal.sensors import get_sensor
-    from tactilecal.simulate import make_sensor, sensor_geometry
-
-    area_mm2 = sensor_geometry(model)[5]
-    reference_mm2 = get_sensor("5051").sensel_area_mm2
-    return make_sensor(model, A_N=_REF_A_N * area_mm2 / reference_mm2, seed=seed)
+A_KPA = 0.0035 * N_PER_MM2_TO_KPA / get_sensor("5051").sensel_area_mm2
+"""The simulated law at reading 1, 2.17 kPa: Zvyagin's (2022, Table 2) 0.0035 N on a 5051 sensel.
+Every ``--model`` gets it (``make_sensor(A_kPa=)``), so a 9500 reads as a 5051 would."""
 
 
 def run_deadweight(args):
     """Write the dead-weight session and print what was written."""
-    from tactilecal.simulate import deadweight_session
+    from tactilecal.simulate import deadweight_session, make_sensor
 
-    session = deadweight_session(scaled_sensor(args.model, args.seed),
+    session = deadweight_session(make_sensor(args.model, A_kPa=A_KPA, seed=args.seed),
                                  n_patches=args.patches, saturated_share=args.saturated_share,
                                  seed=args.seed)
     info(args, f"writing {len(session)} recordings to {args.outdir} ...")
@@ -47,9 +36,9 @@ def run_deadweight(args):
 
 def run_ramp_hold(args):
     """Write the ramp-and-hold session and print what was written."""
-    from tactilecal.simulate import ramp_hold
+    from tactilecal.simulate import make_sensor, ramp_hold
 
-    session = ramp_hold(scaled_sensor(args.model, args.seed), hold_s=args.hold,
+    session = ramp_hold(make_sensor(args.model, A_kPa=A_KPA, seed=args.seed), hold_s=args.hold,
                         ramp_s=args.ramp, frame_rate_hz=args.frame_rate,
                         loadcell_rate_hz=args.loadcell_rate, seed=args.seed)
     info(args, f"writing {session.raw.sizes['frame']} frames to {args.outdir} ...")

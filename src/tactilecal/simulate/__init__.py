@@ -15,11 +15,11 @@ from tactilecal.simulate._deadweight import ContactModel, deadweight_session
 from tactilecal.simulate._dynamic import random_sine_sets, sine_sweep, through_response
 from tactilecal.simulate._family import FAMILY, family_sessions, true_force_table_N
 from tactilecal.simulate._patches import patch_histograms
-from tactilecal.simulate._sensor import make_sensor, sensor_geometry
+from tactilecal.simulate._sensor import make_sensor
 from tactilecal.simulate._static import ramp_hold, uniform_load
 
 __all__ = [
-    "make_sensor", "sensor_geometry", "deadweight_session", "ContactModel", "uniform_load",
+    "make_sensor", "deadweight_session", "ContactModel", "uniform_load",
     "ramp_hold",
     "sine_sweep", "random_sine_sets", "through_response",
     "FAMILY", "family_sessions", "true_force_table_N", "patch_histograms",
@@ -38,4 +38,6 @@ __getattr__ = moved_names(__name__, {
     "DynamicSession": ("_dynamic", "DynamicSession", _RETURNED.format("sine_sweep()")),
     "sensel_matrix": ("_dynamic", "sensel_matrix", "use sine_sweep()"),
     "FamilyMember": ("_family", "FamilyMember", "the members of FAMILY are its instances"),
+    "sensor_geometry": ("_sensor", "sensor_geometry", "use tactilecal.sensors.get_sensor(name) "
+                        "or custom_sensor(...), or the attributes of make_sensor()"),
 })

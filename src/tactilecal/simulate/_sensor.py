@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
+from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.sensors import get_sensor
 
 __all__ = ["SimulatedSensor", "make_sensor", "sensor_geometry"]
@@ -286,8 +287,8 @@ class SimulatedSensor:
                             attrs=self.attrs(source=source, seconds_per_frame=spf))
 
 
-def make_sensor(model="5051", *, A_N=0.0035, b=1.16, gain_spread=0.05, read_noise=0.5,
-                n_dead=3, noise_threshold=2, seed=0):
+def make_sensor(model="5051", *, A_N=None, b=1.16, gain_spread=0.05, read_noise=0.5,
+                n_dead=3, noise_threshold=2, seed=0, A_kPa=None):
     """Build a simulated sensor with a known power law, gains and dead sensels.
 
     Parameters
@@ -297,7 +298,13 @@ def make_sensor(model="5051", *, A_N=0.0035, b=1.16, gain_spread=0.05, read_nois
         :class:`tactilecal.sensors.SensorModel`.
     A_N : float
         Force per sensel at reading 1 in N (Zvyagin 2022 eq. 1; Table 2 gives A0 of
-        0.0023 to 0.0041 N for the 5051, default near Sensor1's 0.00358).
+        0.0023 to 0.0041 N for the 5051). Default 0.0035 N, near Sensor1's 0.00358, unless
+        ``A_kPa`` is given.
+    A_kPa : float, optional
+        The same law as a pressure at reading 1 in kPa, ``A_N = A_kPa * sensel_area_mm2 /
+        1000``: sensors of different sensel sizes with the same ``A_kPa`` read the same raw
+        value under the same pressure (the 5051's 0.0035 N on 1.6129 mm2 is 2.17 kPa).
+        Give ``A_N`` or ``A_kPa``, not both.
     b : float
         Exponent of the law (Table 2: b0 1.12 to 1.24; default near Sensor1's 1.164).
     gain_spread : float
@@ -338,6 +345,12 @@ def make_sensor(model="5051", *, A_N=0.0035, b=1.16, gain_spread=0.05, read_nois
     (44, 44, 3, (44, 44))
     """
     name, rows, cols, dr, dc, area = sensor_geometry(model)
+    if A_N is not None and A_kPa is not None:
+        raise ValueError(f"A_N = {A_N!r} and A_kPa = {A_kPa!r}; expected one of them")
+    if A_kPa is not None:
+        _check_positive(A_kPa=A_kPa)
+        A_N = A_kPa * area * KPA_MM2_TO_N
+    A_N = 0.0035 if A_N is None else A_N
     _check_positive(A_N=A_N, b=b)
     _check_non_negative(gain_spread=gain_spread, read_noise=read_noise,
                         noise_threshold=noise_threshold)
