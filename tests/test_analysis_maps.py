@@ -202,3 +202,8 @@ def test_cof_path_and_peak_map_figures():
     raw = rec.fillna(0.0).clip(max=255).assign_attrs(units="raw")
     raw_map = raw.tactile.plot_pressure_map()
     assert raw_map.images[0].colorbar.ax.get_ylabel() == "raw reading"
+    # without a summary the accessor computes it: the same path as from the given one
+    np.testing.assert_array_equal(rec.tactile.plot_cof_path().collections[0].get_offsets(),
+                                  ax.collections[0].get_offsets())
+    forces = rec.tactile.plot_force_time().lines[0].get_ydata()
+    np.testing.assert_allclose(forces, s["force_N"].values)

@@ -12,7 +12,15 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tactilecal.dynamic import CorrectionFilter, RationalModel, apply_filter, evaluate, fit_filter
+from tactilecal._jsonutil import to_jsonable
+from tactilecal.dynamic import (
+    CorrectionFilter,
+    Evaluation,
+    RationalModel,
+    apply_filter,
+    evaluate,
+    fit_filter,
+)
 from tactilecal.dynamic._multirate import plan_multirate
 from tactilecal.dynamic._wiener import wiener_correction
 from tactilecal.simulate import random_sine_sets, sine_sweep, through_response
@@ -124,6 +132,13 @@ def test_figures_show_the_phase_of_the_correction_and_of_the_errors(creep_sweep,
     error_fig = ev.plot_error()
     assert [ax.get_ylabel() for ax in error_fig.axes] == ["amplitude error (%)",
                                                            "phase error (deg)"]
+    back = Evaluation.from_dict(json.loads(json.dumps(to_jsonable(ev.to_dict()))))
+    for key in ("f_hz", "error_after_pct", "phase_before_deg", "phase_after_deg"):
+        np.testing.assert_allclose(getattr(back, key), getattr(ev, key), rtol=1e-12)
+    assert back.improvement == pytest.approx(ev.improvement, rel=1e-12)
+    stored_fig = back.plot_error()  # what the report draws from evaluation.json
+    np.testing.assert_allclose(stored_fig.axes[1].lines[0].get_ydata(),
+                               error_fig.axes[1].lines[0].get_ydata(), rtol=1e-12)
     filt.save(tmp_path / "FILTER.json")
     html = write_report([tmp_path / "FILTER.json"], tmp_path / "r.html").read_text()
     assert "transfer function, fitted model and filter gain" in html and "<img" in html

@@ -4,8 +4,7 @@ import numpy as np
 import pytest
 
 from tactilecal.simulate import make_sensor
-from tactilecal.simulate._sensor import sensor_geometry
-from tactilecal.simulate._sensor import SimulatedSensor
+from tactilecal.simulate._sensor import SimulatedSensor, sensor_geometry
 
 ATTRS = ("sensor_type", "units", "row_spacing_mm", "col_spacing_mm", "sensel_area_mm2",
          "seconds_per_frame", "noise_threshold", "source")
