@@ -149,6 +149,32 @@ def test_blind_test_section_shows_the_error_before_and_after():
         "(Gillis 2013, Fig. 4.12)"]
 
 
+@pytest.mark.parametrize(("change", "message"), [
+    ({"rms_after_N": "x"}, r"key 'rms_after_N' of evaluation dict in memory is 'x' \(str\); "
+                           "expected a number"),
+    ({"rms_before_N": -1.0}, r"key 'rms_before_N' of .* is -1.0; expected a finite number >= 0"),
+    ({"f_hz": "abc"}, r"key 'f_hz' of .* is 'abc' \(str\); expected a list of numbers"),
+    ({"error_before_pct": [1.0, 2.0]}, r"per-frequency lists of lengths \{'f_hz': 3, "
+                                       r"'error_before_pct': 2, 'error_after_pct': 3\}"),
+    ({"error_after_pct": None}, r"per-frequency lists of lengths \{'f_hz': 3, "
+                                r"'error_before_pct': 3\}"),
+    ({"phase_before_deg": [0.0, 0.0, 0.0]}, r"expected f_hz, error_before_pct, "
+                                            r"error_after_pct \(and both phase errors\)"),
+])
+def test_a_bad_evaluation_is_refused_naming_its_key(change, message):
+    evaluation = {"fs_hz": 4000.0, "rms_before_N": 8.0, "rms_after_N": 2.0,
+                  "f_hz": [1.0, 2.0, 3.0], "error_before_pct": [1.0, 2.0, 3.0],
+                  "error_after_pct": [0.0, 0.1, 0.2], **change}
+    with pytest.raises((ValueError, TypeError), match=message):
+        build_report([evaluation])
+
+
+def test_a_perfect_correction_is_an_infinite_improvement_not_a_crash():
+    # it divided by zero with a traceback before; a non-finite number is shown as n/a
+    text = build_report([{"fs_hz": 4000.0, "rms_before_N": 8.0, "rms_after_N": 0.0}])
+    assert "<td>improvement (before / after)</td><td>n/a</td>" in text
+
+
 def test_errors_and_atomic_write(files, tmp_path):
     bad = tmp_path / "other.json"
     bad.write_text('{"hello": 1}')

@@ -10,6 +10,7 @@ import numpy as np
 from scipy import signal
 
 from tactilecal._provenance import provenance_of
+from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal.dynamic import _plots
 from tactilecal.dynamic._align import align
 from tactilecal.dynamic._apply import apply_filter
@@ -352,28 +353,38 @@ class Evaluation:
 
     @property
     def improvement(self):
-        """``rms_before_N / rms_after_N``."""
-        return self.rms_before_N / self.rms_after_N
+        """``rms_before_N / rms_after_N`` (infinite for a perfect correction)."""
+        return self.rms_before_N / self.rms_after_N if self.rms_after_N else float("inf")
 
     @classmethod
-    def from_dict(cls, data):
+    def from_dict(cls, data, *, where="evaluation"):
         """Rebuild an evaluation from :meth:`to_dict` (``evaluation.json``), without records.
 
         The per-frequency errors and the figures from them come back (:meth:`plot_error`);
         the records were not stored, so they are empty and :meth:`plot_time` and
-        :meth:`plot_spectra` have nothing to draw. A missing number is NaN.
-        """
-        def array(key):
-            return None if data.get(key) is None else np.asarray(data[key], float)
+        :meth:`plot_spectra` have nothing to draw. A missing lag or static factor is NaN.
 
-        nan, empty = float("nan"), np.empty(0)
-        return cls(**{k: float(data.get(k, nan)) for k in ("lag_s", "static_factor", "fs_hz",
-                                                            "rms_before_N", "rms_after_N")},
-                   f_hz=array("f_hz"), error_before_pct=array("error_before_pct"),
-                   error_after_pct=array("error_after_pct"), time_s=empty, sensor=empty,
-                   corrected=empty, reference=empty,
-                   phase_before_deg=array("phase_before_deg"),
-                   phase_after_deg=array("phase_after_deg"), provenance=data.get("provenance"))
+        Raises
+        ------
+        ValueError, TypeError
+            A missing or bad key (an RMS error that is no number >= 0, per-frequency lists
+            of different lengths or with other than numbers); the message names ``where``
+            and the key.
+        """
+        check_type(data, dict, where, expected="an evaluation object")
+        require_keys(data, ("rms_before_N", "rms_after_N", "fs_hz"), where,
+                     expected="an evaluation")
+        key = f"key {{!r}} of {where}".format
+        numbers = {k: check_number(data[k], key(k), minimum=0.0)
+                   for k in ("rms_before_N", "rms_after_N")}
+        numbers["fs_hz"] = check_number(data["fs_hz"], key("fs_hz"), minimum=0.0,
+                                        min_inclusive=False)
+        for k in ("lag_s", "static_factor"):
+            value = check_number(data.get(k), key(k), allow_none=True)
+            numbers[k] = float("nan") if value is None else value
+        empty = np.empty(0)
+        return cls(**numbers, **_per_bin_arrays(data, key), time_s=empty, sensor=empty,
+                   corrected=empty, reference=empty, provenance=data.get("provenance"))
 
     def to_dict(self):
         """Return the JSON-ready figures (without the records)."""
@@ -407,6 +418,31 @@ class Evaluation:
         (e.g. the input file names). See :func:`tactilecal.dynamic._files.write_evaluation`.
         """
         return write_evaluation(self, filt, folder, extra=extra)
+
+
+def _per_bin_arrays(data, key):
+    """Return the per-frequency lists of an evaluation JSON as arrays of one length.
+
+    ``f_hz`` with the amplitude errors, or none of them; the phase errors both or neither.
+    """
+    names = ("f_hz", "error_before_pct", "error_after_pct", "phase_before_deg",
+             "phase_after_deg")
+    given = {k: data[k] for k in names if data.get(k) is not None}
+    for k, values in given.items():
+        for value in check_type(values, list, key(k), expected="a list of numbers"):
+            check_number(value, key(k))
+    lengths = {len(v) for v in given.values()}
+    pairs_given = [len({n in given for n in pair}) == 1
+                   for pair in (names[:3], names[3:])]
+    if len(lengths) > 1 or not all(pairs_given):
+        found = {k: len(v) for k, v in given.items()}
+        raise ValueError(f"{key('f_hz')}: per-frequency lists of lengths {found}; expected "
+                         "f_hz, error_before_pct, error_after_pct (and both phase errors) of "
+                         "one length")
+    arrays = {k: np.asarray(given[k], float) if k in given else None for k in names}
+    for k in names[:3]:
+        arrays[k] = np.empty(0) if arrays[k] is None else arrays[k]
+    return arrays
 
 
 def _amplitude_error_pct(x, ref, fs_hz, nperseg, min_coherence):

@@ -207,18 +207,19 @@ def evaluation_blocks(data, label):
     """Blind test of a dynamic filter (``tactilecal dynamic evaluate`` output)."""
     from tactilecal.dynamic import Evaluation
 
-    rows = [("RMS error of the dynamic part before the filter [N]", data["rms_before_N"]),
-            ("RMS error after the filter [N]", data["rms_after_N"]),
-            ("improvement (before / after)", data["rms_before_N"] / data["rms_after_N"]),
+    ev = Evaluation.from_dict(data, where=label)  # checks every key the report shows
+    rows = [("RMS error of the dynamic part before the filter [N]", ev.rms_before_N),
+            ("RMS error after the filter [N]", ev.rms_after_N),
+            ("improvement (before / after)", ev.improvement),
             ("lag of the reference [s]", data.get("lag_s")),
             ("static factor", data.get("static_factor")),
-            ("sampling rate [Hz]", data.get("fs_hz"))]
+            ("sampling rate [Hz]", ev.fs_hz)]
     blocks = [table_html(rows, header=("blind test", "value"))]
-    if not data.get("f_hz"):
+    if not ev.f_hz.size:
         return blocks + [note_html(f"{label} holds no per-frequency errors, so the gain and "
                                    "phase figure is not drawn")]
     return blocks + [figure_html(
-        Evaluation.from_dict(data).plot_error(),
+        ev.plot_error(),
         f"{label}: amplitude and phase error before and after the filter (Gillis 2013, "
         "Fig. 4.12)",
         "Each point is one coherent frequency of the blind test: orange is the sensor with "
