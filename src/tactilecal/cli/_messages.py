@@ -1,0 +1,50 @@
+"""The CLI's words: a library error or warning as one line, in flags rather than keywords."""
+
+import argparse
+import re
+import sys
+
+__all__ = ["print_warning", "error_line"]
+
+
+def print_warning(command, parser, message, category, filename, lineno, file=None, line=None):
+    """Show a library warning as one line naming the command (not Python's two lines)."""
+    text = _as_flags(" ".join(str(message).split()), _flags(parser))
+    print(f"tactilecal {command}: warning: {text}", file=sys.stderr)
+
+
+def _flags(parser):
+    """Map each option's keyword (``keep_saturated``) to its flag (``--keep-saturated``)."""
+    flags, todo = {}, [parser]
+    while todo:
+        for action in todo.pop()._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                todo.extend(action.choices.values())
+            elif action.option_strings and action.option_strings[-1].startswith("--"):
+                flags.setdefault(action.dest, action.option_strings[-1])
+    return flags
+
+
+def _as_flags(text, flags):
+    """Say ``--keep-saturated True`` where the library's message says ``keep_saturated=True``.
+
+    The library names its keyword arguments; a command-line user typed flags.
+    """
+    return re.sub(r"\b([a-z][a-z0-9_]*)=(?=\S)",
+                  lambda m: f"{flags[m.group(1)]} " if m.group(1) in flags else m.group(0), text)
+
+
+def _one_line(exc):
+    """Return the message of ``exc`` on one line; an OSError names the path the user gave."""
+    if isinstance(exc, KeyError) and exc.args:
+        text = str(exc.args[0])
+    elif isinstance(exc, OSError) and exc.filename is not None and exc.strerror:
+        text = f"{exc.filename}: {exc.strerror}"
+    else:
+        text = str(exc)
+    return " ".join(text.split())
+
+
+def error_line(exc, parser):
+    """Return the one-line message of a library error, its keywords said as the user's flags."""
+    return _as_flags(_one_line(exc), _flags(parser))
