@@ -44,7 +44,7 @@ from tactilecal.calibration import (
     load_points,
     points_from_frames,
 )
-from tactilecal.dynamic import CorrectionFilter, RationalModel
+from tactilecal.dynamic import CorrectionFilter, Evaluation, RationalModel
 from tactilecal.io import read_tekscan, read_timeseries
 from tactilecal.simulate import deadweight_session, make_sensor
 
@@ -119,6 +119,14 @@ def make_seeds(folder):
                                              response_gain=np.array([1.1, 1.5 + 0.3j, 2j])))):
         phase_filter.save(folder / name)
         seeds.append(("filter", folder / name))
+    evaluation = folder / "evaluation.json"
+    f_hz = [1.0, 2.0, 5.0, 10.0]
+    evaluation.write_text(json.dumps({
+        "lag_s": 0.01, "static_factor": 1.2, "fs_hz": 100.0, "rms_before_N": 3.0,
+        "rms_after_N": 1.0, "f_hz": f_hz, "error_before_pct": [-1.0, -3.0, -8.0, -15.0],
+        "error_after_pct": [0.1, -0.2, 0.3, 0.5], "phase_before_deg": [-1.0, -2.0, -5.0, -9.0],
+        "phase_after_deg": [0.0, 0.1, -0.1, 0.2]}))
+    seeds.append(("evaluation", evaluation))
     return seeds
 
 
@@ -294,6 +302,14 @@ def _check_filter(filt):
     return None if ok else "filter rate, band, taps or parameters out of range"
 
 
+def _check_evaluation(ev):
+    numbers = (ev.rms_before_N, ev.rms_after_N, ev.fs_hz)
+    lists = (ev.f_hz, ev.error_before_pct, ev.error_after_pct)
+    ok = (all(math.isfinite(v) and v >= 0 for v in numbers) and ev.fs_hz > 0
+          and len({len(v) for v in lists}) == 1 and all(np.isfinite(v).all() for v in lists))
+    return None if ok else "RMS, rate or per-frequency errors out of range"
+
+
 READERS = {
     "recording": (read_tekscan, _check_recording),
     "manifest": (load_points, _check_points),
@@ -301,6 +317,7 @@ READERS = {
     "calibration": (load_calibration, _check_calibration),
     "equilibration": (Equilibration.from_json, _check_equilibration),
     "filter": (CorrectionFilter.from_json, _check_filter),
+    "evaluation": (Evaluation.from_json, _check_evaluation),
 }
 
 
@@ -364,6 +381,7 @@ def _cli_commands(kind, mutant, good, out):
                         ["validate", m, str(good["manifest"])], ["plot", m, "--out", str(out)]],
         "equilibration": [["calibrate", str(good["manifest"]), "--equilibration", m]],
         "filter": [["dynamic", "apply", m, str(good["timeseries"]), "--out", f"{out}.csv"]],
+        "evaluation": [["report", m, "--out", f"{out}.html"]],
     }[kind]
 
 

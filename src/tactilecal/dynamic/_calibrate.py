@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
+from tactilecal._jsonutil import read_json_object
 from tactilecal._provenance import provenance_of
 from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal.dynamic import _plots
@@ -355,6 +356,11 @@ class Evaluation:
     def improvement(self):
         """``rms_before_N / rms_after_N`` (infinite for a perfect correction)."""
         return self.rms_before_N / self.rms_after_N if self.rms_after_N else float("inf")
+
+    @classmethod
+    def from_json(cls, path):
+        """Read an ``evaluation.json`` written by :meth:`save` (see :meth:`from_dict`)."""
+        return cls.from_dict(read_json_object(path, "an evaluation.json"), where=str(path))
 
     @classmethod
     def from_dict(cls, data, *, where="evaluation"):
