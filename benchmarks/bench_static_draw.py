@@ -18,7 +18,8 @@ separates the draw from the method:
   draw of held-out patches alone).
 
 Usage: ``python benchmarks/bench_static_draw.py [--member 9500-b1.4] [--seeds 160]
-[--blocks 10] [--methods power,zvyagin,piecewise,lut] [--save scores.npz]``
+[--blocks 10] [--methods power,zvyagin,piecewise,lut] [--equilibrate 100,300,700]
+[--save scores.npz]``
 """
 
 import argparse
@@ -28,17 +29,21 @@ import warnings
 import numpy as np
 
 from tactilecal import calibrate
-from tactilecal.calibration import points_from_frames
+from tactilecal._powerfit import _censored_median
+from tactilecal.calibration import equilibrate, points_from_frames
 from tactilecal.calibration._points import points_to_arrays
-from tactilecal.simulate import FAMILY, family_sessions, true_force_table_N
+from tactilecal.simulate import FAMILY, family_sessions, true_force_table_N, uniform_load
 from tactilecal.simulate._deadweight import deadweight_session
 
 PATCHES = 36
 """Held-out patches per session (issue 12's sessions)."""
 
 
-def held_out_blocks(member, seed, train, test, n_blocks):
-    """Histograms (n_blocks, 36, 256) and loads (n_blocks, 36) of the held-out blocks."""
+def held_out_blocks(member, seed, train, test, n_blocks, transform=None):
+    """Histograms (n_blocks, 36, 256) and loads (n_blocks, 36) of the held-out blocks.
+
+    ``transform`` (e.g. :meth:`Equilibration.apply`) is applied to the frames first.
+    """
     extra = deadweight_session(train.sensor, n_patches=PATCHES * (n_blocks - 1),
                                masses_kg=member.masses_kg, pad_sides_cm=member.pad_sides_cm,
                                saturated_share=member.saturated_share, blank_frame_share=0.0,
@@ -47,11 +52,26 @@ def held_out_blocks(member, seed, train, test, n_blocks):
     for session in (test, extra):
         if session is None:
             continue
-        points = points_from_frames(session.raw.values, session.load_N)
+        points = points_from_frames(frames_of(session, transform), session.load_N)
         hists.append(np.array([p.histogram for p in points], dtype=float))
         loads.append(np.asarray(session.load_N, dtype=float))
     return (np.concatenate(hists).reshape(n_blocks, PATCHES, 256),
             np.concatenate(loads).reshape(n_blocks, PATCHES))
+
+
+def frames_of(session, transform=None):
+    """A session's frames, through ``transform`` when one is given."""
+    return session.raw.values if transform is None else transform(session.raw.values)
+
+
+def sensor_equilibration(sensor, pressures_kPa, seed):
+    """The sensor's equilibration from simulated uniform loads (5 frames per level).
+
+    What a lab does before calibrating (Gillis 2013, sec. 3.5; ``tactilecal equilibrate``):
+    :func:`uniform_load` at ``pressures_kPa`` then :func:`equilibrate`.
+    """
+    frames = uniform_load(sensor, pressures_kPa, seed=seed).raw.values
+    return equilibrate(np.split(frames, len(pressures_kPa))).apply
 
 
 def block_shares(table_N, hist, load_N):
@@ -61,17 +81,27 @@ def block_shares(table_N, hist, load_N):
     return good.sum(axis=1) / clean.sum(axis=1)
 
 
-def seed_scores(member, seed, methods, n_blocks):
-    """Shares (n_blocks,) per block of the truth and of each method on one seed."""
+def seed_scores(member, seed, methods, n_blocks, equilibrate_kPa=None):
+    """Shares (n_blocks,) per block of the truth and of each method on one seed.
+
+    With ``equilibrate_kPa`` the methods fit and predict equilibrated frames; the truth
+    stays the unit-gain law on the raw readings (issue 12's reference).
+    """
     train, test = family_sessions(member, seed)
     hist, load = held_out_blocks(member, seed, train, test, n_blocks)
-    points = points_from_frames(train.raw.values, train.load_N)
     scores = {"truth": block_shares(true_force_table_N(train.sensor), hist, load)}
+    transform = None
+    if equilibrate_kPa:
+        transform = sensor_equilibration(train.sensor, equilibrate_kPa, 4 * 10**6 + seed)
+        hist, load = held_out_blocks(member, seed, train, test, n_blocks, transform)
+    points = points_from_frames(frames_of(train, transform), train.load_N)
     for name in methods:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                scores[name] = block_shares(force_table_N(name, points), hist, load)
+                table = session_ceiling(member, train, transform) if name == "ceiling" \
+                    else force_table_N(name, points)
+                scores[name] = block_shares(table, hist, load)
         except ValueError:
             scores[name] = np.zeros(n_blocks)  # a refused session counts as 0
     return scores
@@ -90,6 +120,26 @@ def force_table_N(name, points):
     hist, load = points_to_arrays([p for p in points if p.histogram[255] == 0])
     A, b = fit_candidate(name.removeprefix("power:"), hist.astype(float), load)
     return A * LEVELS ** b
+
+
+def session_ceiling(member, train, transform=None, n_patches=450):
+    """Not a method: the power law at the true b, scaled on 450 patches of the training session.
+
+    The same seed gives the same base relief (drawn first), so these patches are the training
+    session's with ten times as many placements; A is their l1 scale (the S-weighted median
+    of F / S, as the power method profiles it). What no fit to this session can beat.
+    """
+    from bench_static_weights import LEVELS
+
+    big = deadweight_session(train.sensor, n_patches=n_patches, masses_kg=member.masses_kg,
+                             pad_sides_cm=member.pad_sides_cm,
+                             saturated_share=member.saturated_share, blank_frame_share=0.0,
+                             seed=train.seed)
+    hist, load = points_to_arrays(points_from_frames(frames_of(big, transform), big.load_N))
+    keep = hist[:, 255] == 0
+    sums = hist[keep].astype(float) @ LEVELS ** member.b
+    return _censored_median(load[keep] / sums, sums, np.zeros(keep.sum(), bool)) \
+        * LEVELS ** member.b
 
 
 def worst_ratios(method, truth, k, rng=None, n_draws=0):
@@ -122,6 +172,7 @@ def report(scores, args):
     for name in args.methods.split(","):
         m = scores[name]
         print(f"\n{name}")
+        print(f"  share within 5 %, all blocks per seed: {describe(m.mean(axis=1))}")
         print(f"  per-session ratio, all blocks pooled: {describe(m.mean(1) / truth.mean(1))}")
         print(f"  per-session ratio, block 0:           {describe(m[:, 0] / truth[:, 0])}")
         below, above = np.mean(m[:, 0] < truth[:, 0]), np.mean(m[:, 0] > truth[:, 0])
@@ -147,11 +198,16 @@ def main():
     parser.add_argument("--blocks", type=int, default=10,
                         help="blocks of 36 held-out patches per seed (block 0 = the benchmark's)")
     parser.add_argument("--methods", default="power,zvyagin,piecewise,lut",
-                        help="comma-separated methods, each with its defaults, or "
+                        help="comma-separated methods, each with its defaults, "
                              "power:<candidate> of bench_static_weights.py (e.g. 'power:l1 "
-                             "n_eff'); the others are compared seed by seed with the first")
+                             "n_eff') or 'ceiling' (the true b scaled on 450 patches of the "
+                             "training session); the others are compared seed by seed with "
+                             "the first")
     parser.add_argument("--draws", type=int, default=200,
                         help="random picks of one block per seed for the worst-of-k spread")
+    parser.add_argument("--equilibrate", default="", metavar="KPA,KPA",
+                        help="equilibrate each sensor from uniform loads at these pressures "
+                             "before fitting and predicting (the truth stays on raw readings)")
     parser.add_argument("--save", default=None, help="write the per-block shares to this .npz")
     parser.add_argument("--load", default=None, help="report from a saved .npz instead")
     args = parser.parse_args()
@@ -161,7 +217,9 @@ def main():
     else:
         member = FAMILY[args.member]
         names = ["truth", *args.methods.split(",")]
-        runs = [seed_scores(member, seed, names[1:], args.blocks) for seed in range(args.seeds)]
+        levels = [float(v) for v in args.equilibrate.split(",")] if args.equilibrate else None
+        runs = [seed_scores(member, seed, names[1:], args.blocks, levels)
+                for seed in range(args.seeds)]
         scores = {n: np.array([r[n] for r in runs]) for n in names}
         if args.save:
             np.savez(args.save, **scores)
