@@ -148,20 +148,20 @@ def main():
     names = args.candidates.split(",")
     print(f"worst of {args.seeds} sessions' share within 5 % / the true law's worst "
           "(median share in brackets)")
-    for n_test in sizes:
-        print(f"\n{n_test} held-out patches\n{'member':<17}{'truth':>14}"
-              + "".join(f"{n:>22}" for n in names))
-    results = {}
+    lines = {n_test: [] for n_test in sizes}
     for member in args.members.split(","):
         runs = [seed_scores(FAMILY[member], seed, sizes, names) for seed in range(args.seeds)]
-        results[member] = runs
         for n_test in sizes:
             truth = np.array([r[n_test]["truth"] for r in runs])
-            row = f"{n_test:>4} {member:<17}{truth.min():>6.2f} ({np.median(truth):.2f})"
+            row = f"{member:<17}{truth.min():>6.2f} ({np.median(truth):.2f})"
             for name in names:
                 v = np.array([r[n_test][name] for r in runs])
                 row += f"{v.min() / truth.min():>14.2f} ({np.median(v):.2f})"
-            print(row, flush=True)
+            lines[n_test].append(row)
+    for n_test in sizes:
+        print(f"\n{n_test} held-out patches\n{'member':<17}{'truth':>13}"
+              + "".join(f"{n:>21}" for n in names))
+        print("\n".join(lines[n_test]))
     print(f"{time.perf_counter() - start:.0f} s")
 
 
