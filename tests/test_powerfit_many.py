@@ -154,3 +154,27 @@ def test_movie_calibration_is_the_same_on_either_path(movie, storage, monkeypatc
         assert ours.keys() == theirs.keys() and ours["n_failed"] == theirs["n_failed"] == 0
         for key in ("rel_low", "rel_high"):
             assert ours[key] == pytest.approx(theirs[key], rel=1e-6)
+
+
+@pytest.mark.parametrize("n", [50, 5000], ids=["numpy", "compiled"])
+@pytest.mark.parametrize("dtype", [np.uint16, np.int64, np.float64])
+def test_hist_products_equal_the_dense_product(n, dtype):
+    """Counts in any dtype, mostly empty bins as a movie's: the dense product to round-off."""
+    rng = np.random.default_rng(5)
+    hist = np.zeros((n, 256), dtype)
+    rows, levels = rng.integers(0, n, 20 * n), rng.integers(0, 256, 20 * n)
+    np.add.at(hist, (rows, levels), 1)
+    matrix = rng.random((256, 3))
+    dense = hist.astype(float) @ matrix
+    np.testing.assert_allclose(powerfit.hist_products(hist, matrix), dense.T, rtol=1e-13)
+    np.testing.assert_allclose(powerfit.hist_products(hist, matrix[:, 0]), dense.T[:1],
+                               rtol=1e-13)
+
+
+def test_movie_histograms_are_uint16_counts_equal_to_frame_histograms(movie):
+    from tactilecal.calibration._movie import _histograms
+
+    raw = movie[2].raw.values
+    hist = _histograms(raw, None, None, lambda spans, **_: spans, numba_loaded=True)
+    assert hist.dtype == np.uint16
+    np.testing.assert_array_equal(hist, frame_histograms(raw))

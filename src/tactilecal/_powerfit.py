@@ -16,7 +16,7 @@ from scipy import optimize
 __all__ = ["Fit", "OBJECTIVES", "DEFAULT_OBJECTIVE", "LS_OBJECTIVE", "B_BOUNDS", "LEVELS",
            "COMPILED_MIN_POINTS", "NO_STDERR",
            "objective_weights", "fit_power", "fit_power_censored",
-           "check_unsaturated"]
+           "check_unsaturated", "hist_products"]
 
 #: Raw levels 0..255 as floats (the columns of a frame histogram).
 LEVELS = np.arange(256, dtype=float)
@@ -51,6 +51,36 @@ def _check_objective(objective):
 def objective_weights(load_N, objective):
     """Residual weights: 1 for l2/l1, 1/F for ``relative`` (residuals as fractions)."""
     return 1.0 / load_N if objective == "relative" else np.ones_like(load_N)
+
+
+def hist_products(hist, matrix):
+    """Return ``(hist @ matrix).T``, (c, n), for histograms of counts in any dtype.
+
+    From :data:`COMPILED_MIN_POINTS` rows the numba kernel
+    :func:`tactilecal._powerfit_kernels.hist_dot` reads the counts as they are (a movie's
+    uint16 histograms, with no float64 copy) and skips empty bins; below, NumPy's product.
+
+    Parameters
+    ----------
+    hist : numpy.ndarray, shape (n, 256)
+        Frame histograms (counts).
+    matrix : numpy.ndarray, shape (256,) or (256, c)
+        Functions of the raw level 0..255.
+
+    Returns
+    -------
+    numpy.ndarray, shape (c, n)
+        Equal to the dense product to round-off (the terms are added in another order).
+    """
+    matrix = np.asarray(matrix, dtype=float)
+    if len(hist) < COMPILED_MIN_POINTS:
+        product = np.asarray(hist, dtype=float) @ matrix
+        return product[None] if matrix.ndim == 1 else np.ascontiguousarray(product.T)
+    matrix = matrix[:, None] if matrix.ndim == 1 else matrix
+    from tactilecal._powerfit_kernels import hist_dot
+
+    return hist_dot(np.ascontiguousarray(hist), np.ascontiguousarray(matrix),
+                    np.empty((matrix.shape[1], len(hist))))
 
 
 def _power_sums(hist, b):
@@ -226,7 +256,7 @@ class _Sums:
 
     def __init__(self, hist, lo, hi):
         coef, self.mid, self.half = _chebyshev_basis(lo, hi)
-        self.moments = coef.T @ hist.T  # (J, n)
+        self.moments = hist_products(hist, coef)  # (J, n)
 
     def __call__(self, b_values, slope=False):
         """(m, n) sums at ``b_values`` (and their derivatives in b if ``slope``)."""
@@ -270,7 +300,7 @@ def _median_window(b_values, grid, A):
 
 def _direct_sums(hist, b_values):
     """(m, n) ``S_T(b) = hist @ LEVELS**b`` for m exponents (one product)."""
-    return (LEVELS[:, None] ** np.asarray(b_values, dtype=float)[None, :]).T @ hist.T
+    return hist_products(hist, LEVELS[:, None] ** np.asarray(b_values, dtype=float)[None, :])
 
 
 def _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
@@ -407,7 +437,7 @@ def _minimise_b_grid(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
     """
     lo, hi = (float(v) for v in b_bounds)
     grid = np.linspace(lo, hi, n_grid)
-    cost, A = _costs_many((LEVELS[:, None] ** grid).T @ hist.T, load_N, objective, censored)
+    cost, A = _costs_many(_direct_sums(hist, grid), load_N, objective, censored)
     k = int(np.nanargmin(cost))
     _check_interior(k, grid, b_bounds)
     lo, hi, n_eval = grid[k - 1], grid[k + 1], n_grid
@@ -456,7 +486,8 @@ def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS, *
     over ``b_bounds`` (each pass one matrix product over the histograms).
     """
     _check_objective(objective)
-    hist = np.asarray(hist, dtype=float)  # one conversion, then BLAS products
+    if len(hist) < COMPILED_MIN_POINTS:  # else products of the counts (hist_products)
+        hist = np.asarray(hist, dtype=float)  # one conversion, then BLAS products
     b, A, cost, n_eval = _minimise_b(hist, load_N, objective, b_bounds)
     details = {"objective": objective, "cost": cost, "n_evaluations": n_eval,
                "stderr_method": NO_STDERR}
