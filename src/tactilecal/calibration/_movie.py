@@ -33,6 +33,7 @@ __all__ = ["read_movie_loads", "movie_points", "calibrate_movie"]
 
 _CHUNK = 2048
 _GROUP_FRAMES = 16 * _CHUNK  # frames of dask blocks computed together
+_FIRST_PASS_POINTS = 5000  # frames of the fit that shapes the second alignment's signal
 
 
 def read_movie_loads(path, *, time_col=None, load_col=None):
@@ -170,7 +171,7 @@ def _frame_times(recording, n):
 
 def _align_loads(loads, total, times, n, name, lag_s, max_lag_s):
     """Return the load on each frame (NaN outside the record) and an alignment report."""
-    from tactilecal.dynamic import estimate_lag, resample_to
+    from tactilecal.dynamic import estimate_lag
 
     if not isinstance(loads, xr.DataArray):
         loads = np.asarray(loads, dtype=float).ravel()
@@ -181,10 +182,46 @@ def _align_loads(loads, total, times, n, name, lag_s, max_lag_s):
     sensor = xr.DataArray(total, dims="time", coords={"time": times}, name="total raw")
     if lag_s is None:
         lag_s = float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s))
+    return (_loads_at(loads, times, lag_s),
+            {"lag_s": lag_s, "aligned": "cross-correlation with the total raw signal"})
+
+
+def _loads_at(loads, times, lag_s):
+    """Resample the load record onto ``times`` (:func:`tactilecal.dynamic.resample_to`).
+
+    NaN at the times outside the record.
+    """
+    from tactilecal.dynamic import resample_to
+
     on_frames = resample_to(loads, times, lag_s=lag_s)
-    load = np.full(n, np.nan)
+    load = np.full(len(times), np.nan)
     load[np.searchsorted(times, on_frames["time"].values)] = on_frames.values
-    return load, {"lag_s": lag_s, "aligned": "cross-correlation with the total raw signal"}
+    return load
+
+
+def _mean_rate_hz(record):
+    """Return the samples per second of a record's ``time`` coordinate (0 if none).
+
+    Unchecked: :func:`tactilecal.dynamic.estimate_lag` checks the record and says what is
+    wrong with it.
+    """
+    if "time" not in record.coords:
+        return 0.0
+    return _rate_hz(np.asarray(record["time"].values, dtype=float).ravel())
+
+
+def _rate_hz(times):
+    span = float(times[-1] - times[0]) if times.size > 1 else 0.0
+    return (times.size - 1) / span if span > 0 else 0.0
+
+
+def _decimated(total, times, rate_hz):
+    """Block means of ``total`` and ``times`` down to no less than ``rate_hz`` (or as is)."""
+    q = int(_rate_hz(times) / rate_hz * (1 + 1e-9)) if rate_hz > 0 else 0  # 4 kHz / 2 kHz: 2
+    if q < 2 or len(total) // q < 64:
+        return total, times
+    m = len(total) // q * q
+    return total[:m].reshape(-1, q).mean(axis=1), times[:m].reshape(-1, q).mean(axis=1)
 
 
 def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
@@ -317,14 +354,43 @@ def _points_from_movie(recording, hist, loads, **kwargs):
     return points, report
 
 
-def _first_pass_table(hist, load, method, options, min_load_fraction, max_points=5000):
+def _first_pass(recording, hist, raw_sum, loads, method, options, min_load_fraction,
+                max_lag_s, max_points=_FIRST_PASS_POINTS):
+    """Align on the raw sum and fit the table that shapes the second alignment's signal.
+
+    Neither needs the frame rate: the lag is estimated on the raw sum block-averaged to no
+    less than ``4 x`` the load record's rate (:func:`_decimated`), and the loads are
+    resampled onto, and fitted on, at most ``max_points`` frames evenly spread over the
+    movie. The second alignment (:func:`_movie_arrays`) works at the frame rate.
+
+    Returns
+    -------
+    signal_N : numpy.ndarray
+        The first fit's force table (256,).
+    fit : Fit
+    report : dict
+        ``{"lag_s": ...}`` of the first alignment.
+    """
+    from tactilecal.dynamic import estimate_lag
+
+    n = len(raw_sum)
+    times = _frame_times(recording, n)
+    total, at = _decimated(raw_sum, times, 4.0 * _mean_rate_hz(loads))
+    sensor = xr.DataArray(total, dims="time", coords={"time": at}, name="total raw")
+    lag_s = float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s))
+    step = max(1, n // max_points)
+    load = _loads_at(loads, times[::step], lag_s)
+    return (*_first_pass_table(hist[::step], load, method, options, min_load_fraction),
+            {"lag_s": lag_s})
+
+
+def _first_pass_table(hist, load, method, options, min_load_fraction):
     """Fit on arrays to get a force table for the second alignment.
 
-    It only has to make the alignment signal proportional to the load, so it uses at most
-    ``max_points`` frames evenly spread over the movie.
+    It only has to make the alignment signal proportional to the load; ``hist`` and
+    ``load`` are those of a few thousand frames (:func:`_first_pass`).
     """
-    step = max(1, len(load) // max_points)
-    hist, load = hist[::step].astype(float), load[::step]
+    hist = hist.astype(float)
     keep = np.isfinite(load)
     keep[keep] = load[keep] >= min_load_fraction * load[keep].max()
     keep &= hist[:, 1:].any(axis=1)
@@ -388,9 +454,9 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     if lag_s is None and isinstance(loads, xr.DataArray) and method in FITTERS:
         # The raw sum is not proportional to the load (b != 1): align on it, fit, then
         # align again on the force that fit gives (Gillis 2013 aligns force on force).
-        load, first_report = _movie_loads(recording, sums["raw_sum"], loads, lag_s=None,
-                                          max_lag_s=max_lag_s)
-        signal_N, first = _first_pass_table(hist, load, method, options, min_load_fraction)
+        signal_N, first, first_report = _first_pass(recording, hist, sums["raw_sum"], loads,
+                                                    method, options, min_load_fraction,
+                                                    max_lag_s)
     kwargs = {"lag_s": lag_s, "max_lag_s": max_lag_s, "min_load_fraction": min_load_fraction,
               "signal_N": signal_N, "sums": sums}
     if method in FITTERS:
