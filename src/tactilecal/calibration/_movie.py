@@ -8,6 +8,8 @@ with the sensor's total raw signal by cross-correlation
 selection) and every remaining frame becomes a calibration point.
 """
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -96,7 +98,8 @@ def _histograms(values, mask, equilibration, progress, numba_loaded=False):
 
     uint16 rather than float64 (as until session 8): 51 rather than 205 MB of fresh pages per
     100,000 frames, and a quarter of the bytes for every later product
-    (:func:`tactilecal._powerfit.hist_products`).
+    (:func:`tactilecal._powerfit.hist_products`). In memory, the compiled kernels (which
+    release the GIL) count blocks of ``_CHUNK`` frames on every core, in threads.
 
     ``values`` may be a dask array (a recording larger than memory, perhaps on a cluster):
     each block of frames is counted where it is computed, by dask's scheduler, and only the
@@ -116,15 +119,23 @@ def _histograms(values, mask, equilibration, progress, numba_loaded=False):
         bounds = _block_groups(values.chunks[0], _GROUP_FRAMES)
     else:
         bounds = [*range(0, n, _CHUNK), n]
-    spans = zip(bounds[:-1], bounds[1:], strict=True)
-    if n >= 20 * _CHUNK:
-        spans = progress(spans, total=len(bounds) - 1, desc="histograms")
-    for a, b in spans:
+    spans = list(zip(bounds[:-1], bounds[1:], strict=True))
+
+    def count(span):
+        a, b = span
         if _is_dask(values):
             da.store(lazy[a:b], hist[a:b], lock=False)
         else:
             _frame_histograms(values[a:b], out=hist[a:b], prepare=prepare, mask=mask,
                               compiled=compiled)
+
+    workers = 1 if _is_dask(values) or not compiled else min(os.cpu_count() or 1, len(spans))
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        done = pool.map(count, spans) if workers > 1 else map(count, spans)
+        if n >= 20 * _CHUNK:
+            done = progress(done, total=len(spans), desc="histograms")
+        for _ in done:
+            pass
     return hist
 
 
