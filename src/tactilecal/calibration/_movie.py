@@ -442,7 +442,11 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     Returns
     -------
     CalibrationResult
-        With ``details["movie"]`` holding the alignment report.
+        With ``details["movie"]`` holding the alignment report. With a load record and no
+        ``lag_s``, the loads are aligned twice: first on the raw sum (``lag_s_raw_sum``,
+        estimated on the raw sum block-averaged to at least 4 x the load record's rate),
+        then, at the frame rate, on the force of a first fit (``first_pass_params``) to at
+        most 5000 frames.
     """
     equilibration = as_equilibration(equilibration)  # the object, or its JSON's path
     if not isinstance(recording, xr.DataArray):
