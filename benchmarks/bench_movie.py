@@ -19,19 +19,23 @@ For each size and storage dtype, interleaved in one run (best of ``--repeat``):
   below ``COMPILED_MIN_VALUES`` readings), and the former NumPy version (round, check the
   range, add frame offsets, ``bincount`` per 64 frames), kept below as
   ``old_frame_histograms``; and numba's start-up in a new process, which decides the switch;
-- ``calibrate_movie`` and the former implementation (``old_calibrate_movie`` below: the
-  former histograms, raw sums and kept-frame copy around the same alignment, and the
-  former direct power fits), its peak memory (tracemalloc),
-  with where the new one spends its time (histograms, alignment in
-  ``tactilecal.dynamic``, the fits in ``calibration._methods`` / ``_calibrate``, the rest),
-  and on the same recording as a dask array of 16,384-frame blocks (threads; its result
-  must equal the in-memory one).
+- ``calibrate_movie`` and the former implementation (``_former_movie.py``: main at bbea5f0,
+  session 7's code, with float64 histograms counted in one thread, both alignments at the
+  frame rate and the 13-exponent nested grids of the power fit), its peak memory
+  (tracemalloc), with where the new one spends its time (histograms; the first pass: an
+  alignment on the decimated raw sum and a fit on 5000 frames; the final alignment in
+  ``tactilecal.dynamic``; the final fit in ``calibration._calibrate``; the rest), and on the
+  same recording as a dask array of 16,384-frame blocks (threads; its result must equal the
+  in-memory one).
 
-Each line also checks that the new and old histograms are identical and prints the largest
-relative difference of the fitted parameters.
+Each line also checks that the new (uint16) and former (float64) histograms of
+``calibrate_movie`` are identical and prints the largest relative difference of the fitted
+parameters from the former implementation's.
 """
 
 import argparse
+import os
+import sys
 import time
 import tracemalloc
 from pathlib import Path
@@ -39,16 +43,17 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-import tactilecal._powerfit as powerfit
 import tactilecal.calibration._movie as movie
 import tactilecal.dynamic  # noqa: F401  (import time is not part of the calibration)
 from tactilecal._powerfit import COMPILED_MIN_POINTS
 from tactilecal.calibration import calibrate_movie, frame_histograms
-from tactilecal.calibration._calibrate import calibrate_arrays
 from tactilecal.calibration._histogram import COMPILED_MIN_VALUES
-from tactilecal.calibration._points import _frame_histograms, take_rows
+from tactilecal.calibration._points import _frame_histograms
 from tactilecal.simulate import make_sensor, ramp_hold
 from tactilecal.simulate._static import ramp_hold_profile
+
+sys.path.insert(0, str(Path(__file__).parent))
+import _former_movie  # noqa: E402  (main's calibrate_movie, kept beside this script)
 
 
 # ----------------------------------------------------------- the former implementation
@@ -90,68 +95,6 @@ def _old_rounded(block, work):
         if nan.any():
             work[nan] = 256
     return values
-
-
-def _old_histograms(values):
-    hist = np.empty((len(values), 256))
-    for s in range(0, len(values), 2048):
-        old_frame_histograms(np.asarray(values[s:s + 2048]), out=hist[s:s + 2048])
-    return hist
-
-
-def _old_movie_loads(recording, hist, loads, *, lag_s, max_lag_s, signal_N=None):
-    n = len(hist)
-    signal = hist @ (np.arange(256.0) if signal_N is None else signal_N)
-    return movie._align_loads(loads, signal, movie._frame_times(recording, n), n,
-                              str(recording.attrs.get("source", "recording")), lag_s,
-                              max_lag_s)
-
-
-def _old_movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction,
-                      signal_N=None):
-    n = len(hist)
-    load, _ = _old_movie_loads(recording, hist, loads, lag_s=lag_s, max_lag_s=max_lag_s,
-                               signal_N=signal_N)
-    outside = ~np.isfinite(load)
-    keep = ~outside & ~(~outside & (load < min_load_fraction * np.nanmax(load)))
-    kept = take_rows(hist, keep)
-    m = len(kept)
-    meta = {"file": np.full(m, "movie", dtype=object), "frame": np.arange(1, n + 1)[keep],
-            "raw_sum": kept @ np.arange(256.0),
-            "loaded_cells": kept[:, 1:].sum(axis=1).astype(np.int64),
-            "saturated_cells": kept[:, 255].astype(np.int64),
-            "label": np.full(m, "", dtype=object), "note": np.full(m, "", dtype=object),
-            "sensel_area_mm2": np.full(m, float(recording.attrs["sensel_area_mm2"])),
-            "working_cells": kept.sum(axis=1).astype(np.int64),
-            "total_cells": np.full(m, int(np.isfinite(np.asarray(recording.data[0],
-                                                                 dtype=float)).sum()))}
-    return kept, load[keep], meta
-
-
-def old_calibrate_movie(recording, loads, *, method="power", min_load_fraction=0.02):
-    """``calibrate_movie`` before issue 16, for a load-cell time series (no options).
-
-    Its power fits are the direct ones (every trial exponent a product with all 256
-    histogram columns, l1 medians by sorting): the package keeps that path for fits below
-    ``COMPILED_MIN_POINTS`` points, so it is taken here by raising that threshold.
-    """
-    saved = powerfit.COMPILED_MIN_POINTS
-    powerfit.COMPILED_MIN_POINTS = 2 ** 62
-    try:
-        return _old_calibrate_movie(recording, loads, method=method,
-                                    min_load_fraction=min_load_fraction)
-    finally:
-        powerfit.COMPILED_MIN_POINTS = saved
-
-
-def _old_calibrate_movie(recording, loads, *, method, min_load_fraction):
-    hist = _old_histograms(recording.data)
-    load, _ = _old_movie_loads(recording, hist, loads, lag_s=None, max_lag_s=None)
-    signal_N, _ = movie._first_pass_table(hist, load, method, {}, min_load_fraction)
-    kept, load, meta = _old_movie_arrays(recording, hist, loads, lag_s=None, max_lag_s=None,
-                                         min_load_fraction=min_load_fraction,
-                                         signal_N=signal_N)
-    return calibrate_arrays(kept, load, meta, method=method)
 
 
 # ------------------------------------------------------------------------ workloads
@@ -232,8 +175,7 @@ def run_size(raw, loadcell, dtype, repeat_frames, repeat, with_old_movie):
                                                               compiled=False), 1)[0])
         assert np.array_equal(hist, old_hist)
         t["hist_old"].append(best(lambda: old_frame_histograms(values, out=old_hist), 1)[0])
-        watch = Stopwatch(["_histograms", "_align_loads", "_first_pass_table",
-                           "calibrate_arrays"])
+        watch = Stopwatch(["_histograms", "_first_pass", "_align_loads", "calibrate_arrays"])
         try:
             dt, res_new = best(lambda: calibrate_movie(rec, loadcell), 1)
         finally:
@@ -241,17 +183,21 @@ def run_size(raw, loadcell, dtype, repeat_frames, repeat, with_old_movie):
         t["movie"].append(dt)
         parts.append((dt, watch.seconds))
         if with_old_movie:
-            dt, res_old = best(lambda: old_calibrate_movie(rec, loadcell), 1)
+            dt, res_old = best(lambda: _former_movie.calibrate_movie(rec, loadcell), 1)
             t["movie_old"].append(dt)
         dt, res_dask = best(lambda: calibrate_movie(lazy, loadcell), 1)
         t["dask"].append(dt)
         assert res_dask.params == res_new.params
-    same_hist = bool(np.array_equal(hist, old_hist))
+    counts = movie._histograms(values, None, None, lambda spans, **_: spans, True)
+    former_counts = _former_movie._histograms(values, None, None, lambda spans, **_: spans, True)
+    same_hist = bool(np.array_equal(hist, old_hist) and np.array_equal(counts, former_counts))
+    del counts, former_counts
     base = min(t["sum"] + t["words"] + t["copy"])
     copy = f"{min(t['copy']):.3f} s" if t["copy"] else "- (no room for a copy)"
     print(f"\n{n:>9,} frames 44 x 44 {np.dtype(dtype).name:<8} ({values.nbytes / 1e9:.2f} GB):"
           f" np.sum {min(t['sum']):.3f} s, as uint64 words {min(t['words']):.3f} s, np.copyto "
-          f"{copy}; one pass = the fastest, {base:.3f} s ({values.nbytes / base / 1e9:.1f} GB/s)")
+          f"{copy}; one pass = the fastest, {base:.3f} s ({values.nbytes / base / 1e9:.1f} GB/s);"
+          f" load (1, 5 min) {os.getloadavg()[0]:.1f}, {os.getloadavg()[1]:.1f}")
     path = "compiled" if values.size >= COMPILED_MIN_VALUES else "NumPy"
     movie_path = "compiled" if path == "compiled" or n >= COMPILED_MIN_POINTS else "NumPy"
     print(f"  ({n * 1936:,} readings: frame_histograms takes the {path} path, the switch is "
@@ -275,16 +221,17 @@ def run_size(raw, loadcell, dtype, repeat_frames, repeat, with_old_movie):
     print(f"  calibrate_movie peak (tracemalloc, numba's work arrays not traced): "
           f"{peak / 1e6:.0f} MB, {peak / values.nbytes:.2f} x the array")
     total, sec = min(parts, key=lambda p: p[0])
-    fits = sec["calibrate_arrays"] + sec["_first_pass_table"]
-    rest = total - sec["_histograms"] - sec["_align_loads"] - fits
-    print(f"  calibrate_movie's time: histograms {sec['_histograms']:.3f} s, alignment "
-          f"(dynamic.estimate_lag, resample_to) {sec['_align_loads']:.3f} s, fits "
-          f"(_methods, _calibrate) {fits:.3f} s, rest {rest:.3f} s")
-    line = f"  histograms identical to the former version: {same_hist}"
+    rest = total - sum(sec.values())
+    print(f"  calibrate_movie's time: histograms {sec['_histograms']:.3f} s, first pass "
+          f"(decimated alignment, fit on 5000 frames) {sec['_first_pass']:.3f} s, final "
+          f"alignment (dynamic.estimate_lag, resample_to) {sec['_align_loads']:.3f} s, final "
+          f"fit (_calibrate) {sec['calibrate_arrays']:.3f} s, rest {rest:.3f} s")
+    line = (f"  histograms identical to the former versions (frame_histograms' paths; "
+            f"calibrate_movie's uint16 and float64 counts): {same_hist}")
     if res_old is not None:
         rel = max(abs(res_new.params[k] - res_old.params[k]) / abs(res_old.params[k])
                   for k in res_old.params)
-        line += f"; largest relative parameter difference {rel:.1e}"
+        line += f"; largest relative parameter difference from the former {rel:.1e}"
     print(line + f"; A = {res_new.params['A']:.6g}, b = {res_new.params['b']:.6g}")
 
 
@@ -318,7 +265,7 @@ def main():
     parser.add_argument("--sizes", type=int, nargs="+", default=[10_000, 100_000, 1_000_000])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--no-old-movie", action="store_true",
-                        help="skip the former calibrate_movie (slow at 1M frames)")
+                        help="skip the former calibrate_movie (_former_movie.py)")
     args = parser.parse_args()
     print(f"{Path(__file__).name}: times are the best of {args.repeat}, interleaved; ratios "
           "to one pass (np.sum or np.copyto) over the same array in the same run")

@@ -203,3 +203,25 @@ def test_real_fscan_frames_histograms_equal_reference(which, request, counting):
     res = calibrate_movie(lazy, load, objective="relative")
     _assert_same_calibration(res, _reference_calibration(
         raw, load, objective="relative", area=rec.attrs["sensel_area_mm2"]))
+
+
+def test_first_alignment_on_a_decimated_raw_sum_finds_the_lag():
+    """A 4 kHz raw sum averaged to 2 kHz (4 x the 500 Hz load cell) keeps the known lag."""
+    import xarray as xr
+
+    from tactilecal.calibration._movie import _decimated
+    from tactilecal.dynamic import estimate_lag
+
+    def two_steps(t):
+        return 1 / (1 + np.exp(-(t - 3) / 0.2)) + 0.5 / (1 + np.exp(-(t - 6) / 0.2))
+
+    t = np.arange(40_000) / 4000.0
+    t_ref = np.arange(0.0, 9.0, 1 / 500)
+    true_lag_s = 0.37  # added to the load cell's stamps, it puts them on the sensor's clock
+    ref = xr.DataArray(two_steps(t_ref + true_lag_s), dims="time", coords={"time": t_ref})
+    total, at = _decimated(two_steps(t), t, 4 * 500.0)
+    assert len(total) == 20_000 and at[1] - at[0] == pytest.approx(1 / 2000)
+    sensor = xr.DataArray(total, dims="time", coords={"time": at})
+    assert estimate_lag(sensor, ref) == pytest.approx(true_lag_s, abs=1.25e-4)  # 1/2 frame
+    head, at_head = total[:100], at[:100]
+    assert _decimated(head, at_head, 4 * 500.0) == (head, at_head)  # 2 kHz already

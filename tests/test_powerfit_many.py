@@ -1,9 +1,10 @@
 """The power fit for many points (movie calibration) equals the direct one to round-off.
 
-``_minimise_b_many`` reads the histograms twice (a grid, then Chebyshev moments) and finds
-l1 medians by selection; ``_minimise_b`` below ``COMPILED_MIN_POINTS`` sums
-``hist @ LEVELS**b`` for every trial exponent and sorts. Both run the same rounds, so they
-must agree to round-off; 1e-9 relative is the tolerance the movie path promises.
+``_minimise_b_many`` brackets the minimum on a subsample, then reads all the histograms once
+(Chebyshev moments) for a Brent search, and finds l1 medians by selection; ``_minimise_b``
+below ``COMPILED_MIN_POINTS`` sums ``hist @ LEVELS**b`` for every trial exponent of nested
+grids and sorts. Both minimise the same cost to 1e-10 in b, so they must agree to about that;
+1e-9 relative is the tolerance the movie path promises.
 """
 
 import numpy as np
@@ -40,11 +41,39 @@ def test_many_points_fit_equals_direct_fit(movie, objective, monkeypatch):
         objective, censored = "l1", np.random.default_rng(2).random(len(load)) < 0.05
     (b, A, cost, n_eval), (b0, A0, cost0, n_eval0) = _both(hist, load, objective, censored,
                                                            monkeypatch)
-    # the l1 grid stops at a bracket of 1e-10 in b: that is the agreement to expect
+    # both searches stop within 1e-10 of b: that is the agreement to expect
     assert b == pytest.approx(b0, rel=1e-9, abs=0)
     assert A == pytest.approx(A0, rel=1e-9, abs=0)
     assert cost == pytest.approx(cost0, rel=1e-9, abs=0)
-    assert n_eval == n_eval0  # the same rounds
+    assert n_eval <= n_eval0
+
+
+@pytest.mark.parametrize("half_width", [0.02, 1e-7], ids=["narrow", "missed"])
+@pytest.mark.parametrize("objective", ["l1", "relative"])
+def test_bracket_from_a_subsample_gives_the_direct_fit(movie, objective, half_width,
+                                                       monkeypatch):
+    """A bracket found on every 4th point; one that misses b (1e-7 wide) falls back."""
+    hist, load, _ = movie
+    step = len(load) // (len(load) // 4)
+    b_all, b_sub = (powerfit._minimise_b_grid(h, f, objective, powerfit.B_BOUNDS, 13, 1e-10,
+                                              None)[0]
+                    for h, f in ((hist, load), (hist[::step], load[::step])))
+    assert abs(b_sub - b_all) > 1e-5  # so the 1e-7 bracket around b_sub misses b_all
+    monkeypatch.setattr(powerfit, "BRACKET_POINTS", len(load) // 4)
+    monkeypatch.setattr(powerfit, "BRACKET_HALF_WIDTH", half_width)
+    (b, A, _, _), (b0, A0, _, _) = _both(hist, load, objective, None, monkeypatch)
+    assert b == pytest.approx(b0, rel=1e-9, abs=0)
+    assert A == pytest.approx(A0, rel=1e-9, abs=0)
+
+
+def test_search_falls_back_to_the_grid_without_a_minimum_in_the_bracket(movie):
+    """A bracket whose middle is not below its ends is refused (None), not searched."""
+    hist, load, _ = movie
+    b0 = powerfit._minimise_b_grid(hist, load, "l1", powerfit.B_BOUNDS, 13, 1e-10, None)[0]
+    assert powerfit._search_bracket(hist, load, "l1", None, (b0 + 0.01, b0 + 0.05),
+                                    b0 + 0.03, 1e-10) is None
+    assert powerfit._search_bracket(hist, load, "l2", None, (b0 + 0.01, b0 + 0.05),
+                                    b0 + 0.03, 1e-10) is None
 
 
 def test_many_points_fit_raises_at_the_edge_of_b_bounds(movie, monkeypatch):
@@ -125,3 +154,27 @@ def test_movie_calibration_is_the_same_on_either_path(movie, storage, monkeypatc
         assert ours.keys() == theirs.keys() and ours["n_failed"] == theirs["n_failed"] == 0
         for key in ("rel_low", "rel_high"):
             assert ours[key] == pytest.approx(theirs[key], rel=1e-6)
+
+
+@pytest.mark.parametrize("n", [50, 5000], ids=["numpy", "compiled"])
+@pytest.mark.parametrize("dtype", [np.uint16, np.int64, np.float64])
+def test_hist_products_equal_the_dense_product(n, dtype):
+    """Counts in any dtype, mostly empty bins as a movie's: the dense product to round-off."""
+    rng = np.random.default_rng(5)
+    hist = np.zeros((n, 256), dtype)
+    rows, levels = rng.integers(0, n, 20 * n), rng.integers(0, 256, 20 * n)
+    np.add.at(hist, (rows, levels), 1)
+    matrix = rng.random((256, 3))
+    dense = hist.astype(float) @ matrix
+    np.testing.assert_allclose(powerfit.hist_products(hist, matrix), dense.T, rtol=1e-13)
+    np.testing.assert_allclose(powerfit.hist_products(hist, matrix[:, 0]), dense.T[:1],
+                               rtol=1e-13)
+
+
+def test_movie_histograms_are_uint16_counts_equal_to_frame_histograms(movie):
+    from tactilecal.calibration._movie import _histograms
+
+    raw = movie[2].raw.values
+    hist = _histograms(raw, None, None, lambda spans, **_: spans, numba_loaded=True)
+    assert hist.dtype == np.uint16
+    np.testing.assert_array_equal(hist, frame_histograms(raw))

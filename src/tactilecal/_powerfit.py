@@ -16,7 +16,7 @@ from scipy import optimize
 __all__ = ["Fit", "OBJECTIVES", "DEFAULT_OBJECTIVE", "LS_OBJECTIVE", "B_BOUNDS", "LEVELS",
            "COMPILED_MIN_POINTS", "NO_STDERR",
            "objective_weights", "fit_power", "fit_power_censored",
-           "check_unsaturated"]
+           "check_unsaturated", "hist_products"]
 
 #: Raw levels 0..255 as floats (the columns of a frame histogram).
 LEVELS = np.arange(256, dtype=float)
@@ -51,6 +51,36 @@ def _check_objective(objective):
 def objective_weights(load_N, objective):
     """Residual weights: 1 for l2/l1, 1/F for ``relative`` (residuals as fractions)."""
     return 1.0 / load_N if objective == "relative" else np.ones_like(load_N)
+
+
+def hist_products(hist, matrix):
+    """Return ``(hist @ matrix).T``, (c, n), for histograms of counts in any dtype.
+
+    From :data:`COMPILED_MIN_POINTS` rows the numba kernel
+    :func:`tactilecal._powerfit_kernels.hist_dot` reads the counts as they are (a movie's
+    uint16 histograms, with no float64 copy) and skips empty bins; below, NumPy's product.
+
+    Parameters
+    ----------
+    hist : numpy.ndarray, shape (n, 256)
+        Frame histograms (counts).
+    matrix : numpy.ndarray, shape (256,) or (256, c)
+        Functions of the raw level 0..255.
+
+    Returns
+    -------
+    numpy.ndarray, shape (c, n)
+        Equal to the dense product to round-off (the terms are added in another order).
+    """
+    matrix = np.asarray(matrix, dtype=float)
+    if len(hist) < COMPILED_MIN_POINTS:
+        product = np.asarray(hist, dtype=float) @ matrix
+        return product[None] if matrix.ndim == 1 else np.ascontiguousarray(product.T)
+    matrix = matrix[:, None] if matrix.ndim == 1 else matrix
+    from tactilecal._powerfit_kernels import hist_dot
+
+    return hist_dot(np.ascontiguousarray(hist), np.ascontiguousarray(matrix),
+                    np.empty((matrix.shape[1], len(hist))))
 
 
 def _power_sums(hist, b):
@@ -129,8 +159,9 @@ def _minimise_b(hist, load_N, objective, b_bounds, n_grid=13, xtol=1e-10, censor
     :func:`scipy.optimize.brentq` (each step one product with two columns); for l1, whose
     cost has no derivative everywhere, the bracket is refined by nested grids.
     ``censored`` is passed to :func:`_power_costs` (l1 only). From
-    :data:`COMPILED_MIN_POINTS` points on, :func:`_minimise_b_many` does the same with two
-    passes over the histograms. Returns ``(b, A, cost, n_evaluations)``.
+    :data:`COMPILED_MIN_POINTS` points on, :func:`_minimise_b_many` minimises the same cost
+    to the same ``xtol`` with one pass over all the histograms (a bracket from a subsample,
+    then Brent's method). Returns ``(b, A, cost, n_evaluations)``.
     """
     if len(load_N) >= COMPILED_MIN_POINTS:
         return _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored)
@@ -172,6 +203,12 @@ def _check_interior(k, grid, b_bounds):
 #: l1 medians by selection (:mod:`tactilecal._powerfit_kernels`, numba) instead of sorting.
 #: Below it numba's start-up in a new process would cost more than it saves.
 COMPILED_MIN_POINTS = 4096
+#: Points of the subsample on which :func:`_minimise_b_many` brackets the minimum.
+BRACKET_POINTS = 4096
+#: Half width in b of the bracket around the subsample's minimum searched on all the points:
+#: hundreds of times the spread of b between subsamples (1e-5 between a 4,542-frame and the
+#: 90,821-frame fit of ``benchmarks/bench_movie.py``), and a Chebyshev series of 10 terms.
+BRACKET_HALF_WIDTH = 0.02
 
 
 def _chebyshev_basis(lo, hi, rel_error=1e-18):
@@ -219,7 +256,7 @@ class _Sums:
 
     def __init__(self, hist, lo, hi):
         coef, self.mid, self.half = _chebyshev_basis(lo, hi)
-        self.moments = coef.T @ hist.T  # (J, n)
+        self.moments = hist_products(hist, coef)  # (J, n)
 
     def __call__(self, b_values, slope=False):
         """(m, n) sums at ``b_values`` (and their derivatives in b if ``slope``)."""
@@ -261,10 +298,138 @@ def _median_window(b_values, grid, A):
     return guess - half, guess + half
 
 
-def _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
-    """:func:`_minimise_b` reading the histograms twice, whatever the number of rounds.
+def _direct_sums(hist, b_values):
+    """(m, n) ``S_T(b) = hist @ LEVELS**b`` for m exponents (one product)."""
+    return hist_products(hist, LEVELS[:, None] ** np.asarray(b_values, dtype=float)[None, :])
 
-    The same rounds as :func:`_minimise_b`: the first grid over ``b_bounds`` with
+
+def _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
+    """:func:`_minimise_b` for many points: one product over all the histograms.
+
+    The same profiled cost, minimised to the same ``xtol`` in b, but searched differently:
+
+    1. the grid of ``n_grid`` exponents over ``b_bounds`` and a search of its bracket run on
+       every ``step``-th point only (at most :data:`BRACKET_POINTS` of them), giving ``b_s``;
+    2. Chebyshev moments of all the points (:class:`_Sums`) over ``b_s +- BRACKET_HALF_WIDTH``
+       (about 10 terms, one product over the histograms);
+    3. that bracket is accepted only if the full cost at ``b_s`` is below the cost at both
+       ends (l1), or the full cost's slope changes sign in it (l2, relative); then
+       :func:`scipy.optimize.brent` (l1) or :func:`scipy.optimize.brentq` on the slope
+       (l2, relative) finds b to ``xtol`` on all the points. Otherwise the search falls back
+       to the grid's bracket on all the points, and if that does not hold either, to the
+       whole grid on all the points (:func:`_minimise_b_grid`).
+
+    l1 medians are selected, not sorted (:mod:`tactilecal._powerfit_kernels`). Returns
+    ``(b, A, cost, n_evaluations)``; the evaluations include those on the subsample.
+    Agrees with the nested grids of :func:`_minimise_b` to ~1e-9 (``tests/test_powerfit_many.py``).
+    """
+    step = max(1, len(load_N) // BRACKET_POINTS)
+    flags = None if censored is None else censored[::step]
+    grid = np.linspace(*(float(v) for v in b_bounds), n_grid)
+    cost, A = _costs_many(_direct_sums(hist[::step], grid), load_N[::step], objective, flags)
+    k = int(np.nanargmin(cost))
+    if k in (0, n_grid - 1):  # the edge on the subsample: decide on all the points
+        return _minimise_b_grid(hist, load_N, objective, b_bounds, n_grid, xtol, censored)
+    n_eval = n_grid
+    wide = (grid[k - 1], grid[k + 1])
+    if step > 1:
+        sub = _Search(_Sums(hist[::step], *wide), load_N[::step], objective, flags)
+        b_s, _ = sub.minimise(*wide, grid[k], xtol=1e-6 * grid[k])
+        n_eval += sub.n_eval
+        half = BRACKET_HALF_WIDTH
+        narrow = (max(b_s - half, wide[0]), min(b_s + half, wide[1]))
+        if narrow[0] < b_s < narrow[1]:
+            found = _search_bracket(hist, load_N, objective, censored, narrow, b_s, xtol)
+            if found is not None:
+                return (*found[:3], n_eval + found[3])
+    found = _search_bracket(hist, load_N, objective, censored, wide, grid[k], xtol)
+    if found is not None:
+        return (*found[:3], n_eval + found[3])
+    b, A, cost, n_full = _minimise_b_grid(hist, load_N, objective, b_bounds, n_grid, xtol,
+                                          censored)
+    return b, A, cost, n_eval + n_full
+
+
+def _search_bracket(hist, load_N, objective, censored, bracket, inside, xtol):
+    """Minimise over ``bracket`` on all the points if it holds a minimum; else None."""
+    search = _Search(_Sums(hist, *bracket), load_N, objective, censored)
+    found = search.minimise(*bracket, inside, xtol=xtol, check=True)
+    if found is None:
+        return None
+    b, (A, cost) = found
+    return b, A, cost, search.n_eval
+
+
+class _Search:
+    """The profiled cost of all exponents in one bracket (:class:`_Sums`), remembered."""
+
+    def __init__(self, sums_at, load_N, objective, censored):
+        self.sums_at, self.load_N = sums_at, load_N
+        self.objective, self.censored = objective, censored
+        self.seen = {}  # b -> (A, cost)
+        self.n_eval = 0
+
+    def cost(self, b):
+        """l1 or squared cost at ``b`` with A profiled out (median window from the last A)."""
+        b = float(b)
+        if b not in self.seen:
+            self.n_eval += 1
+            window = self._window(b) if self.objective == "l1" else None
+            cost, A = _costs_many(self.sums_at([b]), self.load_N, self.objective,
+                                  self.censored, window)
+            self.seen[b] = (float(A[0]), float(cost[0]))
+        return self.seen[b][1]
+
+    def _window(self, b):
+        """Where the l1 median at ``b`` is expected: A interpolated from two earlier b."""
+        if len(self.seen) < 2:
+            return None
+        bs = np.array(sorted(self.seen))
+        As = np.array([self.seen[x][0] for x in bs])
+        i = int(np.clip(np.searchsorted(bs, b), 1, len(bs) - 1))
+        guess = float(np.interp(b, bs, As))
+        half = 0.05 * abs(As[i] - As[i - 1]) + 1e-13 * abs(guess)
+        return np.array([guess - half]), np.array([guess + half])
+
+    def slope(self, b):
+        """Slope d cost / d b of the l2/relative cost (:func:`_cost_slope`, on the moments)."""
+        self.n_eval += 1
+        w2 = objective_weights(self.load_N, self.objective) ** 2
+        (S,), (dS,) = self.sums_at([b], slope=True)
+        p, q = np.sum(w2 * S * self.load_N), np.sum(w2 * S * S)
+        dp, dq = np.sum(w2 * dS * self.load_N), 2.0 * np.sum(w2 * dS * S)
+        return -(2.0 * p * dp * q - p * p * dq) / (q * q)
+
+    def minimise(self, lo, hi, inside, *, xtol, check=False):
+        """Return ``(b, (A, cost))`` of the minimum in ``(lo, hi)`` to ``xtol`` in b.
+
+        With ``check``, None where there is no sign of a minimum in the bracket (l1: the
+        cost at ``inside`` is not below both ends; l2/relative: the slope does not go from
+        negative to positive); without, ``inside`` is returned there.
+        """
+        if self.objective == "l1":
+            ends = self.cost(lo), self.cost(inside), self.cost(hi)
+            if not ends[1] < min(ends[0], ends[2]):
+                if check:
+                    return None
+                return inside, self.seen[float(inside)]
+            b = optimize.brent(self.cost, brack=(lo, inside, hi), tol=xtol / abs(inside))
+        else:
+            if not self.slope(lo) < 0 < self.slope(hi):
+                if check:
+                    return None
+                b = inside
+            else:
+                b = optimize.brentq(self.slope, lo, hi, xtol=xtol)
+        self.cost(b)
+        return float(b), self.seen[float(b)]
+
+
+def _minimise_b_grid(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
+    """:func:`_minimise_b`'s nested grids, reading the histograms twice.
+
+    The fallback of :func:`_minimise_b_many` (and its search until session 8). The same
+    rounds as :func:`_minimise_b`: the first grid over ``b_bounds`` with
     ``hist @ LEVELS**b``; every later exponent lies in that grid's bracket, where
     :class:`_Sums` gives ``S_T(b)`` from one more product. l1 medians are selected, not
     sorted (:mod:`tactilecal._powerfit_kernels`). Same results as the direct sums to
@@ -272,7 +437,7 @@ def _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
     """
     lo, hi = (float(v) for v in b_bounds)
     grid = np.linspace(lo, hi, n_grid)
-    cost, A = _costs_many((LEVELS[:, None] ** grid).T @ hist.T, load_N, objective, censored)
+    cost, A = _costs_many(_direct_sums(hist, grid), load_N, objective, censored)
     k = int(np.nanargmin(cost))
     _check_interior(k, grid, b_bounds)
     lo, hi, n_eval = grid[k - 1], grid[k + 1], n_grid
@@ -321,7 +486,8 @@ def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS, *
     over ``b_bounds`` (each pass one matrix product over the histograms).
     """
     _check_objective(objective)
-    hist = np.asarray(hist, dtype=float)  # one conversion, then BLAS products
+    if len(hist) < COMPILED_MIN_POINTS:  # else products of the counts (hist_products)
+        hist = np.asarray(hist, dtype=float)  # one conversion, then BLAS products
     b, A, cost, n_eval = _minimise_b(hist, load_N, objective, b_bounds)
     details = {"objective": objective, "cost": cost, "n_evaluations": n_eval,
                "stderr_method": NO_STDERR}

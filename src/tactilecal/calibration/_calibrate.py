@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from tactilecal._powerfit import NO_STDERR
+from tactilecal._powerfit import NO_STDERR, hist_products
 from tactilecal._provenance import provenance
 from tactilecal._saturation import resolve_saturated
 from tactilecal._units import N_PER_MM2_TO_KPA
@@ -333,7 +333,7 @@ def result_from_arrays(hist, load, meta, *, method, model, params, params_stderr
                        method_result=None):
     """Assemble a :class:`CalibrationResult` from arrays (see :func:`calibrate_arrays`)."""
     table_N = force_table(model, params)
-    predicted = hist @ table_N
+    predicted = hist_products(hist, table_N)[0]  # counts in any dtype
     area = _sensel_area(meta["sensel_area_mm2"], sensel_area_mm2)
     saturation = table_N[255] / area * N_PER_MM2_TO_KPA if np.isfinite(area) else float("nan")
     used = np.asarray(used, dtype=bool)

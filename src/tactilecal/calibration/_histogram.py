@@ -32,7 +32,8 @@ def count_into(frames, skip, out, *, compiled):
     skip : numpy.ndarray of bool, shape (n_sensels,)
         Sensels not to count (non-working); their readings are not checked either.
     out : numpy.ndarray, shape (m, 256)
-        Filled in place (any numeric dtype; int64 and float64 are written directly).
+        Filled in place (any numeric dtype; uint16, int64 and float64 are written
+        directly; uint16 holds the counts of frames of fewer than 2**16 sensels).
     compiled : bool
         Use the numba kernel (one pass) rather than NumPy (a few passes per 64 frames).
 
@@ -57,7 +58,7 @@ def count_into(frames, skip, out, *, compiled):
         raise TypeError(f"raw frames have dtype {frames.dtype}; expected real numbers "
                         "(raw readings 0..255)")
     frames = np.ascontiguousarray(frames)
-    direct = out.dtype in (np.int64, np.float64) and out.flags.c_contiguous
+    direct = out.dtype in (np.uint16, np.int64, np.float64) and out.flags.c_contiguous
     target = out if direct else np.empty(out.shape, np.int64)
     if compiled:
         from tactilecal.calibration._histogram_kernels import kernel_for

@@ -8,13 +8,15 @@ with the sensor's total raw signal by cross-correlation
 selection) and every remaining frame becomes a calibration point.
 """
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
-from tactilecal._powerfit import COMPILED_MIN_POINTS
+from tactilecal._powerfit import COMPILED_MIN_POINTS, hist_products
 from tactilecal._progress import from_quiet
 from tactilecal._provenance import provenance_of
 from tactilecal._saturation import resolve_saturated
@@ -33,6 +35,7 @@ __all__ = ["read_movie_loads", "movie_points", "calibrate_movie"]
 
 _CHUNK = 2048
 _GROUP_FRAMES = 16 * _CHUNK  # frames of dask blocks computed together
+_FIRST_PASS_POINTS = 5000  # frames of the fit that shapes the second alignment's signal
 
 
 def read_movie_loads(path, *, time_col=None, load_col=None):
@@ -81,14 +84,23 @@ def read_movie_loads(path, *, time_col=None, load_col=None):
     return force_to_N(values, unit) if kind == "force" else mass_to_N(values, unit)
 
 
+def _count_dtype(values):
+    """uint16 counts when a frame has fewer than 2**16 sensels (a 44 x 44 one has 1936)."""
+    return np.uint16 if int(np.prod(values.shape[1:])) < 2 ** 16 else np.int64
+
+
 def _histograms(values, mask, equilibration, progress, numba_loaded=False):
-    """Float64 histograms of all frames (gains applied and mask skipped chunk by chunk).
+    """Histograms of all frames in :func:`_count_dtype` (gains applied, mask skipped).
 
     ``numba_loaded``: the caller will import numba anyway (a power fit of
     ``COMPILED_MIN_POINTS`` frames or more), so its start-up no longer speaks against the
     compiled counting of a movie below ``COMPILED_MIN_VALUES`` readings.
 
-    Float64 because every later use is a matrix product; counts are exact in float64.
+    uint16 rather than float64 (as until session 8): 51 rather than 205 MB of fresh pages per
+    100,000 frames, and a quarter of the bytes for every later product
+    (:func:`tactilecal._powerfit.hist_products`). In memory, the compiled kernels (which
+    release the GIL) count blocks of ``_CHUNK`` frames on every core, in threads.
+
     ``values`` may be a dask array (a recording larger than memory, perhaps on a cluster):
     each block of frames is counted where it is computed, by dask's scheduler, and only the
     (frames, 256) histograms are gathered. ``progress`` (the protocol of
@@ -98,7 +110,7 @@ def _histograms(values, mask, equilibration, progress, numba_loaded=False):
 
     prepare = None if equilibration is None else equilibration.apply
     n = len(values)
-    hist = np.empty((n, 256))
+    hist = np.empty((n, 256), _count_dtype(values))
     compiled = numba_loaded or values.size >= COMPILED_MIN_VALUES  # the whole movie decides
     if _is_dask(values):
         import dask.array as da
@@ -107,15 +119,23 @@ def _histograms(values, mask, equilibration, progress, numba_loaded=False):
         bounds = _block_groups(values.chunks[0], _GROUP_FRAMES)
     else:
         bounds = [*range(0, n, _CHUNK), n]
-    spans = zip(bounds[:-1], bounds[1:], strict=True)
-    if n >= 20 * _CHUNK:
-        spans = progress(spans, total=len(bounds) - 1, desc="histograms")
-    for a, b in spans:
+    spans = list(zip(bounds[:-1], bounds[1:], strict=True))
+
+    def count(span):
+        a, b = span
         if _is_dask(values):
             da.store(lazy[a:b], hist[a:b], lock=False)
         else:
             _frame_histograms(values[a:b], out=hist[a:b], prepare=prepare, mask=mask,
                               compiled=compiled)
+
+    workers = 1 if _is_dask(values) or not compiled else min(os.cpu_count() or 1, len(spans))
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        done = pool.map(count, spans) if workers > 1 else map(count, spans)
+        if n >= 20 * _CHUNK:
+            done = progress(done, total=len(spans), desc="histograms")
+        for _ in done:
+            pass
     return hist
 
 
@@ -137,15 +157,16 @@ def _block_groups(chunks, min_frames):
 
 
 def _dask_histograms(values, mask, prepare, compiled):
-    """Lazy (frames, 256) float64 histograms, one task per block of whole frames."""
+    """Lazy (frames, 256) histograms, one task per block of whole frames."""
     whole_frames = values.rechunk({1: -1, 2: -1})
+    dtype = _count_dtype(values)
     return whole_frames.map_blocks(_block_histograms, mask=mask, prepare=prepare,
-                                   compiled=compiled, drop_axis=[1, 2], new_axis=[1],
-                                   chunks=(whole_frames.chunks[0], (256,)), dtype=float)
+                                   compiled=compiled, counts=dtype, dtype=dtype, drop_axis=[1, 2],
+                                   new_axis=[1], chunks=(whole_frames.chunks[0], (256,)))
 
 
-def _block_histograms(block, *, mask, prepare, compiled):
-    return _frame_histograms(block, out=np.empty((len(block), 256)), prepare=prepare,
+def _block_histograms(block, *, mask, prepare, compiled, counts):
+    return _frame_histograms(block, out=np.empty((len(block), 256), counts), prepare=prepare,
                              mask=mask, compiled=compiled)
 
 
@@ -161,7 +182,7 @@ def _frame_times(recording, n):
 
 def _align_loads(loads, total, times, n, name, lag_s, max_lag_s):
     """Return the load on each frame (NaN outside the record) and an alignment report."""
-    from tactilecal.dynamic import estimate_lag, resample_to
+    from tactilecal.dynamic import estimate_lag
 
     if not isinstance(loads, xr.DataArray):
         loads = np.asarray(loads, dtype=float).ravel()
@@ -172,10 +193,46 @@ def _align_loads(loads, total, times, n, name, lag_s, max_lag_s):
     sensor = xr.DataArray(total, dims="time", coords={"time": times}, name="total raw")
     if lag_s is None:
         lag_s = float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s))
+    return (_loads_at(loads, times, lag_s),
+            {"lag_s": lag_s, "aligned": "cross-correlation with the total raw signal"})
+
+
+def _loads_at(loads, times, lag_s):
+    """Resample the load record onto ``times`` (:func:`tactilecal.dynamic.resample_to`).
+
+    NaN at the times outside the record.
+    """
+    from tactilecal.dynamic import resample_to
+
     on_frames = resample_to(loads, times, lag_s=lag_s)
-    load = np.full(n, np.nan)
+    load = np.full(len(times), np.nan)
     load[np.searchsorted(times, on_frames["time"].values)] = on_frames.values
-    return load, {"lag_s": lag_s, "aligned": "cross-correlation with the total raw signal"}
+    return load
+
+
+def _mean_rate_hz(record):
+    """Return the samples per second of a record's ``time`` coordinate (0 if none).
+
+    Unchecked: :func:`tactilecal.dynamic.estimate_lag` checks the record and says what is
+    wrong with it.
+    """
+    if "time" not in record.coords:
+        return 0.0
+    return _rate_hz(np.asarray(record["time"].values, dtype=float).ravel())
+
+
+def _rate_hz(times):
+    span = float(times[-1] - times[0]) if times.size > 1 else 0.0
+    return (times.size - 1) / span if span > 0 else 0.0
+
+
+def _decimated(total, times, rate_hz):
+    """Block means of ``total`` and ``times`` down to no less than ``rate_hz`` (or as is)."""
+    q = int(_rate_hz(times) / rate_hz * (1 + 1e-9)) if rate_hz > 0 else 0  # 4 kHz / 2 kHz: 2
+    if q < 2 or len(total) // q < 64:
+        return total, times
+    m = len(total) // q * q
+    return total[:m].reshape(-1, q).mean(axis=1), times[:m].reshape(-1, q).mean(axis=1)
 
 
 def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
@@ -232,9 +289,8 @@ def _frame_sums(hist):
     from one product over the histograms (exact: integer sums below 2**53); loaded cells are
     the working ones minus bin 0, saturated cells bin 255.
     """
-    both = hist @ np.column_stack([np.arange(256.0), np.ones(256)])
-    working = both[:, 1]
-    return {"raw_sum": both[:, 0], "working_cells": working.astype(np.int64),
+    raw_sum, working = hist_products(hist, np.column_stack([np.arange(256.0), np.ones(256)]))
+    return {"raw_sum": raw_sum, "working_cells": working.astype(np.int64),
             "loaded_cells": (working - hist[:, 0]).astype(np.int64),
             "saturated_cells": hist[:, 255].astype(np.int64)}
 
@@ -261,7 +317,7 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
     name = str(recording.attrs.get("source", "recording"))
     n = len(hist)
     sums = _frame_sums(hist) if sums is None else sums
-    signal = sums["raw_sum"] if signal_N is None else hist @ signal_N
+    signal = sums["raw_sum"] if signal_N is None else hist_products(hist, signal_N)[0]
     load, report = _movie_loads(recording, signal, loads, lag_s=lag_s, max_lag_s=max_lag_s,
                                 aligned_on="raw sum" if signal_N is None else
                                 "calibrated force")
@@ -309,14 +365,43 @@ def _points_from_movie(recording, hist, loads, **kwargs):
     return points, report
 
 
-def _first_pass_table(hist, load, method, options, min_load_fraction, max_points=5000):
+def _first_pass(recording, hist, raw_sum, loads, method, options, min_load_fraction,
+                max_lag_s, max_points=_FIRST_PASS_POINTS):
+    """Align on the raw sum and fit the table that shapes the second alignment's signal.
+
+    Neither needs the frame rate: the lag is estimated on the raw sum block-averaged to no
+    less than ``4 x`` the load record's rate (:func:`_decimated`), and the loads are
+    resampled onto, and fitted on, at most ``max_points`` frames evenly spread over the
+    movie. The second alignment (:func:`_movie_arrays`) works at the frame rate.
+
+    Returns
+    -------
+    signal_N : numpy.ndarray
+        The first fit's force table (256,).
+    fit : Fit
+    report : dict
+        ``{"lag_s": ...}`` of the first alignment.
+    """
+    from tactilecal.dynamic import estimate_lag
+
+    n = len(raw_sum)
+    times = _frame_times(recording, n)
+    total, at = _decimated(raw_sum, times, 4.0 * _mean_rate_hz(loads))
+    sensor = xr.DataArray(total, dims="time", coords={"time": at}, name="total raw")
+    lag_s = float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s))
+    step = max(1, n // max_points)
+    load = _loads_at(loads, times[::step], lag_s)
+    return (*_first_pass_table(hist[::step], load, method, options, min_load_fraction),
+            {"lag_s": lag_s})
+
+
+def _first_pass_table(hist, load, method, options, min_load_fraction):
     """Fit on arrays to get a force table for the second alignment.
 
-    It only has to make the alignment signal proportional to the load, so it uses at most
-    ``max_points`` frames evenly spread over the movie.
+    It only has to make the alignment signal proportional to the load; ``hist`` and
+    ``load`` are those of a few thousand frames (:func:`_first_pass`).
     """
-    step = max(1, len(load) // max_points)
-    hist, load = hist[::step], load[::step]
+    hist = hist.astype(float)
     keep = np.isfinite(load)
     keep[keep] = load[keep] >= min_load_fraction * load[keep].max()
     keep &= hist[:, 1:].any(axis=1)
@@ -357,7 +442,11 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     Returns
     -------
     CalibrationResult
-        With ``details["movie"]`` holding the alignment report.
+        With ``details["movie"]`` holding the alignment report. With a load record and no
+        ``lag_s``, the loads are aligned twice: first on the raw sum (``lag_s_raw_sum``,
+        estimated on the raw sum block-averaged to at least 4 x the load record's rate),
+        then, at the frame rate, on the force of a first fit (``first_pass_params``) to at
+        most 5000 frames.
     """
     equilibration = as_equilibration(equilibration)  # the object, or its JSON's path
     if not isinstance(recording, xr.DataArray):
@@ -380,13 +469,15 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     if lag_s is None and isinstance(loads, xr.DataArray) and method in FITTERS:
         # The raw sum is not proportional to the load (b != 1): align on it, fit, then
         # align again on the force that fit gives (Gillis 2013 aligns force on force).
-        load, first_report = _movie_loads(recording, sums["raw_sum"], loads, lag_s=None,
-                                          max_lag_s=max_lag_s)
-        signal_N, first = _first_pass_table(hist, load, method, options, min_load_fraction)
+        signal_N, first, first_report = _first_pass(recording, hist, sums["raw_sum"], loads,
+                                                    method, options, min_load_fraction,
+                                                    max_lag_s)
     kwargs = {"lag_s": lag_s, "max_lag_s": max_lag_s, "min_load_fraction": min_load_fraction,
               "signal_N": signal_N, "sums": sums}
     if method in FITTERS:
         kept, load, meta, report = _movie_arrays(recording, hist, loads, **kwargs)
+        if method != "power":  # the power fit reads counts (hist_products); others floats
+            kept = kept.astype(float)
         result = calibrate_arrays(kept, load, meta, method=method, **options)
     else:  # e.g. zvyagin, which takes point objects
         points, report = _points_from_movie(recording, hist, loads, **kwargs)
