@@ -104,8 +104,8 @@ def _interleaved(runs, repeat):
 
     Every case first runs once untimed: a first call compiles the numba kernels of its
     array types (or loads them from numba's cache), starts dask's thread pool and faults
-    in the heap, which the first timed round measured otherwise (the in-memory warm-up
-    alone left the dask and cluster cases' first rounds 2-5x slower).
+    in the heap, which the first timed round measured otherwise (with the in-memory warm-up
+    alone, the dask cases' first rounds were up to 5x slower than the next).
     """
     for fn in runs.values():
         fn()
