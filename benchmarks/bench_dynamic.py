@@ -100,7 +100,15 @@ def _recording(seconds, fs_hz=4000.0, shape=(44, 44)):
 
 
 def _interleaved(runs, repeat):
-    """Run every case once per round, ``repeat`` rounds; return the seconds of each run."""
+    """Run every case once per round, ``repeat`` rounds; return the seconds of each run.
+
+    Every case first runs once untimed: a first call compiles the numba kernels of its
+    array types (or loads them from numba's cache), starts dask's thread pool and faults
+    in the heap, which the first timed round measured otherwise (with the in-memory warm-up
+    alone, the dask cases' first rounds were up to 5x slower than the next).
+    """
+    for fn in runs.values():
+        fn()
     times = {name: [] for name in runs}
     for _ in range(repeat):
         for name, fn in runs.items():
@@ -252,21 +260,52 @@ def scaling(frames, chunk_list, repeat):
         del rec, as_float32, runs
 
 
-def cluster(seconds, repeat, chunk_frames):
+def cluster(seconds, repeat, chunk_frames, malloc_trim=True):
     import shutil
     import tempfile
     from pathlib import Path
 
     folder = Path(tempfile.mkdtemp(prefix="bench_dynamic_"))
     try:
-        _cluster(seconds, repeat, chunk_frames, folder)
+        _cluster(seconds, repeat, chunk_frames, folder, malloc_trim)
     finally:
         shutil.rmtree(folder)
 
 
-def _cluster(seconds, repeat, chunk_frames, folder):
+def _rusage():
+    """CPU seconds (user + system) and minor page faults of this process so far."""
+    import resource
+
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime, usage.ru_minflt
+
+
+def _cpu_timed(client, runs):
+    """Wrap each run so that it also records the CPU seconds and page faults it cost.
+
+    Summed over the cluster's worker processes (``client.run``) and this process: wall
+    time on 2 shared cores moves with the other sessions' load, CPU time much less; a
+    run's wall time is at least its CPU seconds over the 2 cores.
+    """
+    usage = {name: [] for name in runs}
+
+    def total():
+        return np.sum([*client.run(_rusage).values(), _rusage()], axis=0)
+
+    def wrap(name, fn):
+        def run():
+            before = total()
+            fn()
+            usage[name].append(total() - before)
+        return run
+
+    return {name: wrap(name, fn) for name, fn in runs.items()}, usage
+
+
+def _cluster(seconds, repeat, chunk_frames, folder, malloc_trim=True):
     import warnings
 
+    import dask
     from dask.distributed import Client, LocalCluster, wait
 
     from tactilecal.io import write_netcdf
@@ -278,9 +317,13 @@ def _cluster(seconds, repeat, chunk_frames, folder):
     rec.to_dataset(name="x").to_zarr(zarr_in, mode="w", consolidated=False, encoding={
         "x": {"compressors": None, "chunks": (chunk_frames, 44, 44)}})
     memory = apply_filter(rec, filt).values
+    environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ"))
+    if not malloc_trim:  # distributed's default returns freed memory to the system at once
+        environ.pop("MALLOC_TRIM_THRESHOLD_", None)
     print(f"== dask.distributed: LocalCluster, 2 worker processes x 1 thread; {rec.size / 1e6:.1f} "
           f"M samples read by the workers in {chunk_frames}-frame chunks from {folder} "
-          f"(uncompressed, removed after); {repeat} interleaved rounds ==")
+          f"(uncompressed, removed after); {repeat} interleaved rounds; worker environment "
+          f"{environ} ==")
 
     def opened(source):
         if source == "netcdf":
@@ -305,8 +348,9 @@ def _cluster(seconds, repeat, chunk_frames, folder):
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                          dashboard_address=":0") as cl, Client(cl) as client:
+        with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}), LocalCluster(
+                n_workers=2, threads_per_worker=1, processes=True,
+                dashboard_address=":0") as cl, Client(cl) as client:
             kept(client, "netcdf")  # workers import tactilecal and load the numba kernels
             runs = {
                 "apply_filter in memory (this process) [baseline]":
@@ -321,9 +365,17 @@ def _cluster(seconds, repeat, chunk_frames, folder):
                 "cluster: read Zarr, write Zarr (no filter)":
                     lambda: written("zarr", filtered=False),
             }
+            runs, usage = _cpu_timed(client, runs)
             times = _interleaved(runs, repeat)
             written("netcdf")
     _report(times, rec.size, "apply_filter in memory (this process) [baseline]")
+    print("CPU seconds (user + system, the workers' and this process's; least of the timed "
+          "runs) and minor page faults of that run:")
+    memory_cpu = min(u[0] for u in usage["apply_filter in memory (this process) [baseline]"][1:])
+    for name, rows in usage.items():
+        cpu, faults = min((tuple(u) for u in rows[1:]), default=(np.nan, np.nan))
+        print(f"  {name}: {cpu:.2f} s CPU ({memory_cpu / cpu:.2f}x in memory's), "
+              f"{faults:.0f} page faults")
     with xr.open_zarr(zarr_out, consolidated=False) as written_back:
         back = written_back["x"].values
     span = np.ptp(memory - memory[:1], axis=0).max()
@@ -374,6 +426,9 @@ def main():
                         help="also time each multirate stage, run by run")
     parser.add_argument("--cluster", action="store_true",
                         help="also filter on a 2-worker dask.distributed LocalCluster")
+    parser.add_argument("--no-malloc-trim", action="store_true",
+                        help="--cluster without distributed's MALLOC_TRIM_THRESHOLD_=65536 "
+                             "in the workers' environment")
     parser.add_argument("--chunk-frames", type=int, default=8192,
                         help="frames per chunk read by the cluster's workers")
     parser.add_argument("--frames", type=int, nargs="+",
@@ -397,7 +452,7 @@ def main():
             size = args.chunk_frames
             while size >= n:  # at least two chunks
                 size //= 2
-            cluster(n / 4000.0, args.repeat, size)
+            cluster(n / 4000.0, args.repeat, size, malloc_trim=not args.no_malloc_trim)
 
 
 if __name__ == "__main__":
