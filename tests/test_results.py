@@ -21,7 +21,7 @@ from tactilecal.calibration import (
     points_from_frames,
     validate,
 )
-from tactilecal.dynamic import CorrectionFilter
+from tactilecal.dynamic import CorrectionFilter, Evaluation
 from tactilecal.simulate import deadweight_session, make_sensor
 from tactilecal.zvyagin import ZvyaginResult
 
@@ -280,6 +280,21 @@ def test_every_repr_is_short_and_every_summary_is_text(calibrations, points):
         assert isinstance(obj.summary(), str) and obj.summary()
         html = obj._repr_html_()
         assert html.startswith("<table>") and type(obj).__name__ in html
+
+
+def test_a_point_and_an_evaluation_have_short_reprs(points):
+    # a point holds a 256-bin histogram, an evaluation its per-frequency errors and records:
+    # both were dataclass reprs of every value (1342 and 8154 characters before)
+    f_hz = np.arange(1.0, 400.0)
+    evaluation = Evaluation.from_dict({"fs_hz": 4000.0, "rms_before_N": 8.0,
+                                       "rms_after_N": 2.0, "f_hz": f_hz.tolist(),
+                                       "error_before_pct": f_hz.tolist(),
+                                       "error_after_pct": f_hz.tolist()})
+    for obj, shown in ((points[0], f"load_N={points[0].load_N:.6g}"),
+                       (evaluation, "improvement=4, lag_s=nan")):
+        text = repr(obj)
+        assert len(text) < 1000 and text.startswith(f"<{type(obj).__name__} ") and shown in text
+        assert obj._repr_html_().startswith("<table>")
 
 
 def test_repr_of_a_long_table_is_cut():

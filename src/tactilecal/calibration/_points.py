@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tactilecal._result import ShortRepr
+
 __all__ = [
     "CalibrationPoint",
     "frame_histograms",
@@ -22,8 +24,8 @@ N_LEVELS = 256
 SATURATION_RAW = 255
 
 
-@dataclass
-class CalibrationPoint:
+@dataclass(repr=False)
+class CalibrationPoint(ShortRepr):
     """One calibration frame: the histogram of its raw values and the applied load.
 
     Attributes
@@ -70,6 +72,11 @@ class CalibrationPoint:
     total_cells: int = 0
     note: str = field(default="")
     sensor: dict = field(default_factory=dict)
+
+    def _repr_fields(self):
+        return [("load_N", self.load_N), ("raw_sum", self.raw_sum),
+                ("loaded_cells", self.loaded_cells), ("saturated_cells", self.saturated_cells),
+                ("source", self.source), ("frame", self.frame), ("label", self.label)]
 
     @property
     def mean_raw(self):

@@ -11,6 +11,7 @@ from scipy import signal
 
 from tactilecal._jsonutil import read_json_object
 from tactilecal._provenance import provenance_of
+from tactilecal._result import ShortRepr
 from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal.dynamic import _plots
 from tactilecal.dynamic._align import align
@@ -314,8 +315,8 @@ def _poor_fit_reason(fit, tf, min_r2):
             "cannot express")
 
 
-@dataclass
-class Evaluation:
+@dataclass(repr=False)
+class Evaluation(ShortRepr):
     """A filter checked against a reference (Gillis 2013, Figs 4.10-4.14).
 
     Attributes
@@ -351,6 +352,12 @@ class Evaluation:
     phase_before_deg: np.ndarray | None = None
     phase_after_deg: np.ndarray | None = None
     provenance: dict | None = None
+
+    def _repr_fields(self):
+        return [("rms_before_N", self.rms_before_N), ("rms_after_N", self.rms_after_N),
+                ("improvement", self.improvement), ("lag_s", self.lag_s),
+                ("static_factor", self.static_factor), ("fs_hz", self.fs_hz),
+                ("coherent_bins", len(self.f_hz))]
 
     @property
     def improvement(self):
