@@ -156,7 +156,7 @@ def test_movie_calibration_is_the_same_on_either_path(movie, storage, monkeypatc
             assert ours[key] == pytest.approx(theirs[key], rel=1e-6)
 
 
-@pytest.mark.parametrize("n", [50, 5000], ids=["numpy", "compiled"])
+@pytest.mark.parametrize("n", [50, 5000, 9000], ids=["numpy", "compiled", "compiled-blocks"])
 @pytest.mark.parametrize("dtype", [np.uint16, np.int64, np.float64])
 def test_hist_products_equal_the_dense_product(n, dtype):
     """Counts in any dtype, mostly empty bins as a movie's: the dense product to round-off."""
@@ -169,6 +169,11 @@ def test_hist_products_equal_the_dense_product(n, dtype):
     np.testing.assert_allclose(powerfit.hist_products(hist, matrix), dense.T, rtol=1e-13)
     np.testing.assert_allclose(powerfit.hist_products(hist, matrix[:, 0]), dense.T[:1],
                                rtol=1e-13)
+    if n >= 2 * powerfit.PRODUCT_ROWS_PER_THREAD:  # blocks of rows on the cores, each row as alone
+        from tactilecal._powerfit_kernels import hist_dot
+
+        whole = hist_dot(hist, matrix, np.empty((3, n)))
+        np.testing.assert_array_equal(powerfit.hist_products(hist, matrix), whole)
 
 
 def test_movie_histograms_are_uint16_counts_equal_to_frame_histograms(movie):
