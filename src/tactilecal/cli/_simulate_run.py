@@ -4,22 +4,27 @@ from collections import Counter
 
 from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal.cli._common import info, print_json
-from tactilecal.sensors import get_sensor
 
-__all__ = ["run_deadweight", "run_ramp_hold", "run_dynamic", "A_KPA"]
+__all__ = ["run_deadweight", "run_ramp_hold", "run_dynamic"]
 
-A_KPA = 0.0035 * N_PER_MM2_TO_KPA / get_sensor("5051").sensel_area_mm2
-"""The simulated law at reading 1, 2.17 kPa: Zvyagin's (2022, Table 2) 0.0035 N on a 5051 sensel.
-Every ``--model`` gets it (``make_sensor(A_kPa=)``), so a 9500 reads as a 5051 would."""
+_A_N_5051 = 0.0035  # N at reading 1 on a 5051 sensel (Zvyagin 2022, Table 2)
+
+
+def _sensor(args):
+    """Return ``make_sensor(--model)`` at the 5051's 2.17 kPa at reading 1 (so a 9500 too)."""
+    from tactilecal.sensors import get_sensor  # here, not at every command's start-up
+    from tactilecal.simulate import make_sensor
+
+    a_kpa = _A_N_5051 * N_PER_MM2_TO_KPA / get_sensor("5051").sensel_area_mm2
+    return make_sensor(args.model, A_kPa=a_kpa, seed=args.seed)
 
 
 def run_deadweight(args):
     """Write the dead-weight session and print what was written."""
-    from tactilecal.simulate import deadweight_session, make_sensor
+    from tactilecal.simulate import deadweight_session
 
-    session = deadweight_session(make_sensor(args.model, A_kPa=A_KPA, seed=args.seed),
-                                 n_patches=args.patches, saturated_share=args.saturated_share,
-                                 seed=args.seed)
+    session = deadweight_session(_sensor(args), n_patches=args.patches,
+                                 saturated_share=args.saturated_share, seed=args.seed)
     info(args, f"writing {len(session)} recordings to {args.outdir} ...")
     manifest = session.write(args.outdir)
     combos = Counter(f"{m:g} kg on {s:d} cm" for m, s in zip(session.mass_kg,
@@ -36,11 +41,11 @@ def run_deadweight(args):
 
 def run_ramp_hold(args):
     """Write the ramp-and-hold session and print what was written."""
-    from tactilecal.simulate import make_sensor, ramp_hold
+    from tactilecal.simulate import ramp_hold
 
-    session = ramp_hold(make_sensor(args.model, A_kPa=A_KPA, seed=args.seed), hold_s=args.hold,
-                        ramp_s=args.ramp, frame_rate_hz=args.frame_rate,
-                        loadcell_rate_hz=args.loadcell_rate, seed=args.seed)
+    session = ramp_hold(_sensor(args), hold_s=args.hold, ramp_s=args.ramp,
+                        frame_rate_hz=args.frame_rate, loadcell_rate_hz=args.loadcell_rate,
+                        seed=args.seed)
     info(args, f"writing {session.raw.sizes['frame']} frames to {args.outdir} ...")
     paths = session.write(args.outdir)
     summary = {**{k: str(v) for k, v in paths.items()},
