@@ -303,13 +303,16 @@ def _costs_many(sums, load_N, objective, censored, window=None):
 
 
 def _median_window(b_values, grid, A):
-    """Where the l1 medians at ``b_values`` are expected, from A on the last ``grid``.
+    """Where the l1 medians at ``b_values`` are expected, from A at the exponents ``grid``.
 
-    A is interpolated (it changes smoothly with b); the window's half width is a twentieth
-    of A's change over the grid step, so that few ratios fall in it.
+    A is interpolated (it changes smoothly with b); each window's half width is a twentieth
+    of A's change over the step of ``grid`` around it, so that few ratios fall in it. A
+    window is a hint: one that misses costs time, never the result (:func:`l1_costs`).
     """
+    b_values, grid, A = (np.asarray(v, dtype=float) for v in (b_values, grid, A))
     guess = np.interp(b_values, grid, A)
-    half = 0.05 * np.max(np.abs(np.diff(A))) + 1e-13 * np.abs(guess)
+    i = np.clip(np.searchsorted(grid, b_values), 1, len(grid) - 1)
+    half = 0.05 * np.abs(A[i] - A[i - 1]) + 1e-13 * np.abs(guess)
     return guess - half, guess + half
 
 
@@ -399,12 +402,8 @@ class _Search:
         """Where the l1 median at ``b`` is expected: A interpolated from two earlier b."""
         if len(self.seen) < 2:
             return None
-        bs = np.array(sorted(self.seen))
-        As = np.array([self.seen[x][0] for x in bs])
-        i = int(np.clip(np.searchsorted(bs, b), 1, len(bs) - 1))
-        guess = float(np.interp(b, bs, As))
-        half = 0.05 * abs(As[i] - As[i - 1]) + 1e-13 * abs(guess)
-        return np.array([guess - half]), np.array([guess + half])
+        bs = sorted(self.seen)
+        return _median_window([b], bs, [self.seen[x][0] for x in bs])
 
     def slope(self, b):
         """Slope d cost / d b of the l2/relative cost (:func:`_cost_slope`, on the moments)."""
