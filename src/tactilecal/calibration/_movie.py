@@ -180,19 +180,24 @@ def _frame_times(recording, n):
     return np.arange(n) * float(spf)
 
 
-def _align_loads(loads, total, times, n, name, lag_s, max_lag_s):
-    """Return the load on each frame (NaN outside the record) and an alignment report."""
+def _lag_on(total, times, loads, max_lag_s):
+    """Lag of the load record against the frames' ``total`` signal (cross-correlation)."""
     from tactilecal.dynamic import estimate_lag
 
+    sensor = xr.DataArray(total, dims="time", coords={"time": times}, name="total raw")
+    return float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s))
+
+
+def _align_loads(loads, total, times, n, name, lag_s, max_lag_s):
+    """Return the load on each frame (NaN outside the record) and an alignment report."""
     if not isinstance(loads, xr.DataArray):
         loads = np.asarray(loads, dtype=float).ravel()
         if len(loads) != n:
             raise ValueError(f"loads have {len(loads)} values and no time column; expected "
                              f"{n} (one per frame of {name}), as I-Scan's movie calibration")
         return loads, {"lag_s": None, "aligned": "one load per frame (no time column)"}
-    sensor = xr.DataArray(total, dims="time", coords={"time": times}, name="total raw")
     if lag_s is None:
-        lag_s = float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s))
+        lag_s = _lag_on(total, times, loads, max_lag_s)
     return (_loads_at(loads, times, lag_s),
             {"lag_s": lag_s, "aligned": "cross-correlation with the total raw signal"})
 
@@ -382,13 +387,9 @@ def _first_pass(recording, hist, raw_sum, loads, method, options, min_load_fract
     report : dict
         ``{"lag_s": ...}`` of the first alignment.
     """
-    from tactilecal.dynamic import estimate_lag
-
     n = len(raw_sum)
     times = _frame_times(recording, n)
-    total, at = _decimated(raw_sum, times, 4.0 * _mean_rate_hz(loads))
-    sensor = xr.DataArray(total, dims="time", coords={"time": at}, name="total raw")
-    lag_s = float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s))
+    lag_s = _lag_on(*_decimated(raw_sum, times, 4.0 * _mean_rate_hz(loads)), loads, max_lag_s)
     step = max(1, n // max_points)
     load = _loads_at(loads, times[::step], lag_s)
     return (*_first_pass_table(hist[::step], load, method, options, min_load_fraction),
