@@ -18,7 +18,7 @@ import numbers
 import re
 
 __all__ = ["decode_text", "read_text", "check_line_ends", "csv_rows", "parse_number",
-           "check_number", "check_type", "require_keys", "check_size"]
+           "check_number", "check_numbers", "check_type", "require_keys", "check_size"]
 
 _BOMS = ((b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
 
@@ -230,6 +230,19 @@ def check_number(value, where, *, minimum=None, maximum=None, min_inclusive=True
     if bad:
         raise ValueError(f"{where} is {_short(value)}; expected {expected}")
     return int(number) if integer else number
+
+
+def check_numbers(values, where):
+    """Return ``values`` if it is a list of finite numbers (each by :func:`check_number`).
+
+    Examples
+    --------
+    >>> check_numbers([1, 2.5], "key 'f_hz' of e.json")
+    [1, 2.5]
+    """
+    for value in check_type(values, list, where, expected="a list of numbers"):
+        check_number(value, where)
+    return values
 
 
 def require_keys(data, keys, where, *, expected):

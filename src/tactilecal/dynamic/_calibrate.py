@@ -12,7 +12,7 @@ from scipy import signal
 from tactilecal._jsonutil import read_json_object
 from tactilecal._provenance import provenance_of
 from tactilecal._result import ShortRepr
-from tactilecal._validate import check_number, check_type, require_keys
+from tactilecal._validate import check_number, check_numbers, check_type, require_keys
 from tactilecal.dynamic import _plots
 from tactilecal.dynamic._align import align
 from tactilecal.dynamic._apply import apply_filter
@@ -442,8 +442,7 @@ def _per_bin_arrays(data, key):
              "phase_after_deg")
     given = {k: data[k] for k in names if data.get(k) is not None}
     for k, values in given.items():
-        for value in check_type(values, list, key(k), expected="a list of numbers"):
-            check_number(value, key(k))
+        check_numbers(values, key(k))
     lengths = {len(v) for v in given.values()}
     pairs_given = [len({n in given for n in pair}) == 1
                    for pair in (names[:3], names[3:])]

@@ -28,7 +28,7 @@ import numpy as np
 from scipy import fft, signal
 
 from tactilecal._result import SavedResult
-from tactilecal._validate import check_number, check_type, require_keys
+from tactilecal._validate import check_number, check_numbers, check_type, require_keys
 from tactilecal.dynamic import _plots
 from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
 from tactilecal.dynamic._rational import RationalModel
@@ -478,11 +478,7 @@ def _check_filter_dict(d, where):
         for name in ("f_hz", "gain", "phase_rad"):
             if name == "phase_rad" and name not in response:
                 continue
-            values = check_type(response[name], list, key.format(f"response.{name}"),
-                                expected="a list of numbers")
-            lengths.add(len(values))
-            for value in values:
-                check_number(value, key.format(f"response.{name}"))
+            lengths.add(len(check_numbers(response[name], key.format(f"response.{name}"))))
         if len(lengths) > 1 or min(lengths) < 2:
             raise ValueError(f"{key.format('response')} has lists of lengths {sorted(lengths)}; "
                              "expected f_hz, gain (and phase_rad) of one length >= 2")
