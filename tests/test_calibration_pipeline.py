@@ -268,3 +268,14 @@ def test_a_file_changed_since_it_was_hashed_is_hashed_again(tmp_path):
     later = path.stat().st_mtime_ns + 10 ** 9
     os.utime(path, ns=(later, later))
     assert file_provenance(path)["sha256"] == hashlib.sha256(b"frame 2").hexdigest()
+
+
+def test_a_provenance_attribute_takes_numpy_options():
+    """A NetCDF/Zarr output's provenance text: NumPy numbers in the options are numbers."""
+    from tactilecal._provenance import provenance_attr
+
+    prov = {"tactilecal_version": "x", "options": {"chunk_frames": np.int64(8192),
+                                                   "threshold_kPa": np.float32(0.5)}}
+    text = provenance_attr(prov)  # json.dumps refused np.int64 before
+    assert "\n" not in text
+    assert json.loads(text)["options"] == {"chunk_frames": 8192, "threshold_kPa": 0.5}

@@ -8,7 +8,6 @@ be traced back to the bytes it came from) and on which sensor: the export header
 
 import functools
 import hashlib
-import json
 from datetime import UTC, datetime
 from pathlib import Path
 
@@ -125,8 +124,12 @@ def _source(record):
 
 
 def provenance_attr(prov):
-    """Return ``prov`` as JSON text, for a NetCDF/Zarr attribute (``attrs["provenance"]``)."""
-    return json.dumps(prov)
+    """Return ``prov`` as JSON text, for a NetCDF/Zarr attribute (``attrs["provenance"]``).
+
+    Through :func:`tactilecal._jsonutil.dumps`, as the sidecar: NumPy numbers in the
+    options (``chunk_frames=np.int64(8192)``) are written as numbers, not refused.
+    """
+    return dumps(prov, indent=None)
 
 
 def sidecar_path(path):
