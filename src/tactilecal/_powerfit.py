@@ -45,9 +45,11 @@ class Fit:
 
 
 # ---------------------------------------------------------------------- helpers
-def _check_objective(objective):
+def _check_objective(objective, method=None):
+    """Refuse an objective not in :data:`OBJECTIVES`, naming ``method`` when given."""
     if objective not in OBJECTIVES:
-        raise ValueError(f"objective={objective!r} is unknown; expected one of {OBJECTIVES}")
+        what = "is unknown" if method is None else f"is not available for {method}"
+        raise ValueError(f"objective={objective!r} {what}; expected one of {OBJECTIVES}")
 
 
 def objective_weights(load_N, objective):

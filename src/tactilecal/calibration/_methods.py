@@ -17,6 +17,7 @@ from tactilecal._powerfit import (
     OBJECTIVES,
     Fit,
     _censored_median,
+    _check_objective,
     check_unsaturated,
     fit_power,
     fit_power_censored,
@@ -230,7 +231,7 @@ def fit_piecewise(hist, load_N, *, knots=(1, 16, 64, 255), objective=DEFAULT_OBJ
     (12 % gains, few large sensels) lost to l1 as the power method does: its worst session
     reached 0.94 of the true law's.
     """
-    _check_objective_of(objective, "piecewise")
+    _check_objective(objective, "piecewise")
     _check_smoothing(smoothing)
     knots = np.asarray(knots, dtype=float)
     if len(knots) < 2 or np.any(np.diff(knots) <= 0) or knots[0] <= 0:
@@ -252,12 +253,6 @@ def fit_piecewise(hist, load_N, *, knots=(1, 16, 64, 255), objective=DEFAULT_OBJ
                {"objective": objective, "smoothing": float(smoothing),
                 "segments_A": A_r.tolist(), "segments_b": b_r.tolist(),
                 "stderr_method": NO_STDERR})
-
-
-def _check_objective_of(objective, method):
-    if objective not in OBJECTIVES:
-        raise ValueError(f"objective={objective!r} is not available for {method}; expected "
-                         f"one of {OBJECTIVES}")
 
 
 LUT_SMOOTHING = 0.1
@@ -332,7 +327,7 @@ def fit_lut(hist, load_N, *, knots=None, objective="l1", smoothing=LUT_SMOOTHING
     fitted on the few readings between 169 and the largest training reading, extrapolated
     up to 1.43x the true force at 240; its worst session reached 0.93 of the true law's.
     """
-    _check_objective_of(objective, "lut")
+    _check_objective(objective, "lut")
     _check_smoothing(smoothing)
     if knots is None:
         knots = np.r_[0, np.unique(np.rint(np.geomspace(3, 255, 12)))]
