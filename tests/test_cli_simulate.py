@@ -2,6 +2,8 @@
 
 import csv
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -95,3 +97,12 @@ def test_simulate_blind_writes_records_that_read_back_with_their_truth(tmp_path,
     assert np.diff(reference["time"].values[:2])[0] == pytest.approx(1 / 5000)
     assert np.diff(sensor["time"].values[:2])[0] == pytest.approx(1 / 4000)
     assert main(["-q", "simulate", "sweep", str(tmp_path / "s"), "--A", "-1"]) == 1
+
+
+def test_building_the_parser_does_not_load_the_sensor_catalogue():
+    # every command builds the parser: simulate's runs import the catalogue when they run
+    code = ("import sys; from tactilecal.cli import build_parser; build_parser(); "
+            "print('tactilecal.sensors' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.split() == ["False"]
