@@ -7,7 +7,7 @@ import pytest
 from tactilecal.calibration import calibrate, load_calibration, points_from_frames
 from tactilecal.cli import main
 from tactilecal.simulate import deadweight_session, make_sensor
-from tactilecal.zvyagin import compare_table
+from tactilecal.zvyagin import compare_calibrations
 from tactilecal.zvyagin._plots import as_zvyagin_result
 
 
@@ -71,12 +71,24 @@ def test_compare_table_and_curves(cal_files, tmp_path, capsys):
     assert text[0].split()[:3] == ["calibration", "method", "|T|"] and len(text) == 4
 
 
+def test_compare_calibrations_is_what_the_command_prints(cal_files, capsys):
+    files = [str(cal_files[k]) for k in ("faithful", "power")]
+    comparison = compare_calibrations([load_calibration(f) for f in files],
+                                      names=["faithful", "power"])
+    assert main(["-q", "compare", *files, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["rows"] == comparison.rows
+    assert main(["compare", *files]) == 0
+    assert capsys.readouterr().out.strip() == comparison.table()
+    assert len(comparison.plot().get_lines()) == 2  # one curve per calibration
+    assert len(repr(comparison)) < 1000 and "faithful" in repr(comparison)
+
+
 def test_compare_bad_input(cal_files):
     with pytest.raises(ValueError, match=r"no calibration to compare"):
-        compare_table([])
+        compare_calibrations([])
     cal = load_calibration(cal_files["power"])
     with pytest.raises(ValueError, match=r"1 names for 2 calibrations"):
-        compare_table([cal, cal], names=["a"])
+        compare_calibrations([cal, cal], names=["a"])
 
 
 def test_result_rebuilt_from_json_alone(cal_files):

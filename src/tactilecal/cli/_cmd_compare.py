@@ -31,21 +31,20 @@ def run(args):
     """Run ``tactilecal compare``."""
     from tactilecal._atomic import atomic_path
     from tactilecal.calibration import load_calibration
-    from tactilecal.zvyagin import compare_table, format_compare_table, plot_compare
+    from tactilecal.zvyagin import compare_calibrations
 
-    cals = [load_calibration(p) for p in args.calibrations]
-    names = _row_names(args.calibrations)
-    rows = compare_table(cals, names)
+    comparison = compare_calibrations([load_calibration(p) for p in args.calibrations],
+                                      _row_names(args.calibrations))
     figure = None
     if args.out:
         outdir = make_folder(args.out, what="--out")
         figure = outdir / "compare_curves.png"
-        ax = plot_compare(cals, names)
+        ax = comparison.plot()
         with atomic_path(figure) as tmp:
             ax.figure.savefig(tmp, dpi=120)
         info(args, f"curves written to {figure}")
     if args.json:
-        print_json({"rows": rows, "figure": None if figure is None else str(figure)})
+        print_json({"rows": comparison.rows, "figure": None if figure is None else str(figure)})
     else:
-        print(format_compare_table(rows))
+        print(comparison.table())
     return 0

@@ -18,7 +18,7 @@ See ``docs/zvyagin.md`` for the choices the paper leaves open.
 from tactilecal._deprecated import moved_names
 from tactilecal.zvyagin._approx import search_separation
 from tactilecal.zvyagin._calibrate import MODES, OPTIONS, zvyagin_fit
-from tactilecal.zvyagin._compare import compare_table, format_compare_table, plot_compare
+from tactilecal.zvyagin._compare import compare_calibrations
 from tactilecal.zvyagin._fit import energy, fit_power_law, minimise_energy
 from tactilecal.zvyagin._pairs import solve_pairs
 from tactilecal.zvyagin._result import ZvyaginResult
@@ -26,7 +26,7 @@ from tactilecal.zvyagin._result import ZvyaginResult
 __all__ = [
     "zvyagin_fit", "ZvyaginResult", "MODES", "OPTIONS", "energy",
     "search_separation", "solve_pairs", "fit_power_law", "minimise_energy",
-    "compare_table", "format_compare_table", "plot_compare",
+    "compare_calibrations",
 ]
 
 _STEP = "an internal of the paper's steps; zvyagin_fit() keeps every intermediate"
@@ -50,6 +50,10 @@ __getattr__ = moved_names(__name__, {
                           "'zvyagin' holds it as cal.method_result"),
     "plot_error_histogram": ("_plots", "plot_patch_errors", "use the method "
                              "ZvyaginResult.plot_patch_errors()"),
+    "compare_table": ("_compare", "compare_table", "use compare_calibrations(cals, names).rows"),
+    "format_compare_table": ("_compare", "format_compare_table",
+                             "use compare_calibrations(cals, names).table()"),
+    "plot_compare": ("_compare", "plot_compare", "use compare_calibrations(cals, names).plot()"),
     "calibrate_zvyagin": ("tactilecal.zvyagin", "_calibrate_zvyagin",
                           "use tactilecal.calibrate(points, method='zvyagin', **options)"),
 })

@@ -2,9 +2,11 @@
 
 import numpy as np
 
+from tactilecal._result import ShortRepr
 from tactilecal._units import N_PER_MM2_TO_KPA
 
-__all__ = ["compare_table", "format_compare_table", "plot_compare"]
+__all__ = ["Comparison", "compare_calibrations", "compare_table", "format_compare_table",
+           "plot_compare"]
 
 COLUMNS = ("name", "method", "points", "I1", "I2", "I3", "I4", "d", "A0", "b0", "p_s_MPa")
 
@@ -21,6 +23,66 @@ def _row(name, cal):
         sep = cal.details["separation"]
         row.update(I1=sep[0], I2=sep[1], I3=sep[2], I4=sep[3], d=cal.details["d_min"])
     return row
+
+
+class Comparison(ShortRepr):
+    """Calibrations side by side: Zvyagin (2022) Table 2 as :attr:`rows`, Figure 10 as :meth:`plot`.
+
+    Attributes
+    ----------
+    calibrations : list of CalibrationResult
+    names : list of str
+    rows : list of dict
+        One per calibration, keys :data:`COLUMNS`: ``points`` used, the separation ``I1``..
+        ``I4`` and ``d`` (Zvyagin calibrations only), ``A0``, ``b0`` (power model only),
+        the saturation pressure ``p_s_MPa``; None where a calibration has no such value.
+    """
+
+    def __init__(self, calibrations, names, rows):
+        self.calibrations, self.names, self.rows = calibrations, names, rows
+
+    def _repr_fields(self):
+        return [("names", self.names), ("methods", [r["method"] for r in self.rows])]
+
+    def table(self):
+        """Return :attr:`rows` as a fixed-width text table (what ``tactilecal compare`` prints)."""
+        return format_compare_table(self.rows)
+
+    def plot(self, ax=None):
+        """Draw every calibration's curve on one plot (Figure 10 across calibrations).
+
+        Pressure in kPa when every calibration knows its sensel area, else force per
+        sensel. Returns the matplotlib Axes.
+        """
+        return plot_compare(self.calibrations, self.names, ax=ax)
+
+
+def compare_calibrations(calibrations, names=None):
+    """Put calibrations side by side, like Zvyagin (2022) Table 2 and Figure 10.
+
+    To see a sensor's drift across sessions, or a used sensor against a new one.
+
+    Parameters
+    ----------
+    calibrations : sequence of CalibrationResult
+        Any methods; I* and d only exist for Zvyagin calibrations, A0 and b0 for the power
+        model (None elsewhere).
+    names : sequence of str, optional
+        Row names (default ``"cal <k>"``).
+
+    Returns
+    -------
+    Comparison
+        ``.rows`` (the table), ``.table()`` (as text), ``.plot()`` (the curves).
+
+    Raises
+    ------
+    ValueError
+        With no calibration, or a number of names other than one per calibration.
+    """
+    calibrations = list(calibrations)
+    names = [f"cal {k}" for k in range(len(calibrations))] if names is None else list(names)
+    return Comparison(calibrations, names, compare_table(calibrations, names))
 
 
 def compare_table(calibrations, names=None):
