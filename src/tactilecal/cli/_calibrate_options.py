@@ -1,7 +1,7 @@
 """The fit options of ``tactilecal calibrate``: their flags and the library keywords they give."""
 
 from tactilecal._saturation import SATURATED_CHOICES, SATURATED_DEFAULT, resolve_saturated
-from tactilecal.cli._common import non_negative_int, positive_int
+from tactilecal.cli._types import non_negative_int, positive_int
 
 __all__ = ["add_fit_options", "fit_options"]
 

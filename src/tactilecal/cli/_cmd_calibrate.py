@@ -3,7 +3,8 @@
 from pathlib import Path
 
 from tactilecal.cli._calibrate_options import add_fit_options, fit_options
-from tactilecal.cli._common import info, info_grouped, positive_float, print_json, progress_for
+from tactilecal.cli._common import info, info_grouped, print_json, progress_for
+from tactilecal.cli._types import positive_float
 
 
 def register(subparsers):

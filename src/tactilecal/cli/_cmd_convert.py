@@ -1,6 +1,7 @@
 """``tactilecal convert``: a Tekscan export to Zarr or NetCDF, streamed block by block."""
 
-from tactilecal.cli._common import info, positive_int
+from tactilecal.cli._common import info
+from tactilecal.cli._types import positive_int
 
 DEFAULT_CHUNK_FRAMES = 1000  # tactilecal.io.convert's default (not imported: keeps --help fast)
 

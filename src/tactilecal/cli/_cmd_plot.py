@@ -1,7 +1,8 @@
 """``tactilecal plot CAL.json --out DIR``: the figures of a calibration as PNG files."""
 
 from tactilecal._atomic import make_folder
-from tactilecal.cli._common import info, positive_int, print_json
+from tactilecal.cli._common import info, print_json
+from tactilecal.cli._types import positive_int
 
 
 def register(subparsers):

@@ -3,7 +3,8 @@
 import shlex
 import sys
 
-from tactilecal.cli._common import info, non_negative_float, progress_for
+from tactilecal.cli._common import info, progress_for
+from tactilecal.cli._types import non_negative_float
 
 
 def register(subparsers):

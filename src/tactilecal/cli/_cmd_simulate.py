@@ -8,7 +8,7 @@ records (``sensor.csv``, ``reference.csv``) and ``truth.json``.
 """
 
 from tactilecal.cli import _simulate_run
-from tactilecal.cli._common import non_negative_int, positive_float, positive_int, share
+from tactilecal.cli._types import non_negative_int, positive_float, positive_int, share
 
 __all__ = ["register"]
 

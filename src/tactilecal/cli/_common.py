@@ -1,7 +1,5 @@
-"""Helpers shared by the CLI commands: JSON output, progress bars, messages, flag types."""
+"""Helpers shared by the CLI commands: JSON and aligned output, progress bars, messages."""
 
-import argparse
-import math
 import sys
 from functools import partial
 
@@ -56,27 +54,21 @@ def info_grouped(args, messages, *, show=3):
             info(args, f"... and {len(group) - show} more {kind!r} notes")
 
 
-def _number(kind, minimum, inclusive, maximum=None):
-    """Return an argparse ``type`` for a finite number in range (the error names the flag)."""
-    bound = f"{'>=' if inclusive else '>'} {minimum:g}"
-    bound += f" and <= {maximum:g}" if maximum is not None else ""
-    what = "whole number" if kind is int else "finite number"
+def print_aligned(summary, *, float_format=None):
+    """Print ``summary`` as aligned ``key  value`` lines, a dict value as indented lines.
 
-    def convert(text):
-        try:
-            value = kind(text)
-        except ValueError:  # "; expected": bad input (exit 1, one line), like a bad range
-            raise argparse.ArgumentTypeError(f"{text!r}; expected a {what} {bound}") from None
-        if not math.isfinite(value) or value < minimum or (value == minimum and not inclusive) \
-                or (maximum is not None and value > maximum):
-            raise argparse.ArgumentTypeError(f"{text!r}; expected a finite number {bound}")
-        return value
-    convert.__name__ = kind.__name__  # argparse says "invalid int value" on a bare failure
-    return convert
+    ``float_format`` (e.g. ``".6g"``) formats the float values; else they print as they are.
+    """
+    width = max(map(len, summary))
 
+    def text(value):
+        return format(value, float_format) if float_format and isinstance(value, float) \
+            else value
 
-positive_int = _number(int, 0, False)
-non_negative_int = _number(int, 0, True)
-positive_float = _number(float, 0.0, False)
-non_negative_float = _number(float, 0.0, True)
-share = _number(float, 0.0, True, 1.0)
+    for key, value in summary.items():
+        if isinstance(value, dict):
+            print(f"{key}:")
+            for k, v in value.items():
+                print(f"  {k:<{width}}  {text(v)}")
+        else:
+            print(f"{key:<{width}}  {text(value)}")

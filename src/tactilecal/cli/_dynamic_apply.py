@@ -3,7 +3,8 @@
 import sys
 from functools import partial
 
-from tactilecal.cli._common import info, positive_int, progress
+from tactilecal.cli._common import info, progress
+from tactilecal.cli._types import positive_int
 
 
 def register(sub):

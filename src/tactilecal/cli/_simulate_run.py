@@ -3,7 +3,7 @@
 from collections import Counter
 
 from tactilecal._units import N_PER_MM2_TO_KPA
-from tactilecal.cli._common import info, print_json
+from tactilecal.cli._common import info, print_aligned, print_json
 
 __all__ = ["run_deadweight", "run_ramp_hold", "run_dynamic"]
 
@@ -71,15 +71,8 @@ def run_dynamic(args):
 
 
 def _print(args, summary):
-    """Print the summary as JSON, or as aligned ``key  value`` lines (a dict indented)."""
+    """Print the summary as JSON or as aligned ``key  value`` lines."""
     if args.json:
         print_json(summary)
-        return
-    width = max(map(len, summary))
-    for key, value in summary.items():
-        if isinstance(value, dict):
-            print(f"{key}:")
-            for k, v in value.items():
-                print(f"  {k:<{width}}  {v}")
-        else:
-            print(f"{key:<{width}}  {value}")
+    else:
+        print_aligned(summary)
