@@ -2,7 +2,7 @@
 
 A simulated ramp-and-hold recording (``simulate.ramp_hold``, 100 Hz) repeated to 10,000
 frames, reported calibrated (a power calibration of a simulated dead-weight session) and raw.
-The baseline in the same run is ``analysis.summary`` on the same recording (the numbers the
+The baseline in the same run is ``rec.tactile.frame_summary()`` on the same recording (the numbers the
 report draws), so the ratio says what the figures and the page cost on top.
 
     python benchmarks/bench_report.py [--frames 10000] [--repeat 2]
@@ -16,7 +16,6 @@ import numpy as np
 import xarray as xr
 from _timing import run_times
 
-from tactilecal.analysis import summary
 from tactilecal.calibration import calibrate, points_from_frames
 from tactilecal.report import write_report
 from tactilecal.simulate import deadweight_session, make_sensor, ramp_hold
@@ -36,11 +35,11 @@ def main():
     session = deadweight_session(sensor, n_patches=40, seed=2)
     cal = calibrate(points_from_frames(session.raw, session.load_N), method="power")
     out = Path(tempfile.mkdtemp()) / "report.html"
-    base = run_times(lambda: summary(cal.apply(rec)).compute(), args.repeat).min()
+    base = run_times(lambda: cal.apply(rec).tactile.frame_summary().compute(), args.repeat).min()
     for label, kw in (("calibrated", {"calibration": cal}), ("raw", {})):
         took = run_times(lambda kw=kw: write_report([rec], out, **kw), args.repeat).min()
         print(f"{args.frames} frames {label}: write_report {took:.2f} s, "
-              f"{took / base:.1f}x analysis.summary ({base:.2f} s), page "
+              f"{took / base:.1f}x frame_summary ({base:.2f} s), page "
               f"{out.stat().st_size / 1e6:.1f} MB")
 
 

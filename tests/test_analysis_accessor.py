@@ -1,5 +1,6 @@
 """The ``.tactile`` xarray accessor delegates to the analysis functions, number for number."""
 
+import inspect
 import subprocess
 import sys
 
@@ -8,6 +9,7 @@ import pytest
 import xarray as xr
 
 from tactilecal import analysis
+from tactilecal.analysis import _maps, _regions, _units
 from tactilecal.calibration import calibrate, points_from_frames
 
 AREA_MM2 = 6.0
@@ -38,15 +40,17 @@ def raw_and_cal():
     return raw, cal
 
 
-CASES = [  # accessor method, function, keyword arguments
-    ("force", analysis.total_force, {}),
-    ("area", analysis.contact_area, {"threshold_kPa": 60.0}),
-    ("centre", analysis.centre_of_force, {}),
-    ("peak", analysis.peak_pressure, {}),
-    ("mean_pressure", analysis.mean_pressure, {"threshold_kPa": 60.0}),
-    ("pressure_map", analysis.pressure_map_kPa, {}),
-    ("force_map", analysis.force_map_N, {}),
-    ("summary", analysis.summary, {"threshold_kPa": 60.0}),
+CASES = [  # accessor method, the function it runs, keyword arguments
+    ("force", _maps.total_force, {}),
+    ("area", _maps.contact_area, {"threshold_kPa": 60.0}),
+    ("centre", _maps.centre_of_force, {}),
+    ("peak", _maps.peak_pressure, {}),
+    ("mean_pressure", _maps.mean_pressure, {"threshold_kPa": 60.0}),
+    ("pressure_map", _units.pressure_map_kPa, {}),
+    ("force_map", _units.force_map_N, {}),
+    ("frame_summary", _maps.summary, {"threshold_kPa": 60.0}),
+    ("max_window_load", _regions.max_window_load, {"window": (2, 2)}),
+    ("profile", _regions.profile, {}),
 ]
 
 
@@ -62,6 +66,27 @@ def test_accessor_matches_the_function_on_raw(raw_and_cal, method, function, kwa
     raw, cal = raw_and_cal
     xr.testing.assert_identical(getattr(raw.tactile, method)(calibration=cal, **kwargs),
                                 function(raw, calibration=cal, **kwargs))
+
+
+@pytest.mark.parametrize(("method", "function", "kwargs"), CASES)
+def test_a_method_carries_its_functions_signature_and_docstring(method, function, kwargs):
+    got = getattr(analysis.TactileAccessor, method)
+    want = list(inspect.signature(function).parameters)[1:]  # all but the recording
+    assert list(inspect.signature(got).parameters) == ["self", *want]
+    doc = inspect.getdoc(got)
+    assert doc.splitlines()[0] == inspect.getdoc(function).splitlines()[0]
+    assert "recording :" not in doc and "Examples" not in doc
+
+
+@pytest.mark.parametrize(("name", "method", "args"), [
+    ("total_force", "force", ()), ("summary", "frame_summary", ()),
+    ("row_profile", "profile", ("row",)), ("column_profile", "profile", ("col",)),
+])
+def test_the_functions_that_left_still_give_the_same_numbers(name, method, args):
+    rec = patch("kPa")
+    with pytest.warns(DeprecationWarning, match=r"recording\.tactile\." + method):
+        function = getattr(analysis, name)
+    xr.testing.assert_identical(function(rec), getattr(rec.tactile, method)(*args))
 
 
 def test_calibrate_is_apply(raw_and_cal, tmp_path):

@@ -1,7 +1,6 @@
 """describe, frame_table, overview: the library behind ``tactilecal info`` and ``analyze``."""
 
 import numpy as np
-import pandas as pd
 import pytest
 import xarray as xr
 
@@ -21,7 +20,7 @@ def test_describe_counts_blank_never_loaded_and_saturated():
     raw[:, 0, 0] = np.nan                   # blank: outside the sensor
     raw[1, 1, 1], raw[3, 2, 4] = 255, 255   # frames 4 and 6 saturate
     raw[2, 1, 2] = 40                       # 15 - 1 blank - 3 loaded = 11 never loaded
-    d = analysis.describe(_rec(raw, units="raw"))
+    d = _rec(raw, units="raw").tactile.describe()
     assert (d["rows"], d["cols"], d["sensels"], d["frames"]) == (3, 5, 15, 4)
     assert (d["first_frame"], d["last_frame"], d["duration_s"]) == (3, 6, 1.5)
     assert (d["blank_sensels"], d["never_loaded_sensels"]) == (1, 11)
@@ -34,7 +33,7 @@ def test_describe_inverts_the_header_power_law():
     scale, exponent = 0.9, 1.164  # p = scale * raw ** exponent (kPa)
     p = np.zeros((2, 2, 2))
     p[1, 0, 0] = scale * 200.0 ** exponent
-    d = analysis.describe(_rec(p, units="kPa", scale_factor=scale, exponent=exponent))
+    d = _rec(p, units="kPa", scale_factor=scale, exponent=exponent).tactile.describe()
     assert d["max_raw"] == pytest.approx(200.0, rel=1e-12)
     assert d["max_raw_source"] == "inverted SCALE_FACTOR x raw^EXPONENT"
     assert d["calibration"] == {"scale_factor": scale, "exponent": exponent}
@@ -46,15 +45,15 @@ def test_frame_table_and_overview_on_a_known_patch():
     for k in range(3):  # 2 x 2 patch at 100 (k + 1) kPa; 4 mm2 sensels
         p[k, k:k + 2, 1:3] = 100.0 * (k + 1)
     rec = _rec(p, units="kPa", sensel_area_mm2=4.0, row_spacing_mm=2.0, col_spacing_mm=2.0)
-    table = analysis.frame_table(rec)
+    table = rec.tactile.frame_table()
     assert list(table.columns[:2]) == ["frame", "time_s"]
     assert tuple(table.columns[2:8]) == ("force_N", "contact_area_mm2", "cof_row_mm", "cof_col_mm",
                                          "peak_kPa", "mean_kPa")
     # 4 sensels x 4 mm2 x 100 (k + 1) kPa x 1e-3 N per kPa mm2
     np.testing.assert_allclose(table["force_N"], 1.6 * np.arange(1, 4), rtol=1e-12)
-    # a summary already computed gives the same table (the report passes its own)
-    pd.testing.assert_frame_equal(analysis.frame_table(analysis.summary(rec)), table)
     head = analysis.overview(table, source="x.csv")
+    # a summary already computed gives the same headline numbers (the report passes its own)
+    assert analysis.overview(rec.tactile.frame_summary(), source="x.csv") == head
     assert head["file"] == "x.csv" and head["frames"] == 3
     assert (head["peak_force_frame"], head["peak_force_time_s"]) == (5, 1.0)
     assert head["peak_force_N"] == pytest.approx(4.8, rel=1e-12)
@@ -66,4 +65,4 @@ def test_frame_table_and_overview_on_a_known_patch():
 
 def test_frame_table_of_a_raw_recording_needs_a_calibration():
     with pytest.raises(ValueError, match="x.csv: units are 'raw'; give a calibration"):
-        analysis.frame_table(_rec(np.zeros((1, 2, 2)), units="raw"))
+        _rec(np.zeros((1, 2, 2)), units="raw").tactile.frame_table()

@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tactilecal import analysis
 from tactilecal.simulate import deadweight_session, make_sensor
 
 ROW_MM, COL_MM, AREA_MM2 = 2.0, 3.0, 6.0
@@ -29,7 +28,7 @@ def moving_patch(unit="kPa", factor=1.0):
 
 
 def test_known_patch_summary():
-    s = analysis.summary(moving_patch())
+    s = moving_patch().tactile.frame_summary()
     k = np.arange(5)
     # 12 loaded sensels of 6 mm2 at 50 (k + 1) kPa -> 50 (k + 1) * 72e-3 N
     np.testing.assert_allclose(s.force_N[:5], 50 * (k + 1) * 72e-3, rtol=1e-12)
@@ -50,10 +49,10 @@ def test_known_patch_summary():
 def test_threshold_changes_area_and_mean():
     rec = moving_patch()
     rec[0, 10, 10] = 5.0  # a lone light sensel in frame 1
-    assert float(analysis.contact_area(rec)[0]) == 13 * AREA_MM2
-    assert float(analysis.contact_area(rec, threshold_kPa=10.0)[0]) == 12 * AREA_MM2
-    assert float(analysis.mean_pressure(rec)[0]) == pytest.approx((12 * 50 + 5) / 13)
-    assert float(analysis.mean_pressure(rec, threshold_kPa=10.0)[0]) == 50.0
+    assert float(rec.tactile.area()[0]) == 13 * AREA_MM2
+    assert float(rec.tactile.area(threshold_kPa=10.0)[0]) == 12 * AREA_MM2
+    assert float(rec.tactile.mean_pressure()[0]) == pytest.approx((12 * 50 + 5) / 13)
+    assert float(rec.tactile.mean_pressure(threshold_kPa=10.0)[0]) == 50.0
 
 
 @pytest.mark.parametrize(("unit", "per_kPa"), [
@@ -61,17 +60,17 @@ def test_threshold_changes_area_and_mean():
     ("N", AREA_MM2 * 1e-3), ("kgf", AREA_MM2 * 1e-3 / 9.80665),
 ])
 def test_units_give_the_same_numbers(unit, per_kPa):
-    ref = analysis.summary(moving_patch())
-    other = analysis.summary(moving_patch(unit, per_kPa))
+    ref = moving_patch().tactile.frame_summary()
+    other = moving_patch(unit, per_kPa).tactile.frame_summary()
     for name in ref.data_vars:
         np.testing.assert_allclose(other[name], ref[name], rtol=1e-12, equal_nan=True)
 
 
 def test_dask_backed_recording_matches_numpy():
     rec = moving_patch()
-    lazy = analysis.summary(rec.chunk({"frame": 2}))
+    lazy = rec.chunk({"frame": 2}).tactile.frame_summary()
     assert lazy.force_N.chunks is not None  # still lazy
-    xr.testing.assert_allclose(lazy.compute(), analysis.summary(rec))
+    xr.testing.assert_allclose(lazy.compute(), rec.tactile.frame_summary())
 
 
 class SimulatedCalibration:
@@ -83,7 +82,7 @@ class SimulatedCalibration:
     def apply(self, recording, units="kPa"):
         out = recording.copy(data=self.sensor.force_of_raw(recording.values))
         out.attrs = {**recording.attrs, "units": "N"}
-        return analysis.pressure_map_kPa(out) if units == "kPa" else out
+        return out.tactile.pressure_map() if units == "kPa" else out
 
 
 def test_simulated_deadweight_forces_recovered():
@@ -92,21 +91,21 @@ def test_simulated_deadweight_forces_recovered():
     truth = session.raw.copy(data=session.force_N)
     truth.attrs = {**session.raw.attrs, "units": "N"}
     # the true force maps sum to the applied loads
-    np.testing.assert_allclose(analysis.total_force(truth), session.load_N, rtol=1e-9)
+    np.testing.assert_allclose(truth.tactile.force(), session.load_N, rtol=1e-9)
     # through the raw readings and the sensor's own law: only 8-bit rounding and the
     # noise threshold remain, stated tolerance 3 %
-    got = analysis.total_force(session.raw, calibration=SimulatedCalibration(sensor))
+    got = session.raw.tactile.force(calibration=SimulatedCalibration(sensor))
     np.testing.assert_allclose(got, session.load_N, rtol=0.03)
     # centre of force: raw path within one sensel pitch of the truth
-    c_true = analysis.centre_of_force(truth)
-    c_raw = analysis.centre_of_force(session.raw, calibration=SimulatedCalibration(sensor))
+    c_true = truth.tactile.centre()
+    c_raw = session.raw.tactile.centre(calibration=SimulatedCalibration(sensor))
     assert float(np.abs(c_true.cof_row_mm - c_raw.cof_row_mm).max()) < sensor.row_spacing_mm
 
 
 def test_contact_area_of_raw_without_calibration():
     rec = moving_patch().fillna(0.0)
     rec.attrs["units"] = "raw"
-    np.testing.assert_allclose(analysis.contact_area(rec)[:5], 72.0)
+    np.testing.assert_allclose(rec.tactile.area()[:5], 72.0)
 
 
 def test_errors():
@@ -114,27 +113,27 @@ def test_errors():
     raw = rec.copy()
     raw.attrs = {**rec.attrs, "units": "raw"}
     with pytest.raises(ValueError, match="moving_patch: units are 'raw'; give a calibration"):
-        analysis.total_force(raw)
+        raw.tactile.force()
     with pytest.raises(ValueError, match="threshold_kPa is 5.0 but the recording is raw"):
-        analysis.contact_area(raw, threshold_kPa=5.0)
+        raw.tactile.area(threshold_kPa=5.0)
     with pytest.raises(ValueError, match=r"threshold_kPa is -1.0; expected a finite value >= 0"):
-        analysis.contact_area(rec, threshold_kPa=-1.0)
+        rec.tactile.area(threshold_kPa=-1.0)
     no_area = rec.copy()
     no_area.attrs = {"units": "kPa", "source": "x.csv"}
     with pytest.raises(ValueError, match="x.csv: attribute 'sensel_area_mm2' is None"):
-        analysis.total_force(no_area)
+        no_area.tactile.force()
     with pytest.raises(ValueError, match="x.csv: attribute 'row_spacing_mm' is None"):
-        analysis.centre_of_force(no_area.assign_attrs(units="N"))
+        no_area.assign_attrs(units="N").tactile.centre()
     with pytest.raises(ValueError, match=r"dims \('row', 'col', 'frame'\); expected"):
-        analysis.total_force(rec.transpose("row", "col", "frame"))
+        rec.transpose("row", "col", "frame").tactile.force()
     no_unit = rec.copy()
     no_unit.attrs = {"source": "y.asf"}
     with pytest.raises(ValueError, match="y.asf: attribute 'units' is missing"):
-        analysis.peak_pressure(no_unit)
+        no_unit.tactile.peak()
     mm = rec.copy()
     mm.attrs = {**rec.attrs, "units": "mm"}
     with pytest.raises(ValueError, match="units 'mm' are a length; expected raw"):
-        analysis.peak_pressure(mm)
+        mm.tactile.peak()
 
 
 def test_calibration_given_as_json_path(tmp_path):
@@ -144,7 +143,7 @@ def test_calibration_given_as_json_path(tmp_path):
     session = deadweight_session(sensor, n_patches=20, seed=3)
     result = calibrate(points_from_frames(session.raw, session.load_N), method="power")
     result.to_json(tmp_path / "cal.json")
-    by_path = analysis.total_force(session.raw, calibration=tmp_path / "cal.json")
+    by_path = session.raw.tactile.force(calibration=tmp_path / "cal.json")
     np.testing.assert_allclose(by_path, result.predict_force(session.raw.values), rtol=1e-12)
     np.testing.assert_allclose(by_path, session.load_N, rtol=0.05)  # a fitted law, 5 %
 
@@ -154,40 +153,40 @@ def test_summary_matches_the_single_functions():
     rec = moving_patch().copy(data=rng.gamma(1.0, 20.0, size=(6, 16, 12)))
     rec[:, 3, 4] = np.nan
     rec[2] = 0.0  # an unloaded frame
-    s = analysis.summary(rec, threshold_kPa=10.0)
+    s = rec.tactile.frame_summary(threshold_kPa=10.0)
     single = {
-        "force_N": analysis.total_force(rec),
-        "contact_area_mm2": analysis.contact_area(rec, threshold_kPa=10.0),
-        **analysis.centre_of_force(rec).data_vars,
-        "peak_kPa": analysis.peak_pressure(rec),
-        "mean_kPa": analysis.mean_pressure(rec, threshold_kPa=10.0),
+        "force_N": rec.tactile.force(),
+        "contact_area_mm2": rec.tactile.area(threshold_kPa=10.0),
+        **rec.tactile.centre().data_vars,
+        "peak_kPa": rec.tactile.peak(),
+        "mean_kPa": rec.tactile.mean_pressure(threshold_kPa=10.0),
     }
     for name, values in single.items():
         np.testing.assert_allclose(s[name], values, rtol=1e-12, equal_nan=True, err_msg=name)
     assert np.isnan(s.mean_kPa[2]) and np.isnan(s.cof_row_mm[2])
     with pytest.raises(ValueError, match=r"threshold_kPa is -2.0; expected a finite value >= 0"):
-        analysis.summary(rec, threshold_kPa=-2.0)
+        rec.tactile.frame_summary(threshold_kPa=-2.0)
 
 
 def test_centre_of_force_leaves_out_frames_below_a_minimum_force():
     rec = moving_patch()
-    force = analysis.total_force(rec).values  # 3.6, 7.2, 10.8, 14.4, 18.0, 0 N
-    cof = analysis.centre_of_force(rec, min_force_N=10.0)
+    force = rec.tactile.force().values  # 3.6, 7.2, 10.8, 14.4, 18.0, 0 N
+    cof = rec.tactile.centre(min_force_N=10.0)
     kept = np.isfinite(cof.cof_row_mm.values)
     np.testing.assert_array_equal(kept, force > 10.0)
     np.testing.assert_allclose(cof.cof_row_mm[kept], (np.arange(5)[force[:5] > 10] + 1) * ROW_MM)
-    s = analysis.summary(rec, cof_min_force_N=10.0)
+    s = rec.tactile.frame_summary(cof_min_force_N=10.0)
     np.testing.assert_array_equal(np.isfinite(s.cof_col_mm.values), force > 10.0)
     assert s.attrs["cof_min_force_N"] == 10.0
     with pytest.raises(ValueError, match=r"min_force_N is -1.0; expected a finite value >= 0"):
-        analysis.centre_of_force(rec, min_force_N=-1.0)
+        rec.tactile.centre(min_force_N=-1.0)
     with pytest.raises(ValueError, match=r"cof_min_force_N is nan; expected a finite value"):
-        analysis.summary(rec, cof_min_force_N=float("nan"))
+        rec.tactile.frame_summary(cof_min_force_N=float("nan"))
 
 
 def test_cof_path_and_peak_map_figures():
     rec = moving_patch()
-    s = analysis.summary(rec)
+    s = rec.tactile.frame_summary()
     # default threshold 5 % of the 18 N peak: the 5 loaded frames of 6
     ax = rec.tactile.plot_cof_path(summary=s)
     assert ax.get_title() == "5 of 6 frames with force >= 0.9 N"

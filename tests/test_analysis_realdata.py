@@ -4,12 +4,12 @@ import numpy as np
 import pytest
 from scipy import ndimage, signal
 
-from tactilecal import analysis, read_tekscan
+from tactilecal import read_tekscan
 
 
 @pytest.fixture(scope="module")
 def walk(fscan_asf):
-    return analysis.summary(read_tekscan(fscan_asf))
+    return read_tekscan(fscan_asf).tactile.frame_summary()
 
 
 def stance_phases(force_N, level_N):

@@ -117,7 +117,7 @@ def test_creep_through_a_simulated_sensor():
         def apply(self, recording, units="kPa"):
             out = recording.copy(data=sensor.force_of_raw(recording.values))
             out.attrs = {**recording.attrs, "units": "N"}
-            return out if units == "N" else analysis.pressure_map_kPa(out)
+            return out if units == "N" else out.tactile.pressure_map()
 
     r = analysis.creep(rec, t_load_s=-1.0, calibration=OwnLaw())
     # 0.02 x 30 N = 0.6 N per decade; 8-bit rounding of ~0.3 N sensels: 5 % tolerance

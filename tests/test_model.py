@@ -6,7 +6,6 @@ import pytest
 import xarray as xr
 
 from tactilecal._model import check_recording
-from tactilecal.analysis import total_force
 from tactilecal.io import open_recording, read_netcdf, write_netcdf, write_tekscan
 from tactilecal.simulate import deadweight_session, make_sensor
 
@@ -52,7 +51,7 @@ def test_a_broken_model_is_one_line_naming_the_part(recording, change, message):
     with pytest.raises(ValueError, match=message):
         check_recording(broken)
     with pytest.raises(ValueError, match=message):  # the analysis checks it too
-        total_force(broken)
+        broken.tactile.force()
 
 
 def test_missing_units_and_not_a_dataarray(recording):

@@ -1,17 +1,22 @@
-"""The ``.tactile`` accessor: the analysis functions as methods of a recording.
+"""The ``.tactile`` accessor: pressure-map analysis as methods of a recording.
 
 Registered on :class:`xarray.DataArray` with :func:`xarray.register_dataarray_accessor`
 (the xarray documentation's "Extending xarray using accessors") when
-:mod:`tactilecal.analysis` is imported. Every method delegates to the function of
-:mod:`tactilecal.analysis` it names, with the recording as first argument, so
-``rec.tactile.force()`` is ``total_force(rec)``, number for number. The figures of a
+:mod:`tactilecal.analysis` is imported. This is the public face of the analysis: each
+method runs one analysis function of this package with the recording as first argument
+(``rec.tactile.force()`` is ``_maps.total_force(rec)``, number for number) and carries that
+function's docstring and signature, so the definitions are written once. The figures of a
 recording are methods too (``rec.tactile.plot_pressure_map()``, ...), drawn on
 :class:`matplotlib.figure.Figure` without pyplot state.
 """
 
+import inspect
+import re
+
 import xarray as xr
 
 from tactilecal.analysis import _plots
+from tactilecal.analysis._describe import describe, frame_table
 from tactilecal.analysis._maps import (
     centre_of_force,
     contact_area,
@@ -20,9 +25,38 @@ from tactilecal.analysis._maps import (
     summary,
     total_force,
 )
-from tactilecal.analysis._units import force_map_N, pressure_map_kPa
+from tactilecal.analysis._regions import (
+    high_pressure_zones,
+    label_zones,
+    max_window_load,
+    profile,
+    select_region,
+)
+from tactilecal.analysis._units import force_map_N, pressure_map_kPa, saturated_sensels
 
 __all__ = ["TactileAccessor"]
+
+_RECORDING_ENTRY = re.compile(r"^recording : .*\n(?:(?: {4}.*)?\n)*?(?=\S)", re.M)
+"""The ``recording`` entry of a numpydoc Parameters section (the accessor supplies it)."""
+
+
+def _method(function, name):
+    """Return a method ``name`` that runs ``function`` on the accessor's recording.
+
+    It carries ``function``'s docstring (without the ``recording`` entry and the Examples,
+    which call the function) and its signature (without ``recording``).
+    """
+    def method(self, *args, **kwargs):
+        return function(self._rec, *args, **kwargs)
+
+    signature = inspect.signature(function)
+    self_ = inspect.Parameter("self", inspect.Parameter.POSITIONAL_OR_KEYWORD)
+    method.__signature__ = signature.replace(
+        parameters=[self_, *list(signature.parameters.values())[1:]])
+    doc = inspect.getdoc(function).split("\nExamples\n")[0].rstrip() + "\n"
+    method.__doc__ = _RECORDING_ENTRY.sub("", doc)
+    method.__name__, method.__qualname__ = name, f"TactileAccessor.{name}"
+    return method
 
 
 @xr.register_dataarray_accessor("tactile")
@@ -70,37 +104,22 @@ class TactileAccessor:
             calibration = load_calibration(calibration)
         return calibration.apply(self._rec, units=units)
 
-    def force(self, *, calibration=None):
-        """Total force per frame [N]: :func:`tactilecal.analysis.total_force`."""
-        return total_force(self._rec, calibration=calibration)
-
-    def area(self, *, threshold_kPa=0.0, calibration=None):
-        """Contact area per frame [mm2]: :func:`tactilecal.analysis.contact_area`."""
-        return contact_area(self._rec, threshold_kPa=threshold_kPa, calibration=calibration)
-
-    def centre(self, *, calibration=None):
-        """Centre of force per frame [mm]: :func:`tactilecal.analysis.centre_of_force`."""
-        return centre_of_force(self._rec, calibration=calibration)
-
-    def peak(self, *, calibration=None):
-        """Peak pressure per frame [kPa]: :func:`tactilecal.analysis.peak_pressure`."""
-        return peak_pressure(self._rec, calibration=calibration)
-
-    def mean_pressure(self, *, threshold_kPa=0.0, calibration=None):
-        """Mean loaded pressure per frame [kPa]: :func:`tactilecal.analysis.mean_pressure`."""
-        return mean_pressure(self._rec, threshold_kPa=threshold_kPa, calibration=calibration)
-
-    def pressure_map(self, *, calibration=None):
-        """Pressure per sensel [kPa]: :func:`tactilecal.analysis.pressure_map_kPa`."""
-        return pressure_map_kPa(self._rec, calibration=calibration)
-
-    def force_map(self, *, calibration=None):
-        """Force per sensel [N]: :func:`tactilecal.analysis.force_map_N`."""
-        return force_map_N(self._rec, calibration=calibration)
-
-    def summary(self, *, threshold_kPa=0.0, calibration=None):
-        """Every per-frame quantity in one Dataset: :func:`tactilecal.analysis.summary`."""
-        return summary(self._rec, threshold_kPa=threshold_kPa, calibration=calibration)
+    force = _method(total_force, "force")
+    area = _method(contact_area, "area")
+    centre = _method(centre_of_force, "centre")
+    peak = _method(peak_pressure, "peak")
+    mean_pressure = _method(mean_pressure, "mean_pressure")
+    pressure_map = _method(pressure_map_kPa, "pressure_map")
+    force_map = _method(force_map_N, "force_map")
+    frame_summary = _method(summary, "frame_summary")
+    saturated_sensels = _method(saturated_sensels, "saturated_sensels")
+    profile = _method(profile, "profile")
+    select_region = _method(select_region, "select_region")
+    label_zones = _method(label_zones, "label_zones")
+    high_pressure_zones = _method(high_pressure_zones, "high_pressure_zones")
+    max_window_load = _method(max_window_load, "max_window_load")
+    describe = _method(describe, "describe")
+    frame_table = _method(frame_table, "frame_table")
 
     # ---------------------------------------------------------------- figures
     def plot_pressure_map(self, frame=None, *, calibration=None, ax=None):
@@ -124,11 +143,11 @@ class TactileAccessor:
     def plot_force_time(self, *, calibration=None, summary=None, ax=None):
         """Total force [N] and contact area [mm2] against time, the peak frame marked.
 
-        ``summary``: the recording's :meth:`summary` if already computed (else computed
+        ``summary``: the recording's :meth:`frame_summary` if already computed (else computed
         here). Returns the matplotlib Axes.
         """
         if summary is None:
-            summary = self.summary(calibration=calibration)
+            summary = self.frame_summary(calibration=calibration)
         return _plots.plot_force_time(summary, ax=ax)
 
     def plot_cof_path(self, *, calibration=None, summary=None, min_force_N=None, ax=None):
@@ -136,8 +155,8 @@ class TactileAccessor:
 
         Frames with a total force below ``min_force_N`` (default 5 % of the peak) are not
         drawn: with almost no load the centre is noise. ``summary``: the recording's
-        :meth:`summary` if already computed. Returns the matplotlib Axes.
+        :meth:`frame_summary` if already computed. Returns the matplotlib Axes.
         """
         if summary is None:
-            summary = self.summary(calibration=calibration)
+            summary = self.frame_summary(calibration=calibration)
         return _plots.plot_cof_path(summary, min_force_N=min_force_N, ax=ax)

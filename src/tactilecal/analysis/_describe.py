@@ -115,7 +115,7 @@ def _max_raw(max_value, attrs):
 
 
 def frame_table(recording, *, calibration=None, threshold_kPa=0.0):
-    """Return :func:`summary` as a DataFrame, one row per frame.
+    """Return the recording's per-frame summary as a DataFrame, one row per frame.
 
     Parameters
     ----------
@@ -146,12 +146,13 @@ def frame_table(recording, *, calibration=None, threshold_kPa=0.0):
 
 
 def overview(table, *, source=None):
-    """Return the headline numbers of a :func:`frame_table` as a JSON-ready dict.
+    """Return the headline numbers of a per-frame table as a JSON-ready dict.
 
     Parameters
     ----------
-    table : pandas.DataFrame
-        From :func:`frame_table`.
+    table : pandas.DataFrame or xarray.Dataset
+        ``recording.tactile.frame_table()``, or ``recording.tactile.frame_summary()`` (whose
+        table it then makes).
     source : str, optional
         The recording's name, stored under ``file``.
 
@@ -163,6 +164,8 @@ def overview(table, *, source=None):
         peak_force_is_lower_bound`` (the last two None when saturation is unknown; a frame
         with saturated sensels gives lower bounds of its force and pressures).
     """
+    if isinstance(table, xr.Dataset):
+        table = frame_table(table)
     force = table["force_N"].to_numpy(float)
     i = int(np.nanargmax(force)) if np.isfinite(force).any() else 0
     return {

@@ -13,7 +13,7 @@ from tactilecal.analysis._units import (
     spacing_mm,
 )
 
-__all__ = ["select_region", "row_profile", "column_profile", "max_window_load",
+__all__ = ["select_region", "profile", "row_profile", "column_profile", "max_window_load",
            "label_zones", "high_pressure_zones"]
 
 
@@ -74,26 +74,15 @@ def select_region(recording, region):
     return recording.where(_plane_mask(recording, mask, "region mask"))
 
 
-def _profile(recording, dim, nonworking, calibration):
-    pressure = pressure_map_kPa(recording, calibration=calibration)
-    if nonworking is not None:
-        pressure = pressure.where(~_plane_mask(recording, nonworking, "nonworking mask"))
-    other = "col" if dim == "row" else "row"
-    profile = pressure.mean(other, skipna=True)
-    step = spacing_mm(recording)[0 if dim == "row" else 1]
-    profile = profile.assign_coords({f"{dim}_mm": (dim, profile[dim].values * step)})
-    profile.name = f"{dim}_profile_kPa"
-    profile.attrs = {"units": "kPa"}
-    return profile
-
-
-def row_profile(recording, *, nonworking=None, calibration=None):
-    """Mean pressure of each sensel row in each frame [kPa].
+def profile(recording, dim="row", *, nonworking=None, calibration=None):
+    """Mean pressure of each sensel row (or column) in each frame [kPa].
 
     Parameters
     ----------
     recording : xarray.DataArray
         Recording in the data model with ``row_spacing_mm``/``col_spacing_mm``.
+    dim : {"row", "col"}, default "row"
+        The profile's axis: one mean per row (over its columns) or per column.
     nonworking : array_like of bool, optional
         (rows, cols) mask of non-working sensels, left out of the means like the blank
         (NaN) sensels outside the sensor's shape. Working sensels that read 0 are kept.
@@ -103,7 +92,8 @@ def row_profile(recording, *, nonworking=None, calibration=None):
     Returns
     -------
     xarray.DataArray
-        ``row_profile_kPa`` with dims ``("frame", "row")`` and coordinate ``row_mm``.
+        ``row_profile_kPa`` with dims ``("frame", "row")`` and coordinate ``row_mm``
+        (``col_profile_kPa``, ``("frame", "col")``, ``col_mm`` for columns).
 
     Notes
     -----
@@ -116,30 +106,35 @@ def row_profile(recording, *, nonworking=None, calibration=None):
     >>> rec = xr.DataArray(np.array([[[10.0, 20.0], [0.0, np.nan]]]),
     ...                    dims=("frame", "row", "col"),
     ...                    attrs={"units": "kPa", "row_spacing_mm": 5.0, "col_spacing_mm": 5.0})
-    >>> row_profile(rec).values
+    >>> profile(rec).values
     array([[15.,  0.]])
-    >>> row_profile(rec, nonworking=np.array([[True, False], [False, False]])).values
+    >>> profile(rec, nonworking=np.array([[True, False], [False, False]])).values
     array([[20.,  0.]])
+    >>> profile(rec, "col").values
+    array([[ 5., 20.]])
     """
-    return _profile(recording, "row", nonworking, calibration)
+    if dim not in ("row", "col"):
+        raise ValueError(f"profile dim is {dim!r}; expected 'row' or 'col'")
+    pressure = pressure_map_kPa(recording, calibration=calibration)
+    if nonworking is not None:
+        pressure = pressure.where(~_plane_mask(recording, nonworking, "nonworking mask"))
+    other = "col" if dim == "row" else "row"
+    mean = pressure.mean(other, skipna=True)
+    step = spacing_mm(recording)[0 if dim == "row" else 1]
+    mean = mean.assign_coords({f"{dim}_mm": (dim, mean[dim].values * step)})
+    mean.name = f"{dim}_profile_kPa"
+    mean.attrs = {"units": "kPa"}
+    return mean
+
+
+def row_profile(recording, *, nonworking=None, calibration=None):
+    """Return ``profile(recording, "row", ...)`` (the deprecated name)."""
+    return profile(recording, "row", nonworking=nonworking, calibration=calibration)
 
 
 def column_profile(recording, *, nonworking=None, calibration=None):
-    """Mean pressure of each sensel column in each frame [kPa].
-
-    Same as :func:`row_profile` along the other axis: dims ``("frame", "col")``,
-    coordinate ``col_mm``.
-
-    Examples
-    --------
-    >>> import numpy as np, xarray as xr
-    >>> rec = xr.DataArray(np.array([[[10.0, 20.0], [0.0, np.nan]]]),
-    ...                    dims=("frame", "row", "col"),
-    ...                    attrs={"units": "kPa", "row_spacing_mm": 5.0, "col_spacing_mm": 5.0})
-    >>> column_profile(rec).values
-    array([[ 5., 20.]])
-    """
-    return _profile(recording, "col", nonworking, calibration)
+    """Return ``profile(recording, "col", ...)`` (the deprecated name)."""
+    return profile(recording, "col", nonworking=nonworking, calibration=calibration)
 
 
 def _window_shape(recording, window, area_mm2):

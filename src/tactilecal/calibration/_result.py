@@ -193,7 +193,7 @@ class CalibrationResult(SavedResult):
                              output_core_dims=[["row", "col"]], dask="parallelized",
                              output_dtypes=[float]).transpose(*recording.dims)
         # the pressure at raw 255 is this calibration's, not the header's: saturation
-        # stays recognisable in the output (tactilecal.analysis.saturated_sensels)
+        # stays recognisable in the output (recording.tactile.saturated_sensels())
         out.attrs = {**recording.attrs, "units": units, "calibration_method": self.method,
                      "calibration_json": self.to_json_text(),
                      "saturation_pressure_kPa": float(self.saturation_pressure_kPa),

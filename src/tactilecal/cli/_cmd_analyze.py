@@ -1,6 +1,7 @@
 """``tactilecal analyze RECORDING [--cal CAL.json] [--json] [--out summary.csv]``."""
 
-from tactilecal.cli._common import info, non_negative_float, print_json, progress, warn_saturated
+from tactilecal.cli._common import info, print_aligned, print_json, progress, warn_saturated
+from tactilecal.cli._types import non_negative_float
 
 
 def register(subparsers):
@@ -24,7 +25,7 @@ def run(args):
     """Analyse one recording; print an overview (or JSON) and optionally write the CSV."""
     from tactilecal._atomic import atomic_path
     from tactilecal._provenance import provenance_of, write_sidecar
-    from tactilecal.analysis import frame_table, overview
+    from tactilecal.analysis import overview
     from tactilecal.report import load_input
 
     bar = progress(total=3, desc="analyze", quiet=args.quiet)
@@ -37,7 +38,8 @@ def run(args):
         kind, calibration, _ = load_input(args.cal, what="--cal")
         if kind != "calibration":
             raise ValueError(f"--cal {args.cal} is a {kind} file; expected a calibration JSON")
-    table = frame_table(recording, calibration=calibration, threshold_kPa=args.threshold_kpa)
+    table = recording.tactile.frame_table(calibration=calibration,
+                                          threshold_kPa=args.threshold_kpa)
     bar.update()
     if args.out:
         with atomic_path(args.out) as tmp:
@@ -56,8 +58,5 @@ def run(args):
                     "threshold_kPa": args.threshold_kpa,
                     "frames": table.to_dict(orient="records")})
         return 0
-    width = max(len(k) for k in head)
-    for key, value in head.items():
-        text = f"{value:.6g}" if isinstance(value, float) else value
-        print(f"{key:<{width}}  {text}")
+    print_aligned(head, float_format=".6g")
     return 0

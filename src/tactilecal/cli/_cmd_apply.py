@@ -21,7 +21,7 @@ def register(subparsers):
 
 def run(args):
     """Run ``tactilecal apply``."""
-    from tactilecal.analysis import saturated_sensels
+    import tactilecal.analysis  # noqa: F401 - registers recording.tactile
     from tactilecal.calibration import load_calibration
     from tactilecal.io import open_recording, write_netcdf
 
@@ -29,7 +29,7 @@ def run(args):
     recording = open_recording(args.recording)
     out = result.apply(recording, units=args.units)
     write_netcdf(out, args.out)
-    counts, _ = saturated_sensels(recording)
+    counts, _ = recording.tactile.saturated_sensels()
     n_saturated = int((counts > 0).sum())
     if n_saturated:
         warn_saturated(n_saturated, recording.sizes["frame"], args.recording)

@@ -32,10 +32,10 @@ def _text(summary):
 
 def run(args):
     """Read the file and print its summary (text or JSON); return 0."""
-    from tactilecal.analysis import describe
+    import tactilecal.analysis  # noqa: F401 - registers recording.tactile
     from tactilecal.io import read_tekscan
 
-    summary = describe(read_tekscan(args.file))
+    summary = read_tekscan(args.file).tactile.describe()
     if args.json:
         print_json(summary)
     else:

@@ -65,8 +65,8 @@ def _hold_errors(force_N, time_s, truth):
 
 
 def _experiment(sensor, calibration, out, quiet):
+    import tactilecal.analysis  # noqa: F401 - registers recording.tactile
     from tactilecal._atomic import atomic_path
-    from tactilecal.analysis import frame_table
     from tactilecal.calibration import calibrate_movie
     from tactilecal.io import read_tekscan, write_netcdf
     from tactilecal.simulate import ramp_hold
@@ -78,7 +78,7 @@ def _experiment(sensor, calibration, out, quiet):
     movie.to_json(out / "calibrations" / "movie-power.json")
     pressure = calibration.apply(recording, units="kPa")
     write_netcdf(pressure, out / "experiment" / "pressure.nc")
-    per_frame = frame_table(pressure)  # the columns of 'tactilecal analyze --out' (time_s)
+    per_frame = pressure.tactile.frame_table()  # the columns of 'tactilecal analyze --out' (time_s)
     with atomic_path(out / "experiment" / "summary.csv") as tmp:
         per_frame.to_csv(tmp, index=False)
     write_sidecar(out / "experiment" / "summary.csv", provenance_of([recording]))

@@ -16,7 +16,7 @@ def plot_earth_pressure_profile(profile_kPa, depth_m, *, g_level, phi_deg=(33.0,
     ----------
     profile_kPa : array_like
         Mean pressure of each sensel row [kPa], 1-D (e.g. one frame of
-        :func:`tactilecal.analysis.row_profile`, or its mean over frames).
+        ``recording.tactile.profile("row")``, or its mean over frames).
     depth_m : array_like
         Model depth of each row below the soil surface [m], same length.
     g_level : float

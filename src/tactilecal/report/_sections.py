@@ -262,8 +262,8 @@ def recording_blocks(recording, label, *, calibration=None, threshold_kPa=0.0,
 def _calibrated_blocks(recording, label, threshold_kPa, nonworking, cof_min_force_N):
     from tactilecal import analysis
 
-    s = analysis.summary(recording, threshold_kPa=threshold_kPa).compute()
-    head = analysis.overview(analysis.frame_table(s))
+    s = recording.tactile.frame_summary(threshold_kPa=threshold_kPa).compute()
+    head = analysis.overview(s)
     i = analysis.peak_frame(s)
     if cof_min_force_N is None:
         peak_N = head["peak_force_N"]
@@ -313,7 +313,7 @@ def _calibrated_blocks(recording, label, threshold_kPa, nonworking, cof_min_forc
 
 def _raw_summary(recording):
     """Per-frame raw sum, loaded area (raw > 0) and raw-weighted centre of a raw recording."""
-    from tactilecal.analysis import contact_area
+    import tactilecal.analysis  # noqa: F401 - registers recording.tactile
 
     raw = recording.fillna(0.0).astype(float)
     total = raw.sum(("row", "col"))
@@ -324,7 +324,7 @@ def _raw_summary(recording):
         time_s=np.asarray(recording["time"].values if "time" in recording.coords
                           else np.arange(recording.sizes["frame"]), float),
         raw_sum=np.asarray(total.values, float),
-        area_mm2=np.asarray(contact_area(recording).values, float),
+        area_mm2=np.asarray(recording.tactile.area().values, float),
         row_mm=np.asarray((raw.dot(_coord(rows, "row")).sum("col") / weight).values, float),
         col_mm=np.asarray((raw.dot(_coord(cols, "col")).sum("row") / weight).values, float))
 
