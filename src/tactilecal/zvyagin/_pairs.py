@@ -21,6 +21,10 @@ __all__ = ["pair_indices", "quartic_coefficients", "polynomial_roots", "roots_ab
 _ROOT_CHOICES = ("smallest", "best-fit")
 #: a root is real when |imag| <= _REAL_TOL * max(1, |root|)
 _REAL_TOL = 1e-7
+#: a root within this relative distance of the threshold is at it, not above: rounding
+#: cannot tell, and an exact root Y = 3 is common (two patches of one load whose class
+#: sums Q(3) are equal, eq. 11), which the paper's Y > 3 leaves out
+_AT_THRESHOLD = 1e-12
 
 
 def pair_indices(n_patches):
@@ -83,12 +87,30 @@ def polynomial_roots(coeffs):
 
 
 def roots_above(roots, threshold=3.0):
-    """Real roots strictly above ``threshold`` (NaN elsewhere), sorted ascending per row."""
+    """Real roots above ``threshold`` (NaN elsewhere), sorted ascending per row.
+
+    A root within 1e-12 relative of the threshold counts as on it, not above; the two
+    halves of a split double root are put at their mean (:func:`_merge_double_roots`).
+    """
     real = roots.real
     is_real = np.abs(roots.imag) <= _REAL_TOL * np.maximum(1.0, np.abs(real))
-    keep = is_real & (real > threshold)
-    out = np.where(keep, real, np.nan)
-    return np.sort(out, axis=1)
+    real = _merge_double_roots(np.sort(np.where(is_real, real, np.nan), axis=1))
+    keep = real > threshold * (1.0 + _AT_THRESHOLD)
+    return np.sort(np.where(keep, real, np.nan), axis=1)
+
+
+def _merge_double_roots(real):
+    """Put both roots of a split double root at their mean (rows sorted, NaN last).
+
+    Rounding moves a double root r of eq. (12) to r +- d, d ~ sqrt(eps) r ~ 1e-8 r (two real
+    roots, or a complex pair); their mean is r to rounding. Adjacent roots closer than
+    ``_REAL_TOL`` relative are taken for one such root.
+    """
+    close = np.abs(np.diff(real, axis=1)) <= _REAL_TOL * np.abs(real[:, 1:])
+    rows, k = np.nonzero(close)
+    mean = 0.5 * (real[rows, k] + real[rows, k + 1])
+    real[rows, k], real[rows, k + 1] = mean, mean
+    return real
 
 
 def _class_sums(counts, rows, y):
