@@ -1,9 +1,12 @@
-"""The compiled I* search and pair solver (issue 16) against the implementation they replace.
+"""The compiled I* search and pair solver (issue 16) against a plain solver of the equations.
 
-``tests/zvyagin_reference.py`` is a verbatim copy of the former search and pair stage; every
-result of :func:`zvyagin_fit` must be the same with it and with the package's functions, to
-1e-9 relative (the roots come from different algorithms: eigenvalues of companion matrices
-before, root isolation and Newton's method now; both are exact to rounding, ~1e-14).
+``tests/zvyagin_reference.py`` writes Zvyagin's search and pair stage directly from the
+paper (every separation's class counts, each pair's quartic by :func:`numpy.roots`), sharing
+no code with the package; every result of :func:`zvyagin_fit` must be the same with it and
+with the package's functions, to 1e-9 relative (the roots come from different algorithms:
+root isolation and Newton's method, or the package's companion matrices for ill-conditioned
+pairs, against numpy.roots; both are exact to rounding, ~1e-14, once a double root split by
+rounding is put at its mean).
 """
 
 import importlib.util
@@ -79,7 +82,7 @@ def _assert_same(new, old):
     (s, sat) for s in SESSIONS for sat in (("keep", "drop", "censored") if s[6] else ("keep",))
 ], ids=lambda v: f"{v[0]}-b{v[2]}-{v[5]}p" if isinstance(v, tuple) else v)
 @pytest.mark.parametrize("mode", ["faithful", "robust"])
-def test_same_results_as_the_former_implementation(monkeypatch, session, saturated, mode):
+def test_same_results_as_the_plain_solver(monkeypatch, session, saturated, mode):
     h, f = _session(*session)
     new = _fit(monkeypatch, h, f, False, mode=mode, saturated=saturated)
     old = _fit(monkeypatch, h, f, True, mode=mode, saturated=saturated)
@@ -97,10 +100,10 @@ def test_same_search_on_the_closed_domain():
 
 
 @pytest.mark.parametrize(("b_min", "root_choice"), [(1.0, "smallest"), (0.5, "best-fit")])
-def test_pairs_equal_the_companion_matrices_on_600_patches(b_min, root_choice):
-    """~180,000 pairs of one large session, every one compared."""
+def test_pairs_equal_the_plain_solver_on_250_patches(b_min, root_choice):
+    """31,125 pairs of one large session, every one compared."""
     sensor = make_sensor("5051", seed=4)
-    s = deadweight_session(sensor, n_patches=600, seed=5)
+    s = deadweight_session(sensor, n_patches=250, seed=5)
     h, f = points_to_arrays(points_from_frames(s.raw, s.load_N))
     counts = class_counts(h, (6, 17, 50, 150))
     relerr = np.linspace(0.0, 0.2, h.shape[0])
@@ -111,7 +114,7 @@ def test_pairs_equal_the_companion_matrices_on_600_patches(b_min, root_choice):
         np.testing.assert_array_equal(new[key], old[key], err_msg=key)
     for key in ("Y", "b", "A"):
         np.testing.assert_allclose(new[key], old[key], rtol=RTOL, err_msg=key)
-    assert np.sum(new["n_roots"] > 1) > 100  # several roots above the threshold
+    assert np.sum(new["n_roots"] > 1) > 40  # pairs with several roots above the threshold
 
 
 def _kernel(counts, load):
