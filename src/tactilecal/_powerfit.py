@@ -113,11 +113,19 @@ def _censored_median(ratio, weight, censored):
     ``2 W_unc(<= r_k) + W_cens(<= r_k) - W_unc(all)``, and the minimum is the first r_k
     where that slope is >= 0.
     """
-    order = np.argsort(ratio, kind="stable")
-    w, c = weight[order], censored[order]
-    slope = 2.0 * np.cumsum(np.where(c, 0.0, w)) + np.cumsum(np.where(c, w, 0.0)) \
-        - w[~c].sum()
-    return float(ratio[order][np.argmax(slope >= 0)])
+    return float(_censored_medians(ratio[None, :], weight[None, :], censored)[0])
+
+
+def _censored_medians(ratio, weight, censored):
+    """:func:`_censored_median` of every row of ``ratio`` and ``weight``, shape (sets, points)."""
+    order = np.argsort(ratio, axis=1, kind="stable")
+    w = np.take_along_axis(weight, order, axis=1)
+    c = censored[order]
+    uncensored = np.where(c, 0.0, w)
+    slope = 2.0 * np.cumsum(uncensored, axis=1) + np.cumsum(np.where(c, w, 0.0), axis=1) \
+        - uncensored.sum(axis=1, keepdims=True)
+    first = np.argmax(slope >= 0, axis=1)
+    return np.take_along_axis(ratio, order, axis=1)[np.arange(len(ratio)), first]
 
 
 def _best_A(sums, load_N, objective, censored=None):
@@ -144,7 +152,8 @@ def _power_costs(b_values, hist, load_N, objective, censored=None):
     sums = hist @ (LEVELS[:, None] ** np.asarray(b_values)[None, :])
     w = objective_weights(load_N, objective)[:, None]
     if objective == "l1":
-        A = np.array([_best_A(col, load_N, "l1", censored) for col in sums.T])
+        flags = np.zeros(len(load_N), bool) if censored is None else censored
+        A = _censored_medians(load_N / sums.T, sums.T, flags)
         r = A * sums - load_N[:, None]
         if censored is not None:
             r = np.where(censored[:, None], np.maximum(r, 0.0), r)
