@@ -2,8 +2,8 @@
 
 A simulated ramp-and-hold recording (``simulate.ramp_hold``, 100 Hz) repeated to 10,000
 frames, reported calibrated (a power calibration of a simulated dead-weight session) and raw.
-The baseline in the same run is ``rec.tactile.frame_summary()`` on the same recording (the numbers the
-report draws), so the ratio says what the figures and the page cost on top.
+The baseline in the same run is ``rec.tactile.frame_summary()`` on the same recording (the
+numbers the report draws), so the ratio says what the figures and the page cost on top.
 
     python benchmarks/bench_report.py [--frames 10000] [--repeat 2]
 """
