@@ -77,21 +77,6 @@ def test_missing_rows_or_cols(iscan_csv, tmp_path, key, line):
         read_tekscan(path)
 
 
-def test_rows_not_an_integer(iscan_csv, tmp_path):
-    path = _edit(tmp_path, iscan_csv, 9, "ROWS 28.5")
-    with pytest.raises(ValueError, match=r"line 9 of .*broken.csv: ROWS is '28.5'; expected "
-                                         r"an integer"):
-        read_tekscan(path)
-
-
-def test_raw_sum_mismatch(iscan_csv, tmp_path):
-    path = _edit(tmp_path, iscan_csv, 58,
-                 "Frame 2, 0.1,, 12/2/2019 6:21:52.44PM,,,Raw Sum=,,306")
-    with pytest.raises(ValueError, match=r"frame 2 of .*broken.csv \(line 58\): Raw Sum in "
-                                         r"the frame line is 306; expected 307, the sum of"):
-        read_tekscan(path)
-
-
 @pytest.mark.parametrize("content", [b"", b"\r\n  \n"])
 def test_empty_file(tmp_path, content):
     path = tmp_path / "empty.asf"
@@ -101,47 +86,43 @@ def test_empty_file(tmp_path, content):
 
 
 @pytest.mark.parametrize("line, new, match", [
+    # header values and units
     (23, "UNITS furlongs", r"unknown unit 'furlongs' in UNITS on line 23 of .*broken.csv; "
                            r"expected one of raw, kPa"),
     (11, "ROW_SPACING 0.127 leagues", r"unknown unit 'leagues' in ROW_SPACING on line 11"),
     (13, "SENSEL_AREA 0.016129", r"line 13 of .*: SENSEL_AREA has no unit; expected"),
     (11, "ROW_SPACING wide", r"line 11 of .*: ROW_SPACING is 'wide'; expected a number"),
-])
-def test_unknown_or_missing_unit(iscan_csv, tmp_path, line, new, match):
-    with pytest.raises(ValueError, match=match):
-        read_tekscan(_edit(tmp_path, iscan_csv, line, new))
-
-
-def test_unknown_calibration_unit(fscan_asf, tmp_path):
-    path = _edit(tmp_path, fscan_asf, 18, "CALIBRATION_POINT_1 75 (stone) 4798 (Raw Sum)\r")
-    with pytest.raises(ValueError, match=r"unknown unit 'stone' in CALIBRATION_POINT_1 on "
-                                         r"line 18 of .*broken.asf"):
-        read_tekscan(path)
-
-
-def test_malformed_calibration_point(fscan_asf, tmp_path):
-    path = _edit(tmp_path, fscan_asf, 18, "CALIBRATION_POINT_1 heavy\r")
-    with pytest.raises(ValueError, match=r"line 18 of .*: CALIBRATION_POINT_1 is 'heavy'; "
-                                         r"expected '<load> \(<unit>\) <raw sum> \(Raw Sum\)"):
-        read_tekscan(path)
-
-
-@pytest.mark.parametrize("line, new, match", [
+    (9, "ROWS 28.5", r"line 9 of .*broken.csv: ROWS is '28.5'; expected an integer"),
+    # structure: header, frame lines, rows, terminator
     (26, "ASCII DATA", r"broken.csv has no 'ASCII_DATA @@' line \(after 9297 lines\); expected"),
     (3, "12,0,0", r"line 3 of .*: '12,0,0' is not a header line; expected 'KEY value' lines"),
     (5, "ROWS 28", r"line 9 of .*: ROWS appears twice in the header \(first on line 5\)"),
     (58, "Frame 1, 0.1,,,,,Raw Sum=,,307",
      r"line 58 of .*: frame 1 follows frame 1; expected increasing frame numbers"),
     (58, "Frame 2, soon,,", r"the time in line 58 of .*broken.csv is 'soon'; expected a number"),
+    (58, "Frame 2, 0.1,, 12/2/2019 6:21:52.44PM,,,Raw Sum=,,306",
+     r"frame 2 of .*broken.csv \(line 58\): Raw Sum in the frame line is 306; expected 307, "
+     r"the sum of"),
     (58, "Frames: 2", r"line 58 of .*: 'Frames: 2'; expected 'Frame N' optionally followed"),
     (57, "garbage", r"line 57 of .*: 'garbage'; expected a 'Frame N' line, a row of values"),
     (28, "", r"line 29 of .*: a row of values before the first 'Frame N' line; expected"),
     (9297, "@@ end", r"line 9297 of .*: '@@ end'; expected '@@' \(end of data\)"),
     (9298, "junk", r"line 9298 of .*: 'junk' after the '@@' terminator on line 9297; expected"),
 ])
-def test_structure_errors(iscan_csv, tmp_path, line, new, match):
+def test_edited_line_errors(iscan_csv, tmp_path, line, new, match):
     with pytest.raises(ValueError, match=match):
         read_tekscan(_edit(tmp_path, iscan_csv, line, new))
+
+
+@pytest.mark.parametrize("new, match", [
+    ("CALIBRATION_POINT_1 75 (stone) 4798 (Raw Sum)\r",
+     r"unknown unit 'stone' in CALIBRATION_POINT_1 on line 18 of .*broken.asf"),
+    ("CALIBRATION_POINT_1 heavy\r", r"line 18 of .*: CALIBRATION_POINT_1 is 'heavy'; "
+                                    r"expected '<load> \(<unit>\) <raw sum> \(Raw Sum\)"),
+])
+def test_bad_calibration_point(fscan_asf, tmp_path, new, match):
+    with pytest.raises(ValueError, match=match):
+        read_tekscan(_edit(tmp_path, fscan_asf, 18, new))
 
 
 def test_single_frame_with_wrong_row_count(tmp_path):

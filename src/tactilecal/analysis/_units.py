@@ -81,6 +81,31 @@ def _calibrated(recording, calibration, units):
     return calibration.apply(recording, units=units)
 
 
+def _per_sensel(recording, calibration, units):
+    """Return ``recording`` as force per sensel (``units="N"``) or pressure (``"kPa"``).
+
+    The body of :func:`force_map_N` and :func:`pressure_map_kPa`: a raw recording is
+    calibrated to ``units`` first; a pressure [kPa] on a sensel of area ``a`` [mm2] carries
+    ``F = p * a * 1e-3`` N, so ``p = F / a * 1e3``.
+    """
+    from tactilecal._units import force_to_N, pressure_to_kPa
+
+    unit, kind = check_recording(recording)
+    if kind == "raw":
+        return _per_sensel(_calibrated(recording, calibration, units), None, units)
+    if kind == "force":
+        factor = force_to_N(1.0, unit)
+        if units == "kPa":
+            factor = factor * N_PER_MM2_TO_KPA / sensel_area_mm2(recording)
+    else:
+        factor = pressure_to_kPa(1.0, unit)
+        if units == "N":
+            factor = factor * sensel_area_mm2(recording) * KPA_MM2_TO_N
+    out = recording * factor
+    out.attrs = {**recording.attrs, "units": units}
+    return out
+
+
 def force_map_N(recording, *, calibration=None):
     """Return the force on each sensel in newtons, dims ``("frame", "row", "col")``.
 
@@ -116,17 +141,7 @@ def force_map_N(recording, *, calibration=None):
     >>> float(force_map_N(rec).sum())
     10.0
     """
-    from tactilecal._units import force_to_N, pressure_to_kPa
-
-    unit, kind = check_recording(recording)
-    if kind == "raw":
-        return force_map_N(_calibrated(recording, calibration, "N"))
-    if kind == "force":
-        out = recording * force_to_N(1.0, unit)
-    else:
-        out = recording * (pressure_to_kPa(1.0, unit) * sensel_area_mm2(recording) * KPA_MM2_TO_N)
-    out.attrs = {**recording.attrs, "units": "N"}
-    return out
+    return _per_sensel(recording, calibration, "N")
 
 
 def pressure_map_kPa(recording, *, calibration=None):
@@ -134,11 +149,8 @@ def pressure_map_kPa(recording, *, calibration=None):
 
     Parameters
     ----------
-    recording : xarray.DataArray
-        Recording in the data model; ``units`` one of raw, any pressure (kPa, MPa, psi...)
-        or force per sensel (N, kgf, lbf).
-    calibration : CalibrationResult or path, optional
-        Needed (and used) only when ``units`` is ``raw``.
+    recording, calibration
+        As :func:`force_map_N`.
 
     Returns
     -------
@@ -159,14 +171,4 @@ def pressure_map_kPa(recording, *, calibration=None):
     >>> float(pressure_map_kPa(rec)[0, 0, 0])
     2000.0
     """
-    from tactilecal._units import force_to_N, pressure_to_kPa
-
-    unit, kind = check_recording(recording)
-    if kind == "raw":
-        return pressure_map_kPa(_calibrated(recording, calibration, "kPa"))
-    if kind == "pressure":
-        out = recording * pressure_to_kPa(1.0, unit)
-    else:
-        out = recording * (force_to_N(1.0, unit) * N_PER_MM2_TO_KPA / sensel_area_mm2(recording))
-    out.attrs = {**recording.attrs, "units": "kPa"}
-    return out
+    return _per_sensel(recording, calibration, "kPa")

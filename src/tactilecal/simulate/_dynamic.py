@@ -11,6 +11,7 @@ phase) to the load sampled at the sensor's rate.
 """
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 import pandas as pd
@@ -88,17 +89,13 @@ class DynamicSession:
         dict
             Paths written, by role (``sensor``, ``reference``, ``truth``).
         """
-        from tactilecal._atomic import make_folder
-        from tactilecal._jsonutil import write_json
         from tactilecal.io import write_timeseries
+        from tactilecal.simulate._write import write_session
 
-        outdir = make_folder(outdir)
-        paths = {"sensor": outdir / "sensor.csv", "reference": outdir / "reference.csv",
-                 "truth": outdir / "truth.json"}
-        write_timeseries(self.sensor, paths["sensor"])
-        write_timeseries(self.reference, paths["reference"])
-        write_json(paths["truth"], self.truth())
-        return paths
+        return write_session(outdir, {
+            "sensor": ("sensor.csv", partial(write_timeseries, self.sensor)),
+            "reference": ("reference.csv", partial(write_timeseries, self.reference))},
+            self.truth())
 
     _ramp_s: float = 1.0
 

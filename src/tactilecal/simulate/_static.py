@@ -1,16 +1,17 @@
 """Uniform loads (equilibration) and ramp-and-hold loading-machine sessions (Gillis 2013)."""
 
 from dataclasses import dataclass, field
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
 import xarray as xr
 
-from tactilecal._atomic import make_folder, write_text_atomic
-from tactilecal._jsonutil import write_json
+from tactilecal._atomic import write_text_atomic
 from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.simulate._loads import smooth_field
 from tactilecal.simulate._sensor import SimulatedSensor
+from tactilecal.simulate._write import write_session
 
 __all__ = ["UniformLoad", "uniform_load", "RampHold", "ramp_hold", "ramp_hold_profile"]
 
@@ -149,13 +150,11 @@ class RampHold:
         """
         from tactilecal.io import write_tekscan
 
-        outdir = make_folder(outdir)
-        paths = {"recording": outdir / "recording.csv", "loadcell": outdir / "loadcell.csv",
-                 "truth": outdir / "truth.json"}
-        write_tekscan(self.raw, paths["recording"])
-        write_text_atomic(paths["loadcell"], self.loadcell_csv())
-        write_json(paths["truth"], self.truth())
-        return paths
+        return write_session(outdir, {
+            "recording": ("recording.csv", partial(write_tekscan, self.raw)),
+            "loadcell": ("loadcell.csv",
+                         lambda path: write_text_atomic(path, self.loadcell_csv()))},
+            self.truth())
 
 
 def ramp_hold_profile(loads_N, *, hold_s=3.0, ramp_s=2.0, lead_s=1.0):
