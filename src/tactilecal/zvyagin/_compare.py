@@ -81,34 +81,19 @@ def compare_calibrations(calibrations, names=None):
         With no calibration, or a number of names other than one per calibration.
     """
     calibrations = list(calibrations)
-    names = [f"cal {k}" for k in range(len(calibrations))] if names is None else list(names)
-    return Comparison(calibrations, names, compare_table(calibrations, names))
-
-
-def compare_table(calibrations, names=None):
-    """One Table-2-like row per calibration: points, I*, d(I*), A0, b0, p_s.
-
-    Parameters
-    ----------
-    calibrations : sequence of CalibrationResult
-        Any methods; I* and d only exist for Zvyagin calibrations, A0 and b0 for the power
-        model (None elsewhere).
-    names : sequence of str, optional
-        Row names (default ``"cal <k>"``).
-
-    Returns
-    -------
-    list of dict
-        Keys :data:`COLUMNS`.
-    """
-    calibrations = list(calibrations)
     if not calibrations:
         raise ValueError("no calibration to compare; expected at least one CAL.json")
     names = [f"cal {k}" for k in range(len(calibrations))] if names is None else list(names)
     if len(names) != len(calibrations):
         raise ValueError(f"{len(names)} names for {len(calibrations)} calibrations; expected "
                          "one name each")
-    return [_row(n, c) for n, c in zip(names, calibrations, strict=True)]
+    rows = [_row(n, c) for n, c in zip(names, calibrations, strict=True)]
+    return Comparison(calibrations, names, rows)
+
+
+def compare_table(calibrations, names=None):
+    """Return ``compare_calibrations(calibrations, names).rows`` (the deprecated name)."""
+    return compare_calibrations(calibrations, names).rows
 
 
 def _fmt(value, spec):
@@ -117,7 +102,7 @@ def _fmt(value, spec):
 
 
 def format_compare_table(rows):
-    """Format :func:`compare_table` rows as a fixed-width text table."""
+    """Format :attr:`Comparison.rows` as a fixed-width text table."""
     width = max(12, *(len(r["name"]) for r in rows))
     head = (f"{'calibration':<{width}} {'method':<10} {'|T|':>4} {'I1':>3} {'I2':>3} "
             f"{'I3':>3} {'I4':>4} {'d':>6} {'A0':>9} {'b0':>7} {'p_s MPa':>8}")
