@@ -53,7 +53,7 @@ def _method(function, name):
     self_ = inspect.Parameter("self", inspect.Parameter.POSITIONAL_OR_KEYWORD)
     method.__signature__ = signature.replace(
         parameters=[self_, *list(signature.parameters.values())[1:]])
-    doc = inspect.getdoc(function).split("\nExamples\n")[0].rstrip() + "\n"
+    doc = (inspect.getdoc(function) or "").split("\nExamples\n")[0].rstrip() + "\n"  # -OO
     method.__doc__ = _RECORDING_ENTRY.sub("", doc)
     method.__name__, method.__qualname__ = name, f"TactileAccessor.{name}"
     return method
