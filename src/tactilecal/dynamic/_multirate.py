@@ -285,11 +285,16 @@ def _interpolate_rows(rows, corrected, weights, offset, t0, t1, s0, s1,
     is sensel-major; a tile of its columns is transposed first, so the sum streams whole
     rows. It runs in the type of ``corrected`` (float32 for single precision: twice the
     SIMD lanes; the correction is a fraction of the dynamic part, so its rounding is too).
+    The taps are summed four rows per pass into ``acc`` (the first pass assigns it) and
+    the last one to four are added in the pass that writes the output row, so a row of
+    ``out`` costs ``ceil((n_q - 1) / 4)`` passes over ``acc`` plus the output pass (the
+    thesis filter, 9 taps: 3 passes, where 3-tap passes plus zeroing and a final add made
+    5; measured 1.05x faster best, 1.10x median, see ``git log`` of this kernel).
     """
     factor, n_q = weights.shape
     width = s1 - s0
     tile = np.empty((TILE + n_q + 1, width), dtype=corrected.dtype)
-    acc = np.empty(width, dtype=corrected.dtype)
+    acc = np.zeros(width, dtype=corrected.dtype)
     for a in range(t0, t1, TILE * factor):
         b = min(a + TILE * factor, t1)
         i0 = (a + offset) // factor
@@ -300,23 +305,46 @@ def _interpolate_rows(rows, corrected, weights, offset, t0, t1, s0, s1,
                 tile[i - i0, s] = line[i]
         for t in range(a, b):
             frame = t + offset
-            first, phi = frame // factor - i0, frame % factor
-            acc[:] = 0
+            first, w = frame // factor - i0, weights[frame % factor]
             q = 0
-            while q + 3 <= n_q:
-                w0, w1, w2 = weights[phi, q], weights[phi, q + 1], weights[phi, q + 2]
-                c0, c1, c2 = tile[first + q], tile[first + q + 1], tile[first + q + 2]
-                for s in range(width):
-                    acc[s] += w0 * c0[s] + w1 * c1[s] + w2 * c2[s]
-                q += 3
-            while q < n_q:
-                w0, c0 = weights[phi, q], tile[first + q]
-                for s in range(width):
-                    acc[s] += w0 * c0[s]
-                q += 1
-            x, y = rows[t][s0:s1], out[t][s0:s1]
-            for s in range(width):
-                y[s] = x[s] + acc[s]
+            while q + 4 < n_q:  # at least one tap is left for the output pass
+                w0, w1, w2, w3 = w[q], w[q + 1], w[q + 2], w[q + 3]
+                c0, c1 = tile[first + q], tile[first + q + 1]
+                c2, c3 = tile[first + q + 2], tile[first + q + 3]
+                if q == 0:
+                    for s in range(width):
+                        acc[s] = (w0 * c0[s] + w1 * c1[s]) + (w2 * c2[s] + w3 * c3[s])
+                else:
+                    for s in range(width):
+                        acc[s] += (w0 * c0[s] + w1 * c1[s]) + (w2 * c2[s] + w3 * c3[s])
+                q += 4
+            if q == 0:  # four taps or fewer: no pass over acc at all
+                acc[:] = 0
+            _add_last_taps(rows[t][s0:s1], acc, tile, first + q, w[q:], out[t][s0:s1])
+
+
+@numba.njit(inline="always")
+def _add_last_taps(x, acc, tile, first, w, y):  # pragma: no cover
+    """``y = x + acc + sum_q w[q] tile[first + q]`` for the last one to four taps ``w``."""
+    width = y.size
+    c0, w0 = tile[first], w[0]
+    if w.size == 1:
+        for s in range(width):
+            y[s] = x[s] + (acc[s] + w0 * c0[s])
+        return
+    c1, w1 = tile[first + 1], w[1]
+    if w.size == 2:
+        for s in range(width):
+            y[s] = x[s] + (acc[s] + (w0 * c0[s] + w1 * c1[s]))
+        return
+    c2, w2 = tile[first + 2], w[2]
+    if w.size == 3:
+        for s in range(width):
+            y[s] = x[s] + (acc[s] + (w0 * c0[s] + w1 * c1[s] + w2 * c2[s]))
+        return
+    c3, w3 = tile[first + 3], w[3]
+    for s in range(width):
+        y[s] = x[s] + (acc[s] + ((w0 * c0[s] + w1 * c1[s]) + (w2 * c2[s] + w3 * c3[s])))
 
 
 def _ranges(n, size, start=0):
