@@ -209,3 +209,22 @@ def test_interpolation_kernel_sums_any_number_of_polyphase_taps(n_q):
     expected = x + sum(weights[frame % factor, q][:, None] * corrected[:, frame // factor + q].T
                        for q in range(n_q))
     np.testing.assert_allclose(out, expected, rtol=0, atol=1e-12 * n_q)  # float64 sums
+
+
+def test_filter_block_reflects_a_whole_record_or_needs_both_margins():
+    """``before=after=None``: the record's own odd reflection, the same as given margins."""
+    from tactilecal.dynamic._multirate import BlockLayout, filter_block
+
+    plan = plan_multirate(FILTERS["log"])
+    x = _walk(3000, (5,), seed=4)
+    need_before, need_after = BlockLayout.of(plan, 0, x.shape[0]).margins
+    ext = _reflected(x, max(need_before, need_after))
+    top = max(need_before, need_after)
+    given = filter_block(ext[top - need_before:top], x, ext[top + x.shape[0]:][:need_after], 0,
+                         plan, precision="double")
+    reflected = filter_block(None, x, None, 0, plan, precision="double")
+    np.testing.assert_allclose(reflected, given, rtol=0, atol=1e-12 * np.ptp(x))
+    with pytest.raises(ValueError, match="needs both before and after, or neither"):
+        filter_block(None, x, ext[:need_after], 0, plan)
+    with pytest.raises(ValueError, match=f"needs {need_before} rows before"):
+        filter_block(ext[:10], x, ext[:need_after], 0, plan)
