@@ -34,6 +34,7 @@ same array in the same run, and against the same read and write without filterin
 """
 
 import argparse
+import os
 
 import numpy as np
 import xarray as xr
@@ -99,29 +100,55 @@ def _recording(seconds, fs_hz=4000.0, shape=(44, 44)):
                         coords={"time": ("frame", np.arange(n) / fs_hz)})
 
 
-def _interleaved(runs, repeat):
+def _interleaved(runs, repeat, usage=None):
     """Run every case once per round, ``repeat`` rounds; return the seconds of each run.
 
     Every case first runs once untimed: a first call compiles the numba kernels of its
     array types (or loads them from numba's cache), starts dask's thread pool and faults
     in the heap, which the first timed round measured otherwise (with the in-memory warm-up
-    alone, the dask cases' first rounds were up to 5x slower than the next).
+    alone, the dask cases' first rounds were up to 5x slower than the next). ``usage``, a
+    dict, receives per case and run this process's ``(user, system)`` CPU seconds and
+    minor page faults (:func:`_usage`): wall time on the shared cores moves with the
+    other sessions, and the system time of faulting in fresh arrays moves on its own.
     """
     for fn in runs.values():
         fn()
     times = {name: [] for name in runs}
     for _ in range(repeat):
         for name, fn in runs.items():
+            before = _usage()
             times[name].extend(run_times(fn, 1))
+            if usage is not None:
+                usage.setdefault(name, []).append(_usage() - before)
     return {name: np.array(t) for name, t in times.items()}
 
 
-def _report(times, samples, baseline):
+def _usage():
+    """This process's user and system CPU seconds and minor page faults so far."""
+    import resource
+
+    now = resource.getrusage(resource.RUSAGE_SELF)
+    return np.array([now.ru_utime, now.ru_stime, now.ru_minflt])
+
+
+def _usage_line(rows):
+    """``user + system CPU s (system s), faults`` of the run with the least CPU, and the range."""
+    rows = np.array(rows)
+    cpu = rows[:, 0] + rows[:, 1]
+    k = int(np.argmin(cpu))
+    return (f"CPU {cpu[k]:.3f} s ({rows[k, 1]:.3f} s system; all runs {cpu.min():.2f}-"
+            f"{cpu.max():.2f} s, system {rows[:, 1].min():.2f}-{rows[:, 1].max():.2f} s), "
+            f"{rows[k, 2]:.0f} minor faults")
+
+
+def _report(times, samples, baseline, usage=None):
     base = times[baseline].min()
     for name, t in times.items():
         best, median = t.min(), np.median(t)
         print(f"{name}: {best:.3f} / {median:.3f} s = {samples / best / 1e6:.0f} / "
               f"{samples / median / 1e6:.0f} M samples/s; {base / best:.2f}x the baseline")
+        if usage is not None and name in usage:
+            print(f"    {_usage_line(usage[name])}")
 
 
 def throughput(seconds, subset, repeat):
@@ -136,7 +163,8 @@ def throughput(seconds, subset, repeat):
     samples = data.size
     print(f"== throughput: {data[0].size} sensels x {n} frames ({seconds:g} s at "
           f"{fs_hz:g} Hz) = {samples / 1e6:.1f} M float64 samples, FIR {filt.n_taps} taps, "
-          f"multirate P = {plan.factor}, {repeat} interleaved rounds (best / median) ==")
+          f"multirate P = {plan.factor}, {repeat} interleaved rounds (best / median); load "
+          f"{_load()} ==")
     flat = data.reshape(n, -1)
     head = rec.isel(frame=slice(0, 3 * filt.n_taps))
     apply_filter(head, filt)  # numba compiles (cached)
@@ -183,8 +211,9 @@ def throughput(seconds, subset, repeat):
         "scipy.signal.sosfilt of the same sections on the same array":
             lambda: signal.sosfilt(sos, flat, axis=0),
     }
-    times = _interleaved(runs, repeat)
-    _report(times, samples, baseline)
+    usage = {}
+    times = _interleaved(runs, repeat, usage)
+    _report(times, samples, baseline, usage)
     new, old = times["apply_filter (multirate)"], times[
         "multirate before issue 16 (_legacy_multirate.py)"]
     print(f"run by run (same round): new / baseline speed {np.round(times[baseline] / new, 2)}, "
@@ -250,13 +279,16 @@ def scaling(frames, chunk_list, repeat):
             if size == shorter[0]:
                 runs[f"dask {size}, .persist()"] = (
                     lambda c=chunked: apply_filter(c, filt).persist())
-        times = _interleaved(runs, repeat)
+        usage = {}
+        times = _interleaved(runs, repeat, usage)
         base, memory = times["rfft + irfft"], times["in memory"]
-        print(f"{n} frames ({rec.size / 1e6:.0f} M samples, {rec.nbytes / 1e9:.2f} GB float64):")
+        print(f"{n} frames ({rec.size / 1e6:.0f} M samples, {rec.nbytes / 1e9:.2f} GB float64; "
+              f"load {_load()}):")
         for name, t in times.items():
             print(f"  {name}: best {t.min():.3f} s = {rec.size / t.min() / 1e6:.0f} M samples/s; "
                   f"{base.min() / t.min():.2f}x the baseline {np.round(base / t, 2)}; "
                   f"{memory.min() / t.min():.2f}x in memory {np.round(memory / t, 2)}")
+            print(f"      {_usage_line(usage[name])}")
         del rec, as_float32, runs
 
 
@@ -270,6 +302,14 @@ def cluster(seconds, repeat, chunk_frames, malloc_trim=True):
         _cluster(seconds, repeat, chunk_frames, folder, malloc_trim)
     finally:
         shutil.rmtree(folder)
+
+
+def _load():
+    """The 1-, 5- and 15-minute load averages (``uptime``), or "n/a" where there are none."""
+    try:
+        return " ".join(f"{v:.2f}" for v in os.getloadavg())
+    except OSError:
+        return "n/a"
 
 
 def _rusage():

@@ -190,3 +190,41 @@ def test_a_local_cluster_reads_netcdf_in_its_workers_and_matches_memory(tmp_path
         who = client.run(lambda: True)
     assert len(who) == 2
     np.testing.assert_allclose(values, memory, rtol=0, atol=1e-6 * np.ptp(x - x[0]))
+
+
+@pytest.mark.parametrize("n_q", [1, 2, 3, 4, 5, 6, 8, 9, 13])
+def test_interpolation_kernel_sums_any_number_of_polyphase_taps(n_q):
+    """Stage 3's kernel: ``x + sum_q w[phi, q] c[s, M + q]`` for every tap count it splits
+    into passes of four plus a last pass of one to four (written out in float64)."""
+    from tactilecal.dynamic._multirate import _interpolate_rows
+
+    rng = np.random.default_rng(n_q)
+    factor, offset, n_frames, width = 5, 3, 700, 11
+    weights = rng.standard_normal((factor, n_q))
+    corrected = rng.standard_normal((width, (n_frames + offset) // factor + n_q + 1))
+    x = rng.standard_normal((n_frames, width))
+    out = np.full_like(x, np.nan)
+    _interpolate_rows(x, corrected, weights, offset, 0, n_frames, 0, width, out)
+    frame = np.arange(n_frames) + offset
+    expected = x + sum(weights[frame % factor, q][:, None] * corrected[:, frame // factor + q].T
+                       for q in range(n_q))
+    np.testing.assert_allclose(out, expected, rtol=0, atol=1e-12 * n_q)  # float64 sums
+
+
+def test_filter_block_reflects_a_whole_record_or_needs_both_margins():
+    """``before=after=None``: the record's own odd reflection, the same as given margins."""
+    from tactilecal.dynamic._multirate import BlockLayout, filter_block
+
+    plan = plan_multirate(FILTERS["log"])
+    x = _walk(3000, (5,), seed=4)
+    need_before, need_after = BlockLayout.of(plan, 0, x.shape[0]).margins
+    ext = _reflected(x, max(need_before, need_after))
+    top = max(need_before, need_after)
+    given = filter_block(ext[top - need_before:top], x, ext[top + x.shape[0]:][:need_after], 0,
+                         plan, precision="double")
+    reflected = filter_block(None, x, None, 0, plan, precision="double")
+    np.testing.assert_allclose(reflected, given, rtol=0, atol=1e-12 * np.ptp(x))
+    with pytest.raises(ValueError, match="needs both before and after, or neither"):
+        filter_block(None, x, ext[:need_after], 0, plan)
+    with pytest.raises(ValueError, match=f"needs {need_before} rows before"):
+        filter_block(ext[:10], x, ext[:need_after], 0, plan)
