@@ -182,3 +182,34 @@ def test_normalised_xcorr_is_pearson_on_each_lags_overlap(sizes):
             assert value == -np.inf
         else:
             assert value == pytest.approx(np.corrcoef(a, b)[0, 1], abs=1e-12)
+
+
+@pytest.mark.parametrize("sizes", [(40, 25), (25, 40), (30, 30)])
+def test_normalised_xcorr_at_chosen_lags_equals_every_lag(sizes):
+    """Dot products at a few lags give the FFT correlation's values at those lags."""
+    from scipy import signal
+
+    from tactilecal.dynamic._align import _normalised_xcorr
+
+    rng = np.random.default_rng(6)
+    s, r = rng.normal(5.0, 1.0, sizes[0]), rng.normal(-2.0, 3.0, sizes[1])
+    lags = signal.correlation_lags(s.size, r.size, mode="full")
+    chosen = np.arange(5, lags.size - 5, 3)
+    every = _normalised_xcorr(s, r, min_overlap=0.5)
+    some = _normalised_xcorr(s, r, min_overlap=0.5, lag=lags[chosen])
+    np.testing.assert_allclose(some, every[chosen], rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("near_lag_s", [0.7371, 0.7350, 0.2, -0.5])
+def test_xcorr_near_a_lag_equals_the_search_over_every_lag(near_lag_s):
+    """Near the true lag, or far from it (the window's edge: every lag), the same lag."""
+    from tactilecal.dynamic._align import xcorr_lag_near
+
+    rng = np.random.default_rng(5)
+    t_s = np.arange(0.0, 4.0, 1 / 4000.0)
+    sensor = _record(t_s, _chirp_load(t_s) + rng.normal(0, 1.0, t_s.size))
+    t_r = np.arange(0.0, 3.0, 1 / 5000.0)
+    reference = _record(t_r, _chirp_load(t_r + 0.7371) + rng.normal(0, 1.0, t_r.size))
+    every = estimate_lag(sensor, reference)
+    near = xcorr_lag_near(sensor, reference, near_lag_s=near_lag_s, half_width=16)
+    assert near == pytest.approx(every, abs=1e-9)  # round-off of FFT against dot products

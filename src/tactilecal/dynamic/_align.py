@@ -79,7 +79,7 @@ def _parabolic_offset(y, i):
     return 0.0 if curvature == 0 else float(0.5 * (left - right) / curvature)
 
 
-def _normalised_xcorr(x_sens, x_ref, min_overlap):
+def _normalised_xcorr(x_sens, x_ref, min_overlap, lag=None):
     """Pearson correlation of the overlapping parts of two records at every lag.
 
     The cross products come from one FFT correlation (:func:`scipy.signal.correlate`); the
@@ -89,20 +89,34 @@ def _normalised_xcorr(x_sens, x_ref, min_overlap):
     the lags that overlap their flat (offset) stretches longest, which moved a
     ramp-and-hold alignment by several frames. Lags in the order of
     :func:`scipy.signal.correlation_lags` (``mode="full"``).
+
+    ``lag`` (optional, int array): only these lags (where ``x_ref[0]`` falls on
+    ``x_sens``), their cross products as one dot product each instead of the FFT
+    correlation; equal to the full result at those lags to round-off.
     """
     s = x_sens - x_sens.mean()
     r = x_ref - x_ref.mean()
-    lag = np.arange(-(r.size - 1), s.size)  # where r[0] falls on s
+    if lag is None:
+        lag = np.arange(-(r.size - 1), s.size)  # where r[0] falls on s
+        cross = signal.correlate(s, r, mode="full", method="fft")
+    else:
+        cross = np.array([_overlap_dot(s, r, int(k)) for k in lag])
     sum_s, sum_ss, n = _overlap_sums(s, lag, r.size)
     sum_r, sum_rr, _ = _overlap_sums(r, -lag, s.size)
     n = np.maximum(n, 1)
     var_s = sum_ss - sum_s**2 / n
     var_r = sum_rr - sum_r**2 / n
-    cov = signal.correlate(s, r, mode="full", method="fft") - sum_s * sum_r / n
+    cov = cross - sum_s * sum_r / n
     tiny = 1e-12 * max(float(s @ s), float(r @ r), 1e-300)
     ok = (n >= min_overlap * min(s.size, r.size)) & (var_s > tiny) & (var_r > tiny)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(ok, cov / np.sqrt(var_s * var_r), -np.inf)
+
+
+def _overlap_dot(s, r, lag):
+    """``sum_j s[lag + j] r[j]`` over the ``j`` where both exist."""
+    lo, hi = max(lag, 0), min(lag + r.size, s.size)
+    return float(s[lo:hi] @ r[lo - lag:hi - lag]) if hi > lo else 0.0
 
 
 def _overlap_sums(x, start, other_size):
@@ -118,14 +132,30 @@ def _overlap_sums(x, start, other_size):
     return c1[hi] - c1[lo], c2[hi] - c2[lo], hi - lo
 
 
-def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where):
-    """Lag from the peak of the normalised cross-correlation of the de-meaned records."""
+def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where, near=None):
+    """Lag from the peak of the normalised cross-correlation of the de-meaned records.
+
+    ``near`` (optional): ``(lag_s, half_width)``, a lag known to within about
+    ``half_width`` samples (e.g. from the same records at a lower rate): the correlation is
+    computed at the lags within ``half_width`` samples of it only
+    (:func:`_normalised_xcorr`), and over all lags if its peak lies at the window's edge.
+    """
     x_ref, _ = _polyphase(x_ref, fs_ref, fs_sens)
-    corr = _normalised_xcorr(x_sens, x_ref, MIN_OVERLAP)
     lags = signal.correlation_lags(x_sens.size, x_ref.size, mode="full")
     lag_s = lags / fs_sens + (t_sens[0] - t_ref[0])
-    if max_lag_s is not None:
-        corr = np.where(np.abs(lag_s) <= max_lag_s, corr, -np.inf)
+    corr = None
+    if near is not None:
+        centre = int(np.argmin(np.abs(lag_s - near[0])))
+        part = slice(max(centre - int(near[1]), 0), centre + int(near[1]) + 1)
+        corr = _bounded(_normalised_xcorr(x_sens, x_ref, MIN_OVERLAP, lag=lags[part]),
+                        lag_s[part], max_lag_s)
+        i = int(np.argmax(corr))
+        if 0 < i < corr.size - 1 and np.isfinite(corr[i]):
+            corr, lag_s = corr, lag_s[part]
+        else:  # the peak may lie outside the window: every lag
+            corr = None
+    if corr is None:
+        corr = _bounded(_normalised_xcorr(x_sens, x_ref, MIN_OVERLAP), lag_s, max_lag_s)
     i = int(np.argmax(corr))
     if not np.isfinite(corr[i]):
         raise ValueError(f"{where}: no lag with an overlap of at least {MIN_OVERLAP} of the "
@@ -139,6 +169,11 @@ def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where):
     offset = _parabolic_offset(window, 1) if window.size == 3 and np.all(
         np.isfinite(window)) else 0.0
     return float(lag_s[i] + offset / fs_sens)
+
+
+def _bounded(corr, lag_s, max_lag_s):
+    """``corr`` with the lags beyond ``max_lag_s`` (if given) set to -inf."""
+    return corr if max_lag_s is None else np.where(np.abs(lag_s) <= max_lag_s, corr, -np.inf)
 
 
 def _first_peak_time(time_s, values, prominence, where):
@@ -211,17 +246,35 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
     >>> round(estimate_lag(s, r), 4)
     0.5
     """
-    t_sens, x_sens, fs_sens = on_uniform_grid(*time_and_values(sensor, "sensor"),
-                                              label(sensor, "sensor"))
-    t_ref, x_ref, fs_ref = on_uniform_grid(*time_and_values(reference, "reference"),
-                                           label(reference, "reference"))
     if method == "xcorr":
-        where = f"{label(sensor, 'sensor')} and {label(reference, 'reference')}"
-        return _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where)
+        return xcorr_lag_near(sensor, reference, max_lag_s=max_lag_s)
+    t_sens, x_sens, _ = on_uniform_grid(*time_and_values(sensor, "sensor"),
+                                        label(sensor, "sensor"))
+    t_ref, x_ref, _ = on_uniform_grid(*time_and_values(reference, "reference"),
+                                      label(reference, "reference"))
     if method == "first-peak":
         return (_first_peak_time(t_sens, x_sens, prominence, label(sensor, "sensor"))
                 - _first_peak_time(t_ref, x_ref, prominence, label(reference, "reference")))
     raise ValueError(f"method={method!r}; expected 'xcorr' or 'first-peak'")
+
+
+def xcorr_lag_near(sensor, reference, *, max_lag_s=None, near_lag_s=None, half_width=16):
+    """:func:`estimate_lag` with ``method="xcorr"``, optionally near a known lag.
+
+    With ``near_lag_s``, the correlation is computed at the lags within ``half_width``
+    samples (of the sensor's rate) of it only, one dot product each instead of an FFT
+    correlation of the whole records; if its peak lies at the window's edge, at every lag
+    (:func:`_lag_xcorr`). Movie calibration aligns twice, the second time near the lag of
+    the first (:mod:`tactilecal.calibration._movie`). Same checks and errors as
+    :func:`estimate_lag`.
+    """
+    t_sens, x_sens, fs_sens = on_uniform_grid(*time_and_values(sensor, "sensor"),
+                                              label(sensor, "sensor"))
+    t_ref, x_ref, fs_ref = on_uniform_grid(*time_and_values(reference, "reference"),
+                                           label(reference, "reference"))
+    where = f"{label(sensor, 'sensor')} and {label(reference, 'reference')}"
+    near = None if near_lag_s is None else (float(near_lag_s), half_width)
+    return _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where, near)
 
 
 def _target_times(time_s):
