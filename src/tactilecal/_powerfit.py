@@ -67,7 +67,8 @@ def hist_products(hist, matrix):
 
     From :data:`COMPILED_MIN_POINTS` rows the numba kernel
     :func:`tactilecal._powerfit_kernels.hist_dot` reads the counts as they are (a movie's
-    uint16 histograms, with no float64 copy) and skips empty bins, on one block of rows per
+    uint16 histograms, with no float64 copy), every bin in vector registers for up to four
+    columns and skipping empty bins for more, on one block of rows per
     core (of at least :data:`PRODUCT_ROWS_PER_THREAD` rows) in threads; below, NumPy's
     product.
 
