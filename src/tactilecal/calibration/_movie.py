@@ -430,7 +430,8 @@ def _first_pass_table(hist, load, method, options, min_load_fraction):
     It only has to make the alignment signal proportional to the load; ``hist`` and
     ``load`` are those of a few thousand frames (:func:`_first_pass`).
     """
-    hist = hist.astype(float)
+    if method != "power" or len(hist) < COMPILED_MIN_POINTS:  # power: products of counts
+        hist = hist.astype(float)
     keep = np.isfinite(load)
     keep[keep] = load[keep] >= min_load_fraction * load[keep].max()
     keep &= hist[:, 1:].any(axis=1)
