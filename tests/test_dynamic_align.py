@@ -213,3 +213,17 @@ def test_xcorr_near_a_lag_equals_the_search_over_every_lag(near_lag_s):
     every = estimate_lag(sensor, reference)
     near = xcorr_lag_near(sensor, reference, near_lag_s=near_lag_s, half_width=16)
     assert near == pytest.approx(every, abs=1e-9)  # round-off of FFT against dot products
+
+
+def test_cubic_through_is_the_not_a_knot_spline_of_make_interp_spline():
+    """CubicSpline and the B-spline interpolant are one spline: equal to round-off."""
+    from scipy import interpolate
+
+    from tactilecal.dynamic._align import _cubic_through
+
+    rng = np.random.default_rng(9)
+    t = np.arange(500) / 4000.0
+    y = 120 + 20 * np.sin(2 * np.pi * 10 * t) + rng.normal(0, 0.5, t.size)
+    x = np.linspace(-0.001, t[-1] + 0.001, 2000)  # inside and just beyond the ends
+    expected = interpolate.make_interp_spline(t, y, k=3)(x, extrapolate=True)
+    np.testing.assert_allclose(_cubic_through(t, y)(x), expected, rtol=0, atol=1e-9)
