@@ -476,7 +476,8 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
         ``lag_s``, the loads are aligned twice: first on the raw sum (``lag_s_raw_sum``,
         estimated on the raw sum block-averaged to at least 4 x the load record's rate),
         then, at the frame rate, on the force of a first fit (``first_pass_params``) to at
-        most 5000 frames.
+        most 5000 frames, over the lags within ``NEAR_BLOCKS`` (16) decimation blocks of the
+        first lag (over every lag if the correlation peaks at that window's edge).
     """
     equilibration = as_equilibration(equilibration)  # the object, or its JSON's path
     if not isinstance(recording, xr.DataArray):
