@@ -203,16 +203,25 @@ def test_normalised_xcorr_at_chosen_lags_equals_every_lag(sizes):
 @pytest.mark.parametrize("near_lag_s", [0.7371, 0.7350, 0.2, -0.5])
 def test_xcorr_near_a_lag_equals_the_search_over_every_lag(near_lag_s):
     """Near the true lag, or far from it (the window's edge: every lag), the same lag."""
-    from tactilecal.dynamic._align import xcorr_lag_near
-
     rng = np.random.default_rng(5)
     t_s = np.arange(0.0, 4.0, 1 / 4000.0)
     sensor = _record(t_s, _chirp_load(t_s) + rng.normal(0, 1.0, t_s.size))
     t_r = np.arange(0.0, 3.0, 1 / 5000.0)
     reference = _record(t_r, _chirp_load(t_r + 0.7371) + rng.normal(0, 1.0, t_r.size))
     every = estimate_lag(sensor, reference)
-    near = xcorr_lag_near(sensor, reference, near_lag_s=near_lag_s, half_width=16)
+    near = estimate_lag(sensor, reference, near_lag_s=near_lag_s, near_width_s=16 / 4000.0)
     assert near == pytest.approx(every, abs=1e-9)  # round-off of FFT against dot products
+    assert estimate_lag(sensor, reference, near_lag_s=near_lag_s) == pytest.approx(near,
+                                                                                 abs=1e-12)
+
+
+def test_near_lag_is_refused_for_first_peak_and_a_window_below_a_sample():
+    t = np.arange(0.0, 2.0, 1 / 1000.0)
+    s = _record(t, np.exp(-((t - 1.0) / 0.05) ** 2))
+    with pytest.raises(ValueError, match="near_lag_s=0.1 is for method='xcorr'"):
+        estimate_lag(s, s, method="first-peak", near_lag_s=0.1)
+    with pytest.raises(ValueError, match=r"near_width_s=0.0001; expected at least one sample"):
+        estimate_lag(s, s, near_lag_s=0.0, near_width_s=1e-4)
 
 
 def test_cubic_through_is_the_not_a_knot_spline_of_make_interp_spline():

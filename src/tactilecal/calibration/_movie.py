@@ -187,15 +187,15 @@ def _frame_times(recording, n):
 def _lag_on(total, times, loads, max_lag_s, near=None):
     """Lag of the load record against the frames' ``total`` signal (cross-correlation).
 
-    ``near``: ``(lag_s, half_width)``, search within ``half_width`` frames of ``lag_s``
-    first (:func:`tactilecal.dynamic._align.xcorr_lag_near`).
+    ``near``: ``(lag_s, half_width_s)``, search within ``half_width_s`` of ``lag_s`` first
+    (``near_lag_s`` of :func:`tactilecal.dynamic.estimate_lag`).
     """
-    from tactilecal.dynamic._align import xcorr_lag_near
+    from tactilecal.dynamic import estimate_lag
 
     sensor = xr.DataArray(total, dims="time", coords={"time": times}, name="total raw")
-    near_lag_s, half_width = (None, 0) if near is None else near
-    return float(xcorr_lag_near(sensor, loads, max_lag_s=max_lag_s, near_lag_s=near_lag_s,
-                                half_width=half_width))
+    near_lag_s, width_s = (None, None) if near is None else near
+    return float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s,
+                              near_lag_s=near_lag_s, near_width_s=width_s))
 
 
 def _align_loads(loads, total, times, n, name, lag_s, max_lag_s, near=None):
@@ -410,7 +410,7 @@ def _first_pass(recording, hist, raw_sum, loads, method, options, min_load_fract
         The first fit's force table (256,).
     fit : Fit
     report : dict
-        ``{"lag_s": ..., "near": (lag_s, half_width)}`` of the first alignment: the second
+        ``{"lag_s": ..., "near": (lag_s, half_width_s)}`` of the first alignment: the second
         searches within ``NEAR_BLOCKS`` decimation blocks of it first (:func:`_lag_on`).
     """
     n = len(raw_sum)
@@ -419,7 +419,8 @@ def _first_pass(recording, hist, raw_sum, loads, method, options, min_load_fract
     lag_s = _lag_on(total, block_times, loads, max_lag_s)
     step = max(1, n // max_points)
     load = _loads_at(loads, times[::step], lag_s)
-    near = (lag_s, NEAR_BLOCKS * (n // len(total)))
+    rate_hz = _rate_hz(times)
+    near = (lag_s, NEAR_BLOCKS * (n // len(total)) / rate_hz) if rate_hz > 0 else None
     return (*_first_pass_table(hist[::step], load, method, options, min_load_fraction),
             {"lag_s": lag_s, "near": near})
 

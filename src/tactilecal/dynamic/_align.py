@@ -34,6 +34,8 @@ TAPS_PER_PHASE = 40
 MIN_CORRELATION = 0.5
 #: Smallest overlap (fraction of the shorter record) of a lag ``"xcorr"`` considers.
 MIN_OVERLAP = 0.5
+#: Default half width, in sensor samples, of the window searched around ``near_lag_s``.
+NEAR_SAMPLES = 16
 
 
 def _polyphase(values, fs_in_hz, fs_out_hz):
@@ -193,7 +195,8 @@ def _first_peak_time(time_s, values, prominence, where):
     return float(time_s[i] + _parabolic_offset(values, i) * step)
 
 
-def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominence=0.2):
+def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominence=0.2,
+                 near_lag_s=None, near_width_s=None):
     """Estimate the time shift between a sensor record and its reference.
 
     Implements the alignment step of Gillis (2013), section 4.3.2.1.
@@ -221,6 +224,14 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
         loadings, whose correlation has several equal peaks).
     prominence : float
         ``"first-peak"`` only: fraction of the record's range (max - min).
+    near_lag_s : float, optional
+        ``"xcorr"`` only: a lag known to within about ``near_width_s`` (e.g. from the same
+        records at a lower rate). The correlation is computed at the lags within
+        ``near_width_s`` of it only (a dot product each, not an FFT correlation of the
+        whole records), and at every lag if its peak lies at that window's edge. Movie
+        calibration aligns twice, the second time near the first lag.
+    near_width_s : float, optional
+        Half width of that window in s (default: 16 samples of the sensor).
 
     Returns
     -------
@@ -251,7 +262,10 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
     0.5
     """
     if method == "xcorr":
-        return xcorr_lag_near(sensor, reference, max_lag_s=max_lag_s)
+        return _xcorr_lag(sensor, reference, max_lag_s, near_lag_s, near_width_s)
+    if near_lag_s is not None:
+        raise ValueError(f"near_lag_s={near_lag_s!r} is for method='xcorr'; "
+                         f"method={method!r} takes none")
     t_sens, x_sens, _ = on_uniform_grid(*time_and_values(sensor, "sensor"),
                                         label(sensor, "sensor"))
     t_ref, x_ref, _ = on_uniform_grid(*time_and_values(reference, "reference"),
@@ -262,22 +276,20 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
     raise ValueError(f"method={method!r}; expected 'xcorr' or 'first-peak'")
 
 
-def xcorr_lag_near(sensor, reference, *, max_lag_s=None, near_lag_s=None, half_width=16):
-    """:func:`estimate_lag` with ``method="xcorr"``, optionally near a known lag.
-
-    With ``near_lag_s``, the correlation is computed at the lags within ``half_width``
-    samples (of the sensor's rate) of it only, one dot product each instead of an FFT
-    correlation of the whole records; if its peak lies at the window's edge, at every lag
-    (:func:`_lag_xcorr`). Movie calibration aligns twice, the second time near the lag of
-    the first (:mod:`tactilecal.calibration._movie`). Same checks and errors as
-    :func:`estimate_lag`.
-    """
+def _xcorr_lag(sensor, reference, max_lag_s, near_lag_s, near_width_s):
+    """:func:`estimate_lag` with ``method="xcorr"``, optionally near a known lag."""
     t_sens, x_sens, fs_sens = on_uniform_grid(*time_and_values(sensor, "sensor"),
                                               label(sensor, "sensor"))
     t_ref, x_ref, fs_ref = on_uniform_grid(*time_and_values(reference, "reference"),
                                            label(reference, "reference"))
     where = f"{label(sensor, 'sensor')} and {label(reference, 'reference')}"
-    near = None if near_lag_s is None else (float(near_lag_s), half_width)
+    near = None
+    if near_lag_s is not None:
+        width = NEAR_SAMPLES if near_width_s is None else float(near_width_s) * fs_sens
+        if not width >= 1:
+            raise ValueError(f"near_width_s={near_width_s!r}; expected at least one sample "
+                             f"of the sensor ({1 / fs_sens:.6g} s)")
+        near = (float(near_lag_s), int(round(width)))
     return _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where, near)
 
 
