@@ -213,6 +213,8 @@ def test_xcorr_near_a_lag_equals_the_search_over_every_lag(near_lag_s):
     assert near == pytest.approx(every, abs=1e-9)  # round-off of FFT against dot products
     assert estimate_lag(sensor, reference, near_lag_s=near_lag_s) == pytest.approx(near,
                                                                                  abs=1e-12)
+    wide = estimate_lag(sensor, reference, near_lag_s=near_lag_s, near_width_s=0.05)
+    assert wide == pytest.approx(every, abs=1e-9)  # 401 lags: cut from the FFT correlation
 
 
 def test_near_lag_is_refused_for_first_peak_and_a_window_below_a_sample():
