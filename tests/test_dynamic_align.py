@@ -182,3 +182,59 @@ def test_normalised_xcorr_is_pearson_on_each_lags_overlap(sizes):
             assert value == -np.inf
         else:
             assert value == pytest.approx(np.corrcoef(a, b)[0, 1], abs=1e-12)
+
+
+@pytest.mark.parametrize("sizes", [(40, 25), (25, 40), (30, 30)])
+def test_normalised_xcorr_at_chosen_lags_equals_every_lag(sizes):
+    """Dot products at a few lags give the FFT correlation's values at those lags."""
+    from scipy import signal
+
+    from tactilecal.dynamic._align import _normalised_xcorr
+
+    rng = np.random.default_rng(6)
+    s, r = rng.normal(5.0, 1.0, sizes[0]), rng.normal(-2.0, 3.0, sizes[1])
+    lags = signal.correlation_lags(s.size, r.size, mode="full")
+    chosen = np.arange(5, lags.size - 5, 3)
+    every = _normalised_xcorr(s, r, min_overlap=0.5)
+    some = _normalised_xcorr(s, r, min_overlap=0.5, lag=lags[chosen])
+    np.testing.assert_allclose(some, every[chosen], rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("near_lag_s", [0.7371, 0.7350, 0.2, -0.5])
+def test_xcorr_near_a_lag_equals_the_search_over_every_lag(near_lag_s):
+    """Near the true lag, or far from it (the window's edge: every lag), the same lag."""
+    rng = np.random.default_rng(5)
+    t_s = np.arange(0.0, 4.0, 1 / 4000.0)
+    sensor = _record(t_s, _chirp_load(t_s) + rng.normal(0, 1.0, t_s.size))
+    t_r = np.arange(0.0, 3.0, 1 / 5000.0)
+    reference = _record(t_r, _chirp_load(t_r + 0.7371) + rng.normal(0, 1.0, t_r.size))
+    every = estimate_lag(sensor, reference)
+    near = estimate_lag(sensor, reference, near_lag_s=near_lag_s, near_width_s=16 / 4000.0)
+    assert near == pytest.approx(every, abs=1e-9)  # round-off of FFT against dot products
+    assert estimate_lag(sensor, reference, near_lag_s=near_lag_s) == pytest.approx(near,
+                                                                                 abs=1e-12)
+    wide = estimate_lag(sensor, reference, near_lag_s=near_lag_s, near_width_s=0.05)
+    assert wide == pytest.approx(every, abs=1e-9)  # 401 lags: cut from the FFT correlation
+
+
+def test_near_lag_is_refused_for_first_peak_and_a_window_below_a_sample():
+    t = np.arange(0.0, 2.0, 1 / 1000.0)
+    s = _record(t, np.exp(-((t - 1.0) / 0.05) ** 2))
+    with pytest.raises(ValueError, match="near_lag_s=0.1 is for method='xcorr'"):
+        estimate_lag(s, s, method="first-peak", near_lag_s=0.1)
+    with pytest.raises(ValueError, match=r"near_width_s=0.0001; expected at least one sample"):
+        estimate_lag(s, s, near_lag_s=0.0, near_width_s=1e-4)
+
+
+def test_cubic_through_is_the_not_a_knot_spline_of_make_interp_spline():
+    """CubicSpline and the B-spline interpolant are one spline: equal to round-off."""
+    from scipy import interpolate
+
+    from tactilecal.dynamic._align import _cubic_through
+
+    rng = np.random.default_rng(9)
+    t = np.arange(500) / 4000.0
+    y = 120 + 20 * np.sin(2 * np.pi * 10 * t) + rng.normal(0, 0.5, t.size)
+    x = np.linspace(-0.001, t[-1] + 0.001, 2000)  # inside and just beyond the ends
+    expected = interpolate.make_interp_spline(t, y, k=3)(x, extrapolate=True)
+    np.testing.assert_allclose(_cubic_through(t, y)(x), expected, rtol=0, atol=1e-9)

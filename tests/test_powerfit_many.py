@@ -158,13 +158,18 @@ def test_movie_calibration_is_the_same_on_either_path(movie, storage, monkeypatc
 
 @pytest.mark.parametrize("n", [50, 5000, 9000], ids=["numpy", "compiled", "compiled-blocks"])
 @pytest.mark.parametrize("dtype", [np.uint16, np.int64, np.float64])
-def test_hist_products_equal_the_dense_product(n, dtype):
-    """Counts in any dtype, mostly empty bins as a movie's: the dense product to round-off."""
+@pytest.mark.parametrize("columns", [3, 10], ids=["every-bin", "filled-bins"])
+def test_hist_products_equal_the_dense_product(n, dtype, columns):
+    """Counts in any dtype, mostly empty bins as a movie's: the dense product to round-off.
+
+    Up to ``DENSE_MAX_COLUMNS`` (4) columns the kernel multiplies every bin, beyond it the
+    filled ones only.
+    """
     rng = np.random.default_rng(5)
     hist = np.zeros((n, 256), dtype)
     rows, levels = rng.integers(0, n, 20 * n), rng.integers(0, 256, 20 * n)
     np.add.at(hist, (rows, levels), 1)
-    matrix = rng.random((256, 3))
+    matrix = rng.random((256, columns))
     dense = hist.astype(float) @ matrix
     np.testing.assert_allclose(powerfit.hist_products(hist, matrix), dense.T, rtol=1e-13)
     np.testing.assert_allclose(powerfit.hist_products(hist, matrix[:, 0]), dense.T[:1],
@@ -172,8 +177,18 @@ def test_hist_products_equal_the_dense_product(n, dtype):
     if n >= 2 * powerfit.PRODUCT_ROWS_PER_THREAD:  # blocks of rows on the cores, each row as alone
         from tactilecal._powerfit_kernels import hist_dot
 
-        whole = hist_dot(hist, matrix, np.empty((3, n)))
+        whole = hist_dot(hist, matrix, np.empty((columns, n)))
         np.testing.assert_array_equal(powerfit.hist_products(hist, matrix), whole)
+
+
+def test_raw_sums_from_the_reassociated_product_are_exact():
+    """Integer sums below 2**53 come out exact in any order of addition (the raw sum)."""
+    rng = np.random.default_rng(8)
+    hist = rng.integers(0, 1936, (6000, 256)).astype(np.uint16)
+    levels = np.column_stack([np.arange(256.0), np.ones(256)])
+    raw_sum, working = powerfit.hist_products(hist, levels)
+    np.testing.assert_array_equal(raw_sum, (hist.astype(np.int64) * np.arange(256)).sum(axis=1))
+    np.testing.assert_array_equal(working, hist.astype(np.int64).sum(axis=1))
 
 
 def test_movie_histograms_are_uint16_counts_equal_to_frame_histograms(movie):
@@ -183,3 +198,17 @@ def test_movie_histograms_are_uint16_counts_equal_to_frame_histograms(movie):
     hist = _histograms(raw, None, None, lambda spans, **_: spans, numba_loaded=True)
     assert hist.dtype == np.uint16
     np.testing.assert_array_equal(hist, frame_histograms(raw))
+
+
+@pytest.mark.parametrize("n_terms", [2, 4, 10, 23])
+def test_chebyshev_polynomials_of_one_exponent_equal_the_array_recurrence(n_terms):
+    """The Python-float path for one t is bit for bit the numpy recurrence (same operations)."""
+    for t in (-1.0, -0.37, 0.0, 0.123456789, 1.0):
+        one = powerfit._chebyshev_t(t, n_terms)
+        many = powerfit._chebyshev_t(np.array([t, 0.5]), n_terms)
+        assert one[0].shape == one[1].shape == (n_terms, 1)
+        np.testing.assert_array_equal(one[0][:, 0], many[0][:, 0])
+        np.testing.assert_array_equal(one[1][:, 0], many[1][:, 0])
+    t = np.cos(0.3)  # T_j(cos x) = cos(j x): a known truth
+    np.testing.assert_allclose(powerfit._chebyshev_t(t, n_terms)[0][:, 0],
+                               np.cos(0.3 * np.arange(n_terms)), atol=1e-13)

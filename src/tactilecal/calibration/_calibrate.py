@@ -385,7 +385,7 @@ def _metrics(load, predicted, n_points):
         "median_abs_error_pct": float(np.median(pct)),
         "max_abs_error_pct": float(pct.max()),
         "within_5pct": float(np.mean(pct <= 5.0)), "within_10pct": float(np.mean(pct <= 10.0)),
-        "r2": float(1.0 - (err @ err) / ss_tot) if ss_tot > 0 else float("nan"),
+        "r2": float(1.0 - np.sum(err * err) / ss_tot) if ss_tot > 0 else float("nan"),
     }
 
 

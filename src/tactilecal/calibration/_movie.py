@@ -36,6 +36,10 @@ __all__ = ["read_movie_loads", "movie_points", "calibrate_movie"]
 _CHUNK = 2048
 _GROUP_FRAMES = 16 * _CHUNK  # frames of dask blocks computed together
 _FIRST_PASS_POINTS = 5000  # frames of the fit that shapes the second alignment's signal
+#: Half width, in decimation blocks of the first alignment, of the lag window the second
+#: alignment searches first (all lags if its peak is at the window's edge): the two lags
+#: were 3.9 frames (1.9 blocks) apart on the 100,000-frame movie of ``bench_movie.py``.
+NEAR_BLOCKS = 16
 
 
 def read_movie_loads(path, *, time_col=None, load_col=None):
@@ -180,16 +184,25 @@ def _frame_times(recording, n):
     return np.arange(n) * float(spf)
 
 
-def _lag_on(total, times, loads, max_lag_s):
-    """Lag of the load record against the frames' ``total`` signal (cross-correlation)."""
+def _lag_on(total, times, loads, max_lag_s, near=None):
+    """Lag of the load record against the frames' ``total`` signal (cross-correlation).
+
+    ``near``: ``(lag_s, half_width_s)``, search within ``half_width_s`` of ``lag_s`` first
+    (``near_lag_s`` of :func:`tactilecal.dynamic.estimate_lag`).
+    """
     from tactilecal.dynamic import estimate_lag
 
     sensor = xr.DataArray(total, dims="time", coords={"time": times}, name="total raw")
-    return float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s))
+    near_lag_s, width_s = (None, None) if near is None else near
+    return float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s,
+                              near_lag_s=near_lag_s, near_width_s=width_s))
 
 
-def _align_loads(loads, total, times, n, name, lag_s, max_lag_s):
-    """Return the load on each frame (NaN outside the record) and an alignment report."""
+def _align_loads(loads, total, times, n, name, lag_s, max_lag_s, near=None):
+    """Return the load on each frame (NaN outside the record) and an alignment report.
+
+    ``near``: see :func:`_lag_on`.
+    """
     if not isinstance(loads, xr.DataArray):
         loads = np.asarray(loads, dtype=float).ravel()
         if len(loads) != n:
@@ -197,7 +210,7 @@ def _align_loads(loads, total, times, n, name, lag_s, max_lag_s):
                              f"{n} (one per frame of {name}), as I-Scan's movie calibration")
         return loads, {"lag_s": None, "aligned": "one load per frame (no time column)"}
     if lag_s is None:
-        lag_s = _lag_on(total, times, loads, max_lag_s)
+        lag_s = _lag_on(total, times, loads, max_lag_s, near)
     return (_loads_at(loads, times, lag_s),
             {"lag_s": lag_s, "aligned": "cross-correlation with the total raw signal"})
 
@@ -300,24 +313,26 @@ def _frame_sums(hist):
             "saturated_cells": hist[:, 255].astype(np.int64)}
 
 
-def _movie_loads(recording, signal, loads, *, lag_s, max_lag_s, aligned_on="raw sum"):
+def _movie_loads(recording, signal, loads, *, lag_s, max_lag_s, aligned_on="raw sum",
+                 near=None):
     """Return each frame's load (NaN outside the record), aligned on ``signal``."""
     name = str(recording.attrs.get("source", "recording"))
     n = len(signal)
     load, report = _align_loads(loads, signal, _frame_times(recording, n), n, name, lag_s,
-                                max_lag_s)
+                                max_lag_s, near)
     report["aligned_on"] = aligned_on
     return load, report
 
 
 def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction,
-                  signal_N=None, sums=None):
+                  signal_N=None, sums=None, near=None):
     """Align the loads on ``hist @ signal_N`` (default: the raw sum) and keep the frames.
 
     Returns ``(hist, load, meta, report)`` of the frames kept as points. The kept rows are
     moved to the top of ``hist`` in place (``hist`` is not used afterwards), so the
     returned histograms are a view of it and no copy of the movie's histograms is made.
-    ``sums`` are :func:`_frame_sums` of ``hist``, computed if not given.
+    ``sums`` are :func:`_frame_sums` of ``hist``, computed if not given; ``near``: the
+    lag is searched near a known one first (:func:`_lag_on`).
     """
     name = str(recording.attrs.get("source", "recording"))
     n = len(hist)
@@ -325,7 +340,7 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
     signal = sums["raw_sum"] if signal_N is None else hist_products(hist, signal_N)[0]
     load, report = _movie_loads(recording, signal, loads, lag_s=lag_s, max_lag_s=max_lag_s,
                                 aligned_on="raw sum" if signal_N is None else
-                                "calibrated force")
+                                "calibrated force", near=near)
     outside = ~np.isfinite(load)
     low = ~outside & (load < min_load_fraction * np.nanmax(load))
     keep = ~outside & ~low
@@ -333,11 +348,10 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
               else np.arange(1, n + 1))
     kept = keep_rows_in_place(hist, keep)
     m = len(kept)
-    meta = {"file": np.full(m, Path(name).name, dtype=object), "frame": frames[keep],
+    meta = {"file": _repeated(Path(name).name, m), "frame": frames[keep],
             "raw_sum": sums["raw_sum"][keep], "loaded_cells": sums["loaded_cells"][keep],
             "saturated_cells": sums["saturated_cells"][keep],
-            "label": np.full(m, "", dtype=object),
-            "note": np.full(m, "", dtype=object),
+            "label": _repeated("", m), "note": _repeated("", m),
             "sensel_area_mm2": np.full(m, float(recording.attrs.get("sensel_area_mm2",
                                                                      np.nan))),
             "working_cells": sums["working_cells"][keep],
@@ -356,6 +370,17 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
         f"largest load left out; {m} points, of which "
         f"{report['n_saturated_frames']} have saturated sensels")
     return kept, load[keep], meta, report
+
+
+def _repeated(text, m):
+    """Return an object array of ``m`` references to ``text``.
+
+    ``np.full(m, text, dtype=object)`` makes a new string per element (3.8-7.4 ms for the
+    90,821 points of the 100,000-frame movie; 0.2 ms here).
+    """
+    out = np.empty(m, dtype=object)
+    out.fill(text)
+    return out
 
 
 def _points_from_movie(recording, hist, loads, **kwargs):
@@ -385,15 +410,19 @@ def _first_pass(recording, hist, raw_sum, loads, method, options, min_load_fract
         The first fit's force table (256,).
     fit : Fit
     report : dict
-        ``{"lag_s": ...}`` of the first alignment.
+        ``{"lag_s": ..., "near": (lag_s, half_width_s)}`` of the first alignment: the second
+        searches within ``NEAR_BLOCKS`` decimation blocks of it first (:func:`_lag_on`).
     """
     n = len(raw_sum)
     times = _frame_times(recording, n)
-    lag_s = _lag_on(*_decimated(raw_sum, times, 4.0 * _mean_rate_hz(loads)), loads, max_lag_s)
+    total, block_times = _decimated(raw_sum, times, 4.0 * _mean_rate_hz(loads))
+    lag_s = _lag_on(total, block_times, loads, max_lag_s)
     step = max(1, n // max_points)
     load = _loads_at(loads, times[::step], lag_s)
+    rate_hz = _rate_hz(times)
+    near = (lag_s, NEAR_BLOCKS * (n // len(total)) / rate_hz) if rate_hz > 0 else None
     return (*_first_pass_table(hist[::step], load, method, options, min_load_fraction),
-            {"lag_s": lag_s})
+            {"lag_s": lag_s, "near": near})
 
 
 def _first_pass_table(hist, load, method, options, min_load_fraction):
@@ -402,7 +431,8 @@ def _first_pass_table(hist, load, method, options, min_load_fraction):
     It only has to make the alignment signal proportional to the load; ``hist`` and
     ``load`` are those of a few thousand frames (:func:`_first_pass`).
     """
-    hist = hist.astype(float)
+    if method != "power" or len(hist) < COMPILED_MIN_POINTS:  # power: products of counts
+        hist = hist.astype(float)
     keep = np.isfinite(load)
     keep[keep] = load[keep] >= min_load_fraction * load[keep].max()
     keep &= hist[:, 1:].any(axis=1)
@@ -447,7 +477,8 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
         ``lag_s``, the loads are aligned twice: first on the raw sum (``lag_s_raw_sum``,
         estimated on the raw sum block-averaged to at least 4 x the load record's rate),
         then, at the frame rate, on the force of a first fit (``first_pass_params``) to at
-        most 5000 frames.
+        most 5000 frames, over the lags within ``NEAR_BLOCKS`` (16) decimation blocks of the
+        first lag (over every lag if the correlation peaks at that window's edge).
     """
     equilibration = as_equilibration(equilibration)  # the object, or its JSON's path
     if not isinstance(recording, xr.DataArray):
@@ -474,7 +505,8 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
                                                     method, options, min_load_fraction,
                                                     max_lag_s)
     kwargs = {"lag_s": lag_s, "max_lag_s": max_lag_s, "min_load_fraction": min_load_fraction,
-              "signal_N": signal_N, "sums": sums}
+              "signal_N": signal_N, "sums": sums,
+              "near": None if first is None else first_report["near"]}
     if method in FITTERS:
         kept, load, meta, report = _movie_arrays(recording, hist, loads, **kwargs)
         if method != "power":  # the power fit reads counts (hist_products); others floats
