@@ -136,56 +136,32 @@ def _censored_medians(ratio, weight, censored):
                                                     np.argmax(slope >= 0, axis=1)]
 
 
-def _best_A(sums, load_N, objective, censored=None):
-    """Optimal A for fixed b: closed form for l2/relative, weighted median for l1.
+def _costs_numpy(sums, load_N, objective, censored=None, window=None):
+    """Profiled cost and best A of (m, n) ``sums``, one row per exponent (NumPy only).
 
-    For l1, ``sum |A S - F| = sum S |A - F/S|`` is minimised by the S-weighted median of
-    F/S; censored patches (``censored``, l1 only) add ``S max(0, A - F/S)``.
+    l1: A is the S-weighted median of F/S (``sum |A S - F| = sum S |A - F/S|``), censored
+    patches adding ``S max(0, A - F/S)`` (:func:`_censored_medians`); l2/relative: the
+    closed form. ``window`` (the compiled medians' hint) is not used.
     """
+    w = objective_weights(load_N, objective)
     if objective == "l1":
         flags = np.zeros(len(load_N), bool) if censored is None else censored
-        return _censored_median(load_N / sums, sums, flags)
-    w2s = objective_weights(load_N, objective) ** 2 * sums
-    # elementwise products, not BLAS dot: cheaper than a threaded BLAS call on busy cores
-    return float(np.sum(w2s * load_N) / np.sum(w2s * sums))
-
-
-def _power_costs(b_values, hist, load_N, objective, censored=None, sums_of=None):
-    """Profiled cost and best A for several exponents in one pass over the histograms.
-
-    One matrix product ``hist @ levels**b`` for all ``b`` reads the histograms once, which
-    is what costs time for tens of thousands of points; ``sums_of`` (a
-    :func:`_bracket_sums`) gives the same sums without reading them. ``censored`` (l1
-    only): patches whose residual counts only when the prediction exceeds the load.
-    """
-    b_values = np.asarray(b_values)
-    sums = hist @ (LEVELS[:, None] ** b_values[None, :]) if sums_of is None \
-        else sums_of(b_values)
-    w = objective_weights(load_N, objective)[:, None]
-    if objective == "l1":
-        flags = np.zeros(len(load_N), bool) if censored is None else censored
-        A = _censored_medians(load_N / sums.T, sums.T, flags)
-        r = A * sums - load_N[:, None]
+        A = _censored_medians(load_N / sums, sums, flags)
+        r = A[:, None] * sums - load_N
         if censored is not None:
-            r = np.where(censored[:, None], np.maximum(r, 0.0), r)
-        return np.abs(w * r).sum(axis=0), A
+            r = np.where(censored, np.maximum(r, 0.0), r)
+        return np.abs(w * r).sum(axis=1), A
     w2s = w ** 2 * sums
-    A = (w2s * load_N[:, None]).sum(axis=0) / (w2s * sums).sum(axis=0)
-    r = w * (A * sums - load_N[:, None])
-    return (r * r).sum(axis=0), A
+    A = (w2s * load_N).sum(axis=1) / (w2s * sums).sum(axis=1)
+    r = w * (A[:, None] * sums - load_N)
+    return (r * r).sum(axis=1), A
 
 
-def _cost_slope(b, hist, load_N, w2, sums_of=None):
+def _profiled_slope(S, dS, load_N, w2):
     """Return d cost / d b of the profiled l2/relative cost ``<F,F> - <S,F>**2 / <S,S>``.
 
-    ``<x, y> = sum w**2 x y``; ``S = hist @ levels**b`` and ``S' = hist @ levels**b ln
-    levels`` come from one matrix product, or from ``sums_of`` (:func:`_bracket_sums`).
+    ``<x, y> = sum w**2 x y``, with ``S = S_T(b)`` and ``dS = dS_T/db`` at one exponent.
     """
-    if sums_of is None:
-        v = LEVELS ** b
-        S, dS = (hist @ np.column_stack([v, v * LOG_LEVELS])).T
-    else:
-        S, dS = (x[:, 0] for x in sums_of(np.array([b]), slope=True))
     p, q = np.sum(w2 * S * load_N), np.sum(w2 * S * S)
     dp, dq = np.sum(w2 * dS * load_N), 2.0 * np.sum(w2 * dS * S)
     return -(2.0 * p * dp * q - p * p * dq) / (q * q)
@@ -196,44 +172,20 @@ def _minimise_b(hist, load_N, objective, b_bounds, n_grid=13, xtol=1e-10, censor
 
     A grid of ``n_grid`` exponents (one matrix product) brackets the minimum; for l2 and
     relative the zero of the cost's derivative in that bracket is found by
-    :func:`scipy.optimize.brentq` (each step one product with two columns); for l1, whose
-    cost has no derivative everywhere, the bracket is refined by nested grids.
-    ``censored`` is passed to :func:`_power_costs` (l1 only). From
-    :data:`COMPILED_MIN_POINTS` points on, :func:`_minimise_b_many` minimises the same cost
-    to the same ``xtol`` with one pass over all the histograms (a bracket from a subsample,
-    then Brent's method). Returns ``(b, A, cost, n_evaluations)``.
+    :func:`scipy.optimize.brentq`; for l1, whose cost has no derivative everywhere, the
+    bracket is refined by nested grids (:func:`_nested_grids`, in NumPy). ``censored``:
+    patches that are lower bounds (l1 only). From :data:`COMPILED_MIN_POINTS` points on,
+    :func:`_minimise_b_many` minimises the same cost to the same ``xtol`` with one pass
+    over all the histograms (a bracket from a subsample, then Brent's method). Returns
+    ``(b, A, cost, n_evaluations)``.
     """
     if len(load_N) >= COMPILED_MIN_POINTS:
         return _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored)
-    lo, hi = (float(v) for v in b_bounds)
-    grid = np.linspace(lo, hi, n_grid)
-    cost, _ = _power_costs(grid, hist, load_N, objective, censored)
-    k = int(np.nanargmin(cost))
-    _check_interior(k, grid, b_bounds)
-    lo, hi, n_eval = grid[k - 1], grid[k + 1], n_grid
-    sums_of = _bracket_sums(hist, lo, hi)
-    if objective == "l1":
-        while hi - lo > xtol:
-            grid = np.linspace(lo, hi, n_grid)
-            cost, _ = _power_costs(grid, hist, load_N, objective, censored, sums_of)
-            k, n_eval = int(np.nanargmin(cost)), n_eval + n_grid
-            lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, n_grid - 1)]
-        b = float(grid[k])
-    else:
-        w2 = objective_weights(load_N, objective) ** 2
-        slope_lo, slope_hi = (_cost_slope(x, hist, load_N, w2, sums_of) for x in (lo, hi))
-        if slope_lo < 0 < slope_hi:
-            b, info = optimize.brentq(_cost_slope, lo, hi, args=(hist, load_N, w2, sums_of),
-                                      xtol=xtol, full_output=True)
-            n_eval += 2 + info.function_calls
-        else:  # flat or kinked cost: keep the grid's best
-            b = float(grid[k])
-    cost, A = _power_costs(np.array([b]), hist, load_N, objective, censored)
-    return float(b), float(A[0]), float(cost[0]), n_eval + 1
+    return _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, False)
 
 
 def _bracket_sums(hist, lo, hi):
-    """Return ``sums_of(b_values, slope=False)``: ``S_T(b)`` for ``lo <= b <= hi``.
+    """Return ``sums_of(b_values, slope=False)``: (m, n) ``S_T(b)`` for ``lo <= b <= hi``.
 
     The NumPy twin of :class:`_Sums` for a few thousand points: one product ``hist @ coef``
     with the Chebyshev coefficients of ``LEVELS**b`` over the bracket
@@ -244,15 +196,15 @@ def _bracket_sums(hist, lo, hi):
     coef, mid, half = _chebyshev_basis(lo, hi)
     # einsum's own loop, not BLAS: a product this size (150 x 256 x 18) goes to OpenBLAS's
     # threads, which on busy shared cores took 1-8 ms against einsum's 0.4 ms
-    moments = np.einsum("pk,kj->pj", hist, coef)
+    moments = np.einsum("pk,kj->jp", hist, coef)  # (J, n)
 
     def sums_of(b_values, slope=False):
         t = (np.asarray(b_values, dtype=float) - mid) / half
         if slope:
             T, dT = _chebyshev_t(t, coef.shape[1])
-            return moments @ T, moments @ dT / half
+            return T.T @ moments, dT.T @ moments / half
         # T_j(t) = cos(j arccos t) on [-1, 1]: three NumPy calls for a whole grid
-        return moments @ np.cos(np.outer(np.arange(coef.shape[1]), np.arccos(np.clip(t, -1, 1))))
+        return np.cos(np.outer(np.arccos(np.clip(t, -1, 1)), np.arange(coef.shape[1]))) @ moments
 
     return sums_of
 
@@ -351,7 +303,7 @@ class _Sums:
 
 
 def _costs_many(sums, load_N, objective, censored, window=None):
-    """:func:`_power_costs` of (m, n) ``sums``; l1 medians by :func:`l1_costs`.
+    """:func:`_costs_numpy` with the l1 medians selected by :func:`l1_costs` (numba).
 
     ``window``: (lo, hi) arrays where each exponent's median is expected, default anywhere.
     """
@@ -362,11 +314,7 @@ def _costs_many(sums, load_N, objective, censored, window=None):
         if window is None:
             window = np.full(len(sums), -np.inf), np.full(len(sums), np.inf)
         return l1_costs(sums, load_N, flags, *window)
-    w = objective_weights(load_N, objective)
-    w2s = w ** 2 * sums
-    A = (w2s * load_N).sum(axis=1) / (w2s * sums).sum(axis=1)
-    r = w * (A[:, None] * sums - load_N)
-    return (r * r).sum(axis=1), A
+    return _costs_numpy(sums, load_N, objective)
 
 
 def _median_window(b_values, grid, A):
@@ -473,13 +421,11 @@ class _Search:
         return _median_window([b], bs, [self.seen[x][0] for x in bs])
 
     def slope(self, b):
-        """Slope d cost / d b of the l2/relative cost (:func:`_cost_slope`, on the moments)."""
+        """Slope d cost / d b of the l2/relative cost (:func:`_profiled_slope`, on the moments)."""
         self.n_eval += 1
         w2 = objective_weights(self.load_N, self.objective) ** 2
         (S,), (dS,) = self.sums_at([b], slope=True)
-        p, q = np.sum(w2 * S * self.load_N), np.sum(w2 * S * S)
-        dp, dq = np.sum(w2 * dS * self.load_N), 2.0 * np.sum(w2 * dS * S)
-        return -(2.0 * p * dp * q - p * p * dq) / (q * q)
+        return _profiled_slope(S, dS, self.load_N, w2)
 
     def minimise(self, lo, hi, inside, *, xtol, check=False):
         """Return ``(b, (A, cost))`` of the minimum in ``(lo, hi)`` to ``xtol`` in b.
@@ -507,46 +453,61 @@ class _Search:
 
 
 def _minimise_b_grid(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
-    """:func:`_minimise_b`'s nested grids, reading the histograms twice.
+    """Run :func:`_nested_grids` with the compiled kernels.
 
-    The fallback of :func:`_minimise_b_many` (and its search until session 8). The same
-    rounds as :func:`_minimise_b`: the first grid over ``b_bounds`` with
-    ``hist @ LEVELS**b``; every later exponent lies in that grid's bracket, where
-    :class:`_Sums` gives ``S_T(b)`` from one more product. l1 medians are selected, not
-    sorted (:mod:`tactilecal._powerfit_kernels`). Same results as the direct sums to
-    round-off (``tests/test_powerfit_many.py``).
+    The fallback of :func:`_minimise_b_many`, and its search until session 8.
     """
+    return _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, True)
+
+
+def _direct_sums_numpy(hist, b_values):
+    """(m, n) ``S_T(b) = hist @ LEVELS**b`` for m exponents, in NumPy."""
+    return (hist @ (LEVELS[:, None] ** np.asarray(b_values, dtype=float)[None, :])).T
+
+
+def _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, compiled):
+    """Minimise the profiled cost over b by a grid, then nested grids or Brent in its bracket.
+
+    The first grid over ``b_bounds`` reads the histograms (``hist @ LEVELS**b``); every
+    later exponent lies in that grid's bracket, where Chebyshev moments give ``S_T(b)`` from
+    one more pass (:class:`_Sums` compiled, :func:`_bracket_sums` in NumPy). l1: nested
+    grids of ``n_grid`` exponents until the bracket is below ``xtol``; l2, relative: the
+    zero of the cost's slope by :func:`scipy.optimize.brentq`. ``compiled``: the numba
+    kernels (l1 medians selected, not sorted: :mod:`tactilecal._powerfit_kernels`) or NumPy
+    alone. Returns ``(b, A, cost, n_evaluations)``.
+    """
+    direct, bracket, costs = ((_direct_sums, _Sums, _costs_many) if compiled
+                              else (_direct_sums_numpy, _bracket_sums, _costs_numpy))
+    windows = compiled and objective == "l1"
     lo, hi = (float(v) for v in b_bounds)
     grid = np.linspace(lo, hi, n_grid)
-    cost, A = _costs_many(_direct_sums(hist, grid), load_N, objective, censored)
+    cost, A = costs(direct(hist, grid), load_N, objective, censored)
     k = int(np.nanargmin(cost))
     _check_interior(k, grid, b_bounds)
     lo, hi, n_eval = grid[k - 1], grid[k + 1], n_grid
-    sums_at = _Sums(hist, lo, hi)
+    sums_at = bracket(hist, lo, hi)
     if objective == "l1":
         while hi - lo > xtol:
             last, last_A, grid = grid, A, np.linspace(lo, hi, n_grid)
-            cost, A = _costs_many(sums_at(grid), load_N, objective, censored,
-                                  _median_window(grid, last, last_A))
+            window = _median_window(grid, last, last_A) if windows else None
+            cost, A = costs(sums_at(grid), load_N, objective, censored, window)
             k, n_eval = int(np.nanargmin(cost)), n_eval + n_grid
             lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, n_grid - 1)]
         b = float(grid[k])
     else:
         w2 = objective_weights(load_N, objective) ** 2
 
-        def slope(x):  # _cost_slope on the bracket's sums
+        def slope(x):
             (S,), (dS,) = sums_at([x], slope=True)
-            p, q = np.sum(w2 * S * load_N), np.sum(w2 * S * S)
-            dp, dq = np.sum(w2 * dS * load_N), 2.0 * np.sum(w2 * dS * S)
-            return -(2.0 * p * dp * q - p * p * dq) / (q * q)
+            return _profiled_slope(S, dS, load_N, w2)
 
         if slope(lo) < 0 < slope(hi):
             b, info = optimize.brentq(slope, lo, hi, xtol=xtol, full_output=True)
             n_eval += 2 + info.function_calls
-        else:
+        else:  # flat or kinked cost: keep the grid's best
             b = float(grid[k])
-    window = _median_window([b], grid, A) if objective == "l1" else None
-    cost, A = _costs_many(sums_at([b]), load_N, objective, censored, window)
+    window = _median_window([b], grid, A) if windows else None
+    cost, A = costs(sums_at([b]), load_N, objective, censored, window)
     return float(b), float(A[0]), float(cost[0]), n_eval + 1
 
 
