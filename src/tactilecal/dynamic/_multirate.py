@@ -54,9 +54,7 @@ from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
 
 __all__ = ["MultiratePlan", "plan_multirate", "BlockLayout", "apply_multirate",
            "filter_block", "decimate", "fft_length", "fft_columns",
-           "correct", "interpolate",
-           "reflected_margins",
-           "run_tasks"]
+           "correct", "interpolate", "run_tasks"]
 
 #: Attenuation (dB) of the anti-aliasing / interpolation low-pass in its stop band.
 STOPBAND_DB = 70.0
@@ -551,19 +549,6 @@ def filter_block(before, rows, after, offset, plan, *, precision="single", worke
     out = interpolate(rows, corrected, plan, layout.offset, workers=workers, progress=progress)
     lap("interpolate into the new output")
     return out
-
-
-def reflected_margins(x2d, plan, workers=1):
-    """Rows before and after ``x2d`` by odd reflection about its end rows (value and slope)."""
-    layout = BlockLayout.of(plan, 0, x2d.shape[0])
-    need_before, need_after = layout.margins
-    n = x2d.shape[0]
-    before = np.empty((need_before, x2d.shape[1]), dtype=x2d.dtype)
-    after = np.empty((need_after, x2d.shape[1]), dtype=x2d.dtype)
-    run_tasks([lambda: np.subtract(2 * x2d[0], x2d[need_before:0:-1], out=before),
-               lambda: np.subtract(2 * x2d[n - 1], x2d[n - 2:n - 2 - need_after:-1], out=after)],
-              _threads(workers))
-    return before, after
 
 
 def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings=None):
