@@ -184,31 +184,6 @@ def _minimise_b(hist, load_N, objective, b_bounds, n_grid=13, xtol=1e-10, censor
     return _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, False)
 
 
-def _bracket_sums(hist, lo, hi):
-    """Return ``sums_of(b_values, slope=False)``: (m, n) ``S_T(b)`` for ``lo <= b <= hi``.
-
-    The NumPy twin of :class:`_Sums` for a few thousand points: one product ``hist @ coef``
-    with the Chebyshev coefficients of ``LEVELS**b`` over the bracket
-    (:func:`_chebyshev_basis`), then each exponent costs a product with ``T(t(b))`` of ~18
-    rather than 256 terms (and ``slope=True`` adds ``dS/db`` from ``T'``), equal to the
-    direct sums to round-off.
-    """
-    coef, mid, half = _chebyshev_basis(lo, hi)
-    # einsum's own loop, not BLAS: a product this size (150 x 256 x 18) goes to OpenBLAS's
-    # threads, which on busy shared cores took 1-8 ms against einsum's 0.4 ms
-    moments = np.einsum("pk,kj->jp", hist, coef)  # (J, n)
-
-    def sums_of(b_values, slope=False):
-        t = (np.asarray(b_values, dtype=float) - mid) / half
-        if slope:
-            T, dT = _chebyshev_t(t, coef.shape[1])
-            return T.T @ moments, dT.T @ moments / half
-        # T_j(t) = cos(j arccos t) on [-1, 1]: three NumPy calls for a whole grid
-        return np.cos(np.outer(np.arccos(np.clip(t, -1, 1)), np.arange(coef.shape[1]))) @ moments
-
-    return sums_of
-
-
 def _check_interior(k, grid, b_bounds):
     if k in (0, len(grid) - 1):
         raise ValueError(f"power fit: best exponent b = {grid[k]:.3f} is at the edge of "
@@ -285,21 +260,34 @@ class _Sums:
 
     ``hist @ coef`` of :func:`_chebyshev_basis` reads the histograms once; every later
     ``S_T(b) = hist @ LEVELS**b`` in the bracket is then a product with ``T(t(b))``, of
-    about 20 rather than 256 terms, equal to the direct sum to round-off.
+    about 20 rather than 256 terms, equal to the direct sum to round-off. ``compiled``:
+    the moments by :func:`hist_products` and the sums by the numba kernel ``series_sums``;
+    else NumPy alone (below :data:`COMPILED_MIN_POINTS` points), the moments by ``einsum``'s
+    own loop, not BLAS: a product this size (150 x 256 x 18) goes to OpenBLAS's threads,
+    which on busy shared cores took 1-8 ms against einsum's 0.4 ms.
     """
 
-    def __init__(self, hist, lo, hi):
+    def __init__(self, hist, lo, hi, compiled=True):
         coef, self.mid, self.half = _chebyshev_basis(lo, hi)
-        self.moments = hist_products(hist, coef)  # (J, n)
+        self.compiled = compiled
+        self.moments = (hist_products(hist, coef) if compiled
+                        else np.einsum("pk,kj->jp", hist, coef))  # (J, n)
 
     def __call__(self, b_values, slope=False):
         """(m, n) sums at ``b_values`` (and their derivatives in b if ``slope``)."""
-        from tactilecal._powerfit_kernels import series_sums
+        t = (np.asarray(b_values, dtype=float) - self.mid) / self.half
+        n_terms = self.moments.shape[0]
+        if not (self.compiled or slope):  # T_j(t) = cos(j arccos t): a grid in 3 NumPy calls
+            return np.cos(np.outer(np.arccos(np.clip(t, -1, 1)), np.arange(n_terms))) \
+                @ self.moments
+        T, dT = _chebyshev_t(t, n_terms)
+        if self.compiled:
+            from tactilecal._powerfit_kernels import series_sums
 
-        T, dT = _chebyshev_t((np.asarray(b_values) - self.mid) / self.half,
-                             self.moments.shape[0])
-        sums = series_sums(self.moments, T)
-        return (sums, series_sums(self.moments, dT) / self.half) if slope else sums
+            sums, d_sums = series_sums(self.moments, T), series_sums(self.moments, dT)
+        else:
+            sums, d_sums = T.T @ self.moments, dT.T @ self.moments
+        return (sums, d_sums / self.half) if slope else sums
 
 
 def _costs_many(sums, load_N, objective, censored, window=None):
@@ -460,32 +448,26 @@ def _minimise_b_grid(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
     return _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, True)
 
 
-def _direct_sums_numpy(hist, b_values):
-    """(m, n) ``S_T(b) = hist @ LEVELS**b`` for m exponents, in NumPy."""
-    return (hist @ (LEVELS[:, None] ** np.asarray(b_values, dtype=float)[None, :])).T
-
-
 def _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, compiled):
     """Minimise the profiled cost over b by a grid, then nested grids or Brent in its bracket.
 
-    The first grid over ``b_bounds`` reads the histograms (``hist @ LEVELS**b``); every
+    The first grid over ``b_bounds`` reads the histograms (:func:`_direct_sums`); every
     later exponent lies in that grid's bracket, where Chebyshev moments give ``S_T(b)`` from
-    one more pass (:class:`_Sums` compiled, :func:`_bracket_sums` in NumPy). l1: nested
+    one more pass (:class:`_Sums`). l1: nested
     grids of ``n_grid`` exponents until the bracket is below ``xtol``; l2, relative: the
     zero of the cost's slope by :func:`scipy.optimize.brentq`. ``compiled``: the numba
     kernels (l1 medians selected, not sorted: :mod:`tactilecal._powerfit_kernels`) or NumPy
     alone. Returns ``(b, A, cost, n_evaluations)``.
     """
-    direct, bracket, costs = ((_direct_sums, _Sums, _costs_many) if compiled
-                              else (_direct_sums_numpy, _bracket_sums, _costs_numpy))
+    costs = _costs_many if compiled else _costs_numpy
     windows = compiled and objective == "l1"
     lo, hi = (float(v) for v in b_bounds)
     grid = np.linspace(lo, hi, n_grid)
-    cost, A = costs(direct(hist, grid), load_N, objective, censored)
+    cost, A = costs(_direct_sums(hist, grid), load_N, objective, censored)
     k = int(np.nanargmin(cost))
     _check_interior(k, grid, b_bounds)
     lo, hi, n_eval = grid[k - 1], grid[k + 1], n_grid
-    sums_at = bracket(hist, lo, hi)
+    sums_at = _Sums(hist, lo, hi, compiled)
     if objective == "l1":
         while hi - lo > xtol:
             last, last_A, grid = grid, A, np.linspace(lo, hi, n_grid)
