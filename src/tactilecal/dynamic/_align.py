@@ -154,21 +154,20 @@ def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where, 
     x_ref, _ = _polyphase(x_ref, fs_ref, fs_sens)
     lags = signal.correlation_lags(x_sens.size, x_ref.size, mode="full")
     lag_s = lags / fs_sens + (t_sens[0] - t_ref[0])
-    corr = None
+    corr = None  # over every lag, once computed
     if near is not None:
         centre = int(np.argmin(np.abs(lag_s - near[0])))
         part = slice(max(centre - int(near[1]), 0), centre + int(near[1]) + 1)
-        by_dots = 2 * int(near[1]) + 1 <= NEAR_MAX_DOTS
-        corr = _bounded(_normalised_xcorr(x_sens, x_ref, MIN_OVERLAP,
-                                          lag=lags[part] if by_dots else None),
-                        lag_s[part] if by_dots else lag_s, max_lag_s)
-        corr = corr if by_dots else corr[part]
-        i = int(np.argmax(corr))
-        if 0 < i < corr.size - 1 and corr[i] >= MIN_CORRELATION:
-            corr, lag_s = corr, lag_s[part]
-        else:  # the peak may lie outside the window: every lag
-            corr = None
-    if corr is None:
+        if 2 * int(near[1]) + 1 <= NEAR_MAX_DOTS:
+            near_corr = _bounded(_normalised_xcorr(x_sens, x_ref, MIN_OVERLAP, lag=lags[part]),
+                                 lag_s[part], max_lag_s)
+        else:  # cut from the correlation of every lag, kept if the window does not hold
+            corr = _bounded(_normalised_xcorr(x_sens, x_ref, MIN_OVERLAP), lag_s, max_lag_s)
+            near_corr = corr[part]
+        i = int(np.argmax(near_corr))
+        if 0 < i < near_corr.size - 1 and near_corr[i] >= MIN_CORRELATION:
+            corr, lag_s = near_corr, lag_s[part]
+    if corr is None:  # no window, or its peak may lie outside it: every lag
         corr = _bounded(_normalised_xcorr(x_sens, x_ref, MIN_OVERLAP), lag_s, max_lag_s)
     i = int(np.argmax(corr))
     if not np.isfinite(corr[i]):
