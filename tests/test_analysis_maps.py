@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+import tactilecal.analysis  # noqa: F401 - registers recording.tactile
 from tactilecal.simulate import deadweight_session, make_sensor
 
 ROW_MM, COL_MM, AREA_MM2 = 2.0, 3.0, 6.0

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from scipy import ndimage, signal
 
+import tactilecal.analysis  # noqa: F401 - registers recording.tactile
 from tactilecal import read_tekscan
 
 

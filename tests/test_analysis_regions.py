@@ -4,6 +4,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
+import tactilecal.analysis  # noqa: F401 - registers recording.tactile
+
 
 def recording(p, unit="kPa", area=4.0, pitch=2.0):
     return xr.DataArray(
@@ -39,6 +41,8 @@ def test_profiles_skip_blank_and_nonworking_sensels():
     np.testing.assert_allclose(rec.tactile.profile("row")["row_mm"], [0.0, 2.0, 4.0])
     with pytest.raises(ValueError, match=r"nonworking mask has dtype int64 and shape \(3, 3\)"):
         rec.tactile.profile("row", nonworking=np.zeros((3, 3), dtype=np.int64))
+    with pytest.raises(ValueError, match=r"profile dim is 'column'; expected 'row' or 'col'"):
+        rec.tactile.profile("column")
 
 
 def brute_force_windows(force, h, w):

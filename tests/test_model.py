@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+import tactilecal.analysis  # noqa: F401 - registers recording.tactile
 from tactilecal._model import check_recording
 from tactilecal.io import open_recording, read_netcdf, write_netcdf, write_tekscan
 from tactilecal.simulate import deadweight_session, make_sensor

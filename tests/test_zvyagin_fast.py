@@ -175,3 +175,20 @@ def test_a_load_that_is_not_finite_fails_as_before():
         ref.solve_pairs(counts, load, np.zeros(3))
     with np.errstate(invalid="ignore"), pytest.raises(np.linalg.LinAlgError, match="infs or NaNs"):
         solve_pairs(counts, load, np.zeros(3))
+
+
+def test_a_root_on_the_threshold_does_not_count():
+    """Patches 19 and 47 of SESSIONS[1] (10 kg each, equal Q(3) = 7221): an exact root Y = 3,
+    which rounding puts at 3.0000000000000013; the paper's Y > 3 leaves it out."""
+    load = 98.09199728999998
+    c = load * np.array([1, 28, 93, 52, 1.0]) - load * np.array([4, 15, 64, 63, 1.0])
+    roots = polynomial_roots(c[None])
+    assert np.nanmin(np.abs(roots.real - 3.0)) < 1e-12  # the root is there
+    assert np.isnan(roots_above(roots, 3.0)).all()
+
+
+def test_a_double_root_split_by_rounding_is_put_at_its_mean():
+    """Y (Y - 2)**2 (Y + 1) / Y: the companion matrix gives 2 -+ ~4e-8, their mean 2."""
+    got = roots_above(polynomial_roots(np.array([[4.0, 0.0, -3.0, 1.0]])), 3.0 ** 0.5)
+    np.testing.assert_allclose(got[0, :2], [2.0, 2.0], rtol=1e-14)
+    assert np.isnan(got[0, 2])
