@@ -15,13 +15,13 @@ random walk plus noise, 1.8e-5 on white noise; see docs/dynamic-calibration.md):
 The record's own ends are extended by an odd reflection about the end sample (value and
 slope continuous), the same as the resampler, so the edges carry no transient from a large
 offset. Arrays backed by dask (``xarray.open_dataset(..., chunks=...)``) are filtered lazily,
-so recordings larger than memory stream through: the multirate method as three stages per
-time chunk (decimate with the few rows around the chunk; correct with ``half`` decimated
-rows of the neighbours, a tenth of the bytes; interpolate), whose tasks read only their own
-chunk of the recording and small slices of its neighbours, so on ``dask.distributed`` each
-worker reads its chunks from the file and only the decimated rows travel; the direct
-method by :func:`dask.array.map_overlap`. The causal filter carries its IIR state from one
-time chunk to the next.
+so recordings larger than memory stream through: the multirate method as two tasks per
+time chunk (decimate with the few rows around the chunk; then correct, with ``half``
+decimated rows of the neighbours, a tenth of the bytes, and interpolate), whose tasks
+read only their own chunk of the recording and small slices of its neighbours, so on
+``dask.distributed`` each worker reads its chunks from the file and only the decimated
+rows travel; the direct method by :func:`dask.array.map_overlap`. The causal filter
+carries its IIR state from one time chunk to the next.
 """
 
 import functools
@@ -297,45 +297,38 @@ def _decimate_task(ref, rows, *pieces, spec):
     return lines.reshape(*rows.shape[1:], -1)
 
 
-def _correct_task(*pieces, spec):
-    """Stage 2 of one chunk: its corrected samples, time last (see :func:`correct`).
+def _correct_interpolate_task(rows, *pieces, spec):
+    """Stages 2 and 3 of one chunk: the chunk plus its interpolated correction.
 
-    The pieces are copied into a window as long as the FFT blocks read, its end zeroed
-    (one copy, where concatenating and padding the last block made two).
+    ``pieces`` hold the decimated samples stage 2 reads for the corrected samples stage 3
+    needs (see :class:`BlockLayout`): they are copied into a window as long as the FFT
+    blocks read, its end zeroed, and corrected in place (:func:`correct`), so the
+    corrected samples neither travel nor are copied again (one task per chunk where a
+    stage each made two, and the neighbours' corrected columns were cut and sent).
     """
     plan, n_out = spec["plan"], spec["n_out"]
-    shape = pieces[0].shape[:-1]
-    window = np.empty((*shape, fft_columns(plan, n_out)), dtype=pieces[0].dtype)
+    flat = [p.reshape(-1, p.shape[-1]) for p in pieces]
+    window = np.empty((flat[0].shape[0], fft_columns(plan, n_out)), dtype=flat[0].dtype)
     end = 0
-    for piece in pieces:
-        window[..., end:end + piece.shape[-1]] = piece
+    for piece in flat:
+        window[:, end:end + piece.shape[-1]] = piece
         end += piece.shape[-1]
-    window[..., end:] = 0
-    out = correct(window.reshape(-1, window.shape[-1]), plan, n_out)
-    return out.reshape(*shape, -1)
-
-
-def _interpolate_task(rows, *pieces, spec):
-    """Stage 3 of one chunk: the chunk plus its interpolated correction."""
-    corrected = np.concatenate(pieces, axis=-1)
-    corrected = np.ascontiguousarray(corrected.reshape(-1, corrected.shape[-1]))
-    return interpolate(_flat(rows), corrected, spec["plan"], spec["offset"]).reshape(rows.shape)
+    window[:, end:] = 0
+    corrected = correct(window, plan, n_out, out=window)
+    return interpolate(_flat(rows), corrected, plan, spec["offset"]).reshape(rows.shape)
 
 
 def _owned(n, bounds, plan):
-    """Decimated and corrected samples owned by each time chunk (edges of global indices).
+    """Decimated samples owned by each time chunk (edges of global grid indices).
 
     Sample ``g`` (at frame ``P g``) belongs to the chunk holding that frame; the first and
     last chunks also own the samples beyond the record's ends that the edges need. Returns
-    ``(lines, corrected, lines0, corr0)``: the edges, and the grid index of the first
-    decimated and corrected sample.
+    the edges, the first at the grid index of the record's first decimated sample.
     """
     whole = BlockLayout.of(plan, 0, n)
-    half = plan.correction.size // 2
-    lines0, corr0 = -(whole.q_half + half), -whole.q_half
+    lines0 = -(whole.q_half + plan.correction.size // 2)
     inner = [-(-int(b) // plan.factor) for b in bounds[1:-1]]
-    return ([lines0, *inner, lines0 + whole.decimated],
-            [corr0, *inner, corr0 + whole.corrected], lines0, corr0)
+    return [lines0, *inner, lines0 + whole.decimated]
 
 
 def _first_row(arr):
@@ -356,10 +349,11 @@ def _multirate_dask(arr, plan, precision):
     """Run the multirate method on a dask array with several time chunks (time first).
 
     Stage 1 per chunk (with the ``c``-odd rows around it, or the reflection at the record's
-    ends) gives the decimated samples the chunk owns (time last); stage 2 the corrected
-    samples it owns, from those and ``half`` more on each side; stage 3 interpolates the
-    chunk from the corrected samples around it. The rows and columns a task needs from
-    its neighbours are cut out by small tasks that run where those chunks are, so on a
+    ends) gives the decimated samples the chunk owns (time last); one task per chunk then
+    runs stages 2 and 3 (:func:`_correct_interpolate_task`): from the decimated samples it
+    owns and ``half`` plus a few more of each neighbour's, the corrected samples its
+    interpolation reads, then the chunk. The rows and columns a task needs from its
+    neighbours are cut out by small tasks that run where those chunks are, so on a
     cluster only they travel. Chunks over sensels are kept. Equal to the in-memory method;
     the FFT blocks differ, so in single precision to float32 rounding.
     """
@@ -367,7 +361,7 @@ def _multirate_dask(arr, plan, precision):
 
     n, c, half = arr.shape[0], plan.lowpass.size // 2, plan.correction.size // 2
     bounds = [int(b) for b in np.r_[0, np.cumsum(arr.chunks[0])]]
-    owned, owned_c, lines0, corr0 = _owned(n, bounds, plan)
+    owned = _owned(n, bounds, plan)
     token = tokenize(arr, plan.lowpass, plan.correction, precision)
     ref, sensels, n_chunks = _first_row(arr), _sensel_blocks(arr), len(bounds) - 1
     real = PRECISIONS[precision]
@@ -391,31 +385,19 @@ def _multirate_dask(arr, plan, precision):
                                     (ref.name, 0, *j), (arr.name, i, *j), *keys)
     lines = _dask_array(name, tasks, (*arr.chunks[1:], tuple(np.diff(owned))), real,
                         [arr, ref])
-    edges = [k - lines0 for k in owned]
-    name = f"tactilecal-correct-{token}"
-    tasks = {}
-    for i in range(n_chunks):
-        window = (owned_c[i] - half - lines0, owned_c[i + 1] + half - lines0)
-        spec = {"plan": plan, "n_out": owned_c[i + 1] - owned_c[i]}
-        for j in sensels:
-            keys = _pieces(tasks, (f"{name}-window", i, *j), lines, lambda k, j=j: (*j, k),
-                           edges, -1, *window)
-            tasks[(name, *j, i)] = (functools.partial(_correct_task, spec=spec), *keys)
-    corrected = _dask_array(name, tasks, (*arr.chunks[1:], tuple(np.diff(owned_c))), real,
-                            [lines])
-    edges = [k - corr0 for k in owned_c]
-    name = f"tactilecal-interpolate-{token}"
+    edges = [k - owned[0] for k in owned]
+    name = f"tactilecal-filter-{token}"
     tasks = {}
     for i in range(n_chunks):
         layout = BlockLayout.of(plan, bounds[i], bounds[i + 1] - bounds[i])
-        start = bounds[i] // plan.factor - layout.q_half - corr0
-        spec = {"plan": plan, "offset": bounds[i]}
+        start = bounds[i] // plan.factor - layout.q_half - half - owned[0]
+        spec = {"plan": plan, "offset": bounds[i], "n_out": layout.corrected}
         for j in sensels:
-            keys = _pieces(tasks, (f"{name}-window", i, *j), corrected, lambda k, j=j: (*j, k),
-                           edges, -1, start, start + layout.corrected)
-            tasks[(name, i, *j)] = (functools.partial(_interpolate_task, spec=spec),
+            keys = _pieces(tasks, (f"{name}-window", i, *j), lines, lambda k, j=j: (*j, k),
+                           edges, -1, start, start + layout.decimated)
+            tasks[(name, i, *j)] = (functools.partial(_correct_interpolate_task, spec=spec),
                                     (arr.name, i, *j), *keys)
-    return _dask_array(name, tasks, arr.chunks, float, [arr, corrected])
+    return _dask_array(name, tasks, arr.chunks, float, [arr, lines])
 
 
 @njit(nogil=True, fastmath={"contract"})
@@ -609,7 +591,8 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
     if "time" not in data.coords or data["time"].dims != data.dims[:1]:
         raise ValueError(f"{where}: expected a 'time' coordinate (s) along the first "
                          f"dimension; found dims {data.dims}")
-    fs_hz = sampling_rate_hz(data["time"].values, where)
+    time_s = data["time"].values  # once: on a cluster each .values is a round trip
+    fs_hz = sampling_rate_hz(time_s, where)
     if abs(fs_hz / filt.fs_hz - 1.0) > RATE_TOLERANCE:
         raise ValueError(f"{where} is sampled at {fs_hz:.6g} Hz; the filter was built for "
                          f"{filt.fs_hz:.6g} Hz (expected the same rate: resample first or "
@@ -630,5 +613,5 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
                        attrs={**data.attrs, "dynamic_filter": dumps(filt.to_dict(),
                                                                      indent=None),
                               "sampling_rate_hz": fs_hz,
-                              "time_jitter_s": time_jitter_s(data["time"].values)})
+                              "time_jitter_s": time_jitter_s(time_s)})
     return out
