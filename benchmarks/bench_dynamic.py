@@ -100,7 +100,7 @@ def _recording(seconds, fs_hz=4000.0, shape=(44, 44)):
                         coords={"time": ("frame", np.arange(n) / fs_hz)})
 
 
-def _interleaved(runs, repeat, usage=None):
+def _interleaved(runs, repeat, usage=None, settle=None):
     """Run every case once per round, ``repeat`` rounds; return the seconds of each run.
 
     Every case first runs once untimed: a first call compiles the numba kernels of its
@@ -110,12 +110,15 @@ def _interleaved(runs, repeat, usage=None):
     dict, receives per case and run this process's ``(user, system)`` CPU seconds and
     minor page faults (:func:`_usage`): wall time on the shared cores moves with the
     other sessions, and the system time of faulting in fresh arrays moves on its own.
+    ``settle``, if given, is called (untimed) before every timed run.
     """
     for fn in runs.values():
         fn()
     times = {name: [] for name in runs}
     for _ in range(repeat):
         for name, fn in runs.items():
+            if settle is not None:
+                settle()
             before = _usage()
             times[name].extend(run_times(fn, 1))
             if usage is not None:
@@ -406,7 +409,10 @@ def _cluster(seconds, repeat, chunk_frames, folder, malloc_trim=True):
                     lambda: written("zarr", filtered=False),
             }
             runs, usage = _cpu_timed(client, runs)
-            times = _interleaved(runs, repeat)
+            # os.sync: the Zarr writes leave up to the record's size of dirty pages, whose
+            # writeback otherwise lands in the next run's time (the in-memory filter right
+            # after "write Zarr" took 2-3x its time without a cluster at 131 072 frames)
+            times = _interleaved(runs, repeat, settle=os.sync)
             written("netcdf")
     _report(times, rec.size, "apply_filter in memory (this process) [baseline]")
     print("CPU seconds (user + system, the workers' and this process's; least of the timed "
