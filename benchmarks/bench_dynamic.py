@@ -18,7 +18,9 @@ walk plus noise on an offset of 100) corrected with ``apply_filter``, all runs i
 run: one whole-record float32 ``scipy.fft.rfft`` + ``irfft`` (all cores) of the same
 ``(time, sensels)`` array along time, and of a sensel-major copy (contiguous lines: the
 fastest layout for the FFT, a stricter baseline); a fresh float64 output plus a copy of the
-record (the memory floor of any filter that returns a new array); the multirate method as it
+record (the memory floor of any filter that returns a new array); ``apply_filter`` on a float32
+copy of the recording with ``dtype="float32"`` (float32 read and written, like the baseline)
+and its memory floor (a fresh float32 output plus a copy); the multirate method as it
 was before issue 16 (``benchmarks/_legacy_multirate.py``), in memory and on dask. Also a
 rational (phase) filter offline and causal, the causal one against a bare
 ``scipy.signal.sosfilt`` of the same sections on the same array; ``scipy.signal.filtfilt``
@@ -177,6 +179,8 @@ def throughput(seconds, subset, repeat):
     sos = rational.sos()
     as_float32 = flat.astype(np.float32)
     sensel_major = np.ascontiguousarray(as_float32.T)
+    rec32 = rec.astype(np.float32)
+    apply_filter(rec32.isel(frame=slice(0, 3 * filt.n_taps)), filt, dtype="float32")
 
     def fft_time_axis():
         fft.irfft(fft.rfft(as_float32, axis=0, workers=-1), n=n, axis=0, workers=-1)
@@ -184,11 +188,12 @@ def throughput(seconds, subset, repeat):
     def fft_sensel_major():
         fft.irfft(fft.rfft(sensel_major, axis=-1, workers=-1), n=n, axis=-1, workers=-1)
 
-    def fresh_copy():  # what any float64 -> new float64 output costs (page faults + copy)
-        out = np.empty_like(data)
-        out[...] = data
+    def fresh_copy(x=data):  # what any float64 -> new float64 output costs (faults + copy)
+        out = np.empty_like(x)
+        out[...] = x
 
     one_chunk, chunks = rec.chunk({"frame": 65536}), rec.chunk({"frame": 8192})
+    chunks32 = rec32.chunk({"frame": 8192})
     held = chunks.persist()  # a dask array already in memory: its chunks are not re-cut
     baseline = "float32 rfft + irfft of the (time, sensels) array along time [baseline]"
     runs = {
@@ -196,6 +201,10 @@ def throughput(seconds, subset, repeat):
         "float32 rfft + irfft of a sensel-major copy (contiguous lines)": fft_sensel_major,
         "fresh float64 output + copy (memory floor)": fresh_copy,
         "apply_filter (multirate)": lambda: apply_filter(rec, filt),
+        "fresh float32 output + copy of a float32 recording (its memory floor)":
+            lambda: fresh_copy(as_float32),
+        "apply_filter, float32 recording, dtype='float32' (float32 in and out)":
+            lambda: apply_filter(rec32, filt, dtype="float32"),
         "multirate before issue 16 (_legacy_multirate.py)":
             lambda: legacy.apply_multirate(flat, plan, 2, None, "single"),
         "apply_filter on dask, 65536-frame chunks, .compute()":
@@ -204,6 +213,8 @@ def throughput(seconds, subset, repeat):
             lambda: legacy.legacy_apply_dask(one_chunk.data, filt).compute(),
         "apply_filter on dask, 8192-frame chunks, .compute()":
             lambda: apply_filter(chunks, filt).compute(),
+        "apply_filter on dask, 8192-frame chunks, float32 in and out, .compute()":
+            lambda: apply_filter(chunks32, filt, dtype="float32").compute(),
         "apply_filter on dask, 8192-frame chunks, .persist() (no final concatenation)":
             lambda: apply_filter(chunks, filt).persist(),
         "apply_filter on dask, 8192-frame chunks held in memory (persisted), .compute()":
@@ -222,7 +233,11 @@ def throughput(seconds, subset, repeat):
     _report(times, samples, baseline, usage)
     new, old = times["apply_filter (multirate)"], times[
         "multirate before issue 16 (_legacy_multirate.py)"]
+    narrow = times["apply_filter, float32 recording, dtype='float32' (float32 in and out)"]
+    lazy32 = times["apply_filter on dask, 8192-frame chunks, float32 in and out, .compute()"]
     print(f"run by run (same round): new / baseline speed {np.round(times[baseline] / new, 2)}, "
+          f"float32 in and out / baseline {np.round(times[baseline] / narrow, 2)}, "
+          f"in-memory / dask (8192), float32 in and out {np.round(narrow / lazy32, 2)}, "
           f"new / before {np.round(old / new, 2)}, in-memory / dask (65536) "
           f"{np.round(new / times['apply_filter on dask, 65536-frame chunks, .compute()'], 2)}, "
           f"in-memory / dask (8192) "
@@ -238,6 +253,8 @@ def throughput(seconds, subset, repeat):
         "double precision": apply_filter(rec, filt, precision="double").values.reshape(n, -1),
         "method='direct'": apply_filter(rec, filt, method="direct").values.reshape(n, -1),
     }
+    checks["float32 in and out"] = apply_filter(rec32, filt, dtype="float32").values.reshape(
+        n, -1)
     print("max |apply_filter - x| / the largest sensel's dynamic range: " + ", ".join(
         f"{name} {np.abs(out - other).max() / span:.1e}" for name, other in checks.items()))
     x = flat[:, :subset].T.copy()
@@ -257,11 +274,12 @@ def scaling(frames, chunk_list, repeat):
     """The filter's rows of the scaling table: each size in its own interleaved rounds.
 
     Per size: the float32 whole-record ``rfft`` + ``irfft`` baseline, ``apply_filter`` in
-    memory, and on dask (threaded scheduler) in each of ``chunk_list``'s chunk sizes with
-    ``.compute()`` (dask concatenates the chunks into a new array) and, for the first
-    size shorter than the record, ``.persist()`` (the chunks stay apart) and ``.compute()``
-    of chunks already in memory (``rec.chunk()`` of a NumPy array otherwise cuts and copies
-    every chunk inside the timed call: 0.66 s more system time at 131 072 frames). Best of
+    memory (and on a float32 copy with ``dtype="float32"``), and on dask (threaded
+    scheduler) in each of ``chunk_list``'s chunk sizes with ``.compute()`` (dask
+    concatenates the chunks into a new array) and, for the first size shorter than the
+    record, ``.persist()`` (the chunks stay apart) and ``.compute()`` of chunks already in
+    memory (``rec.chunk()`` of a NumPy array otherwise cuts and copies every chunk inside
+    the timed call: 0.66 s more system time at 131 072 frames). Best of
     ``repeat`` rounds; the ratios are of best times, and run by run (same round) in
     brackets.
     """
@@ -274,11 +292,14 @@ def scaling(frames, chunk_list, repeat):
         rec = _recording(n / 4000.0)
         apply_filter(rec.isel(frame=slice(0, 3 * filt.n_taps)), filt)  # numba (cached)
         as_float32 = rec.values.reshape(n, -1).astype(np.float32)
+        rec32 = rec.astype(np.float32)
 
         def fft_time_axis(x=as_float32, n=n):
             fft.irfft(fft.rfft(x, axis=0, workers=-1), n=n, axis=0, workers=-1)
 
-        runs = {"rfft + irfft": fft_time_axis, "in memory": lambda rec=rec: apply_filter(rec, filt)}
+        runs = {"rfft + irfft": fft_time_axis, "in memory": lambda rec=rec: apply_filter(rec, filt),
+                "in memory, float32 in and out":
+                    lambda rec=rec32: apply_filter(rec, filt, dtype="float32")}
         shorter = [size for size in chunk_list if size < n]
         for size in shorter:
             chunked = rec.chunk({"frame": size})
@@ -300,7 +321,7 @@ def scaling(frames, chunk_list, repeat):
                   f"{base.min() / t.min():.2f}x the baseline {np.round(base / t, 2)}; "
                   f"{memory.min() / t.min():.2f}x in memory {np.round(memory / t, 2)}")
             print(f"      {_usage_line(usage[name])}")
-        del rec, as_float32, runs
+        del rec, rec32, as_float32, runs
 
 
 def cluster(seconds, repeat, chunk_frames, malloc_trim=True):
@@ -453,19 +474,21 @@ def stages(seconds, repeat):
     from tactilecal.dynamic._multirate import apply_multirate, plan_multirate
 
     fs_hz = 4000.0
-    x2d = _recording(seconds, fs_hz).values.reshape(int(seconds * fs_hz), -1)
-    n = x2d.shape[0]
+    x64 = _recording(seconds, fs_hz).values.reshape(int(seconds * fs_hz), -1)
+    n = x64.shape[0]
     filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=fs_hz, band_hz=(1, 140))
     plan = plan_multirate(filt)
-    apply_multirate(x2d[:3 * filt.n_taps], plan, 2, None, "single")  # numba compiles (cached)
     print(f"== multirate stages, 1936 sensels x {n} frames, P = {plan.factor} ==")
-    for run in range(repeat):
-        timings, before = {}, _page_faults()
-        apply_multirate(x2d, plan, 2, None, "single", timings=timings)
-        after = _page_faults()
-        faults = "" if before is None else f", {int(after) - int(before)} page faults"
-        print(f"run {run + 1}: " + ", ".join(f"{k} {v:.3f} s" for k, v in timings.items())
-              + faults)
+    for x2d in (x64, x64.astype(np.float32)):
+        name = f"{x2d.dtype} in and out"
+        apply_multirate(x2d[:3 * filt.n_taps], plan, 2, None, "single", dtype=x2d.dtype)  # numba
+        for run in range(repeat):
+            timings, before = {}, _page_faults()
+            apply_multirate(x2d, plan, 2, None, "single", timings=timings, dtype=x2d.dtype)
+            after = _page_faults()
+            faults = "" if before is None else f", {int(after) - int(before)} page faults"
+            print(f"{name}, run {run + 1}: " + ", ".join(f"{k} {v:.3f} s" for k, v in
+                                                          timings.items()) + faults)
 
 
 def main():

@@ -90,6 +90,44 @@ def test_float32_recordings_are_filtered_as_they_are():
                                atol=1e-8 * np.ptp(x))  # margins reflected in float32: 2.4e-10
 
 
+CAUSAL = CorrectionFilter("rational", {"order": 1}, FS_HZ, (1, 40), rational=VISCO)
+#: (filter, apply_filter options, dask chunks or None): every path that makes an output.
+PATHS = {
+    "multirate": (FILTERS["log"], {}, None),
+    "multirate, double": (FILTERS["rational"], {"precision": "double"}, None),
+    "direct": (FILTERS["log"], {"method": "direct"}, None),
+    "dask multirate": (FILTERS["rational"], {}, {"frame": 700, "row": 1}),
+    "dask one time chunk": (FILTERS["log"], {}, {"frame": -1, "col": 2}),
+    "dask direct": (FILTERS["log"], {"method": "direct"}, {"frame": 1500}),
+    "causal": (CAUSAL, {"causal": True}, None),
+    "dask causal": (CAUSAL, {"causal": True}, {"frame": 333}),
+}
+
+
+@pytest.mark.parametrize("source", [np.float64, np.float32])
+@pytest.mark.parametrize("path", sorted(PATHS))
+def test_float32_output_is_the_float64_result_rounded(path, source):
+    filt, options, chunks = PATHS[path]
+    x = _walk(3001, (2, 3), seed=9, offset=100.0).astype(source)
+    rec = _record(x) if chunks is None else _record(x).chunk(chunks)
+    wide = apply_filter(rec, filt, **options)
+    narrow = apply_filter(rec, filt, dtype="float32", **options)
+    assert wide.dtype == np.float64 and narrow.dtype == np.float32
+    assert (narrow.chunks is None) == (chunks is None)
+    values = narrow.values
+    assert values.dtype == np.float32
+    # only the final rounding differs (at most half a float32 step; allowed: 2 steps)
+    step = np.spacing(np.float32(np.abs(wide.values).max()))
+    np.testing.assert_allclose(values, wide.values, rtol=0, atol=2 * step)
+
+
+@pytest.mark.parametrize("dtype", ["float16", "int32", "complex64", "pressure", 3])
+def test_an_output_type_other_than_float64_or_float32_is_refused(dtype):
+    rec = _record(_walk(3001, (2,), seed=10))
+    with pytest.raises(ValueError, match=r"dtype=.*expected 'float64' or 'float32'"):
+        apply_filter(rec, FILTERS["log"], dtype=dtype)
+
+
 @pytest.mark.parametrize("chunks", [{"frame": 7}, {"frame": 703}, {"frame": 1999, "row": 1},
                                     {"frame": 2500, "col": 2}])
 @pytest.mark.parametrize("name", sorted(FILTERS))

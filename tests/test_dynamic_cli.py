@@ -73,7 +73,7 @@ def test_apply_csv_keeps_columns(files, filter_json, assert_names_by_bytes):
     assert after["Force (N)"].std() > before["Force (N)"].std()  # dynamic part restored
     side = json.loads((files["d"] / "corrected.provenance.json").read_text())
     assert_names_by_bytes(side, [files["blind_sensor"]])
-    assert side["options"] == {"method": "auto", "causal": False}
+    assert side["options"] == {"method": "auto", "causal": False, "dtype": "float64"}
     assert side["dynamic_filter"]["A"] == json.loads(filter_json.read_text())["A"]
 
 
@@ -94,7 +94,24 @@ def test_apply_netcdf_every_sensel(files, filter_json, assert_names_by_bytes):
     assert "dynamic_filter" in back.attrs
     prov = json.loads(back.attrs["provenance"])
     assert_names_by_bytes(prov, [src])
-    assert prov["options"] == {"method": "auto", "causal": False, "chunk_frames": 5000}
+    assert prov["options"] == {"method": "auto", "causal": False, "chunk_frames": 5000,
+                               "dtype": "float64"}
+
+
+def test_apply_netcdf_as_float32(files, filter_json):
+    rec = sensel_matrix(files["sweep"], shape=(2, 3))
+    src = files["d"] / "rec32.nc"
+    write_netcdf(rec, src)
+    outs = {dtype: files["d"] / f"rec_dyn_{dtype}.nc" for dtype in ("float64", "float32")}
+    for dtype, out in outs.items():
+        assert main(["-q", "dynamic", "apply", str(filter_json), str(src), "--out", str(out),
+                     "--chunk-frames", "5000", "--dtype", dtype]) == 0
+    wide, narrow = read_netcdf(outs["float64"]), read_netcdf(outs["float32"])
+    assert wide.dtype == np.float64 and narrow.dtype == np.float32
+    assert outs["float32"].stat().st_size < 0.75 * outs["float64"].stat().st_size
+    step = np.spacing(np.float32(np.abs(wide.values).max()))
+    np.testing.assert_allclose(narrow.values, wide.values, rtol=0, atol=2 * step)  # rounding
+    assert json.loads(narrow.attrs["provenance"])["options"]["dtype"] == "float32"
 
 
 def test_fit_sums_a_recording(files, tmp_path):

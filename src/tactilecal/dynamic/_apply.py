@@ -56,6 +56,8 @@ BLOCK_SENSELS = 32
 #: Relative mismatch allowed between the record's rate and the filter's ``fs_hz``.
 RATE_TOLERANCE = 0.005
 METHODS = ("auto", "direct")
+#: Floating types the result can be returned in (``apply_filter(dtype=...)``).
+OUTPUT_TYPES = (np.dtype(np.float64), np.dtype(np.float32))
 
 
 def _filter_lines(block, filt, precision="single"):
@@ -86,8 +88,8 @@ def _plan(filt, n_frames, method):
     return plan if plan is not None and plan.reach + plan.factor < n_frames else None
 
 
-def _apply_array(x2d, filt, workers, progress, precision, method, where=None):
-    """Filter a ``(time, sensels)`` array in memory with the chosen method; float64 out.
+def _apply_array(x2d, filt, workers, progress, precision, method, where=None, dtype=float):
+    """Filter a ``(time, sensels)`` array in memory with the chosen method; ``dtype`` out.
 
     With ``where`` (the record's name), sensels with NaN gaps raise a ValueError. The
     multirate method reads float32 and float64 as they are; other types are converted.
@@ -98,11 +100,11 @@ def _apply_array(x2d, filt, workers, progress, precision, method, where=None):
         x2d = np.asarray(x2d, dtype=float)
         if where is not None:
             _check_nan_gaps(x2d, where, _nan_sensels(x2d.sum(axis=0)))
-        return _apply_numpy(x2d, filt, threads, progress, precision)
+        return _apply_numpy(x2d, filt, threads, progress, precision, dtype)
     x2d = _native(x2d)
     check = None if where is None else (
         lambda sums: _check_nan_gaps(x2d, where, _nan_sensels(sums)))
-    return apply_multirate(x2d, plan, threads, progress, precision, check)
+    return apply_multirate(x2d, plan, threads, progress, precision, check, dtype=dtype)
 
 
 def _native(x):
@@ -111,7 +113,7 @@ def _native(x):
     return np.ascontiguousarray(x, dtype=dtype)
 
 
-def _chunk(block, filt, precision, method, workers=1):
+def _chunk(block, filt, precision, method, workers=1, dtype=float):
     """Filter one dask chunk (with its overlap) in memory (direct method, or a whole record).
 
     Rows within the method's reach of the chunk's ends see the reflection of the chunk, not
@@ -120,7 +122,8 @@ def _chunk(block, filt, precision, method, workers=1):
     each of them would oversubscribe the cores), -1 for an array of one chunk.
     """
     x2d = np.asarray(block).reshape(block.shape[0], -1)
-    return _apply_array(x2d, filt, workers, None, precision, method).reshape(block.shape)
+    return _apply_array(x2d, filt, workers, None, precision, method,
+                        dtype=dtype).reshape(block.shape)
 
 
 def _extended_rows(x, start, stop, half):
@@ -139,13 +142,13 @@ def _extended_rows(x, start, stop, half):
     return ext
 
 
-def _apply_numpy(x2d, filt, threads, progress, precision):
+def _apply_numpy(x2d, filt, threads, progress, precision, dtype=float):
     """Overlap-save over (time, sensel) blocks, blocks spread over ``threads`` threads."""
     half = filt.n_taps // 2
     n, m = x2d.shape
     n_fft = fft.next_fast_len(max(min(BLOCK_FRAMES, n + 2 * half), 4 * filt.n_taps), real=True)
     step = n_fft - 2 * half
-    out = np.empty_like(x2d)
+    out = np.empty(x2d.shape, dtype=dtype)
 
     def run(t0, s0):
         t1, s1 = min(t0 + step, n), min(s0 + BLOCK_SENSELS, m)
@@ -169,7 +172,7 @@ def _aligned_chunks(total, size, minimum):
     return tuple(chunks)
 
 
-def _apply_dask(arr, filt, precision, method):
+def _apply_dask(arr, filt, precision, method, dtype=float):
     """Lazy filtering of a dask array, time along axis 0 (see the module notes).
 
     A record in one time chunk is filtered in memory chunk by chunk of sensels; the
@@ -183,23 +186,25 @@ def _apply_dask(arr, filt, precision, method):
     plan = _plan(filt, arr.shape[0], method)
     if arr.dtype not in (np.float32, np.float64):
         arr = arr.astype(float)
+    def chunk(a):  # its threads: one per core for an array of one chunk (after rechunking)
+        return functools.partial(_chunk, filt=filt, precision=precision, dtype=dtype,
+                                 workers=-1 if a.npartitions == 1 else 1)
+
     if len(arr.chunks[0]) == 1:
-        return arr.map_blocks(_chunk, dtype=float, filt=filt, precision=precision,
-                              method=method, workers=-1 if arr.npartitions == 1 else 1)
+        return arr.map_blocks(chunk(arr), dtype=dtype, method=method)
     if plan is not None:
         minimum = plan.factor * (plan.correction.size // 2 + 1)  # stage 2's reach, frames
         if min(arr.chunks[0][:-1]) < minimum:  # else its windows span many chunks
             size = max(minimum, arr.chunks[0][0])
             arr = arr.rechunk({0: _aligned_chunks(arr.shape[0], size, minimum)})
-        return _multirate_dask(arr, plan, precision)
+        return _multirate_dask(arr, plan, precision, dtype)
     depth = filt.n_taps // 2
     if min(arr.chunks[0]) < depth:
         size = max(4 * filt.n_taps, arr.chunks[0][0], depth)
         arr = arr.rechunk({0: _aligned_chunks(arr.shape[0], size, depth)})
-    return da.map_overlap(_chunk, arr, depth={0: depth} | {axis: 0 for axis in range(1, arr.ndim)},
-                          boundary="none", trim=True, dtype=float, filt=filt,
-                          precision=precision, method="direct",
-                          workers=-1 if arr.npartitions == 1 else 1)
+    depths = {0: depth} | {axis: 0 for axis in range(1, arr.ndim)}
+    return da.map_overlap(chunk(arr), arr, depth=depths, boundary="none", trim=True,
+                          dtype=dtype, method="direct")
 
 
 def _dask_array(name, layer, chunks, dtype, dependencies):
@@ -315,7 +320,8 @@ def _correct_interpolate_task(rows, *pieces, spec):
         end += piece.shape[-1]
     window[:, end:] = 0
     corrected = correct(window, plan, n_out, out=window)
-    return interpolate(_flat(rows), corrected, plan, spec["offset"]).reshape(rows.shape)
+    return interpolate(_flat(rows), corrected, plan, spec["offset"],
+                       dtype=spec["dtype"]).reshape(rows.shape)
 
 
 def _owned(n, bounds, plan):
@@ -345,7 +351,7 @@ def _sensel_blocks(arr):
     return list(itertools.product(*[range(len(c)) for c in arr.chunks[1:]]))
 
 
-def _multirate_dask(arr, plan, precision):
+def _multirate_dask(arr, plan, precision, dtype=float):
     """Run the multirate method on a dask array with several time chunks (time first).
 
     Stage 1 per chunk (with the ``c``-odd rows around it, or the reflection at the record's
@@ -362,7 +368,7 @@ def _multirate_dask(arr, plan, precision):
     n, c, half = arr.shape[0], plan.lowpass.size // 2, plan.correction.size // 2
     bounds = [int(b) for b in np.r_[0, np.cumsum(arr.chunks[0])]]
     owned = _owned(n, bounds, plan)
-    token = tokenize(arr, plan.lowpass, plan.correction, precision)
+    token = tokenize(arr, plan.lowpass, plan.correction, precision, dtype)
     ref, sensels, n_chunks = _first_row(arr), _sensel_blocks(arr), len(bounds) - 1
     real = PRECISIONS[precision]
     name = f"tactilecal-decimate-{token}"
@@ -391,13 +397,13 @@ def _multirate_dask(arr, plan, precision):
     for i in range(n_chunks):
         layout = BlockLayout.of(plan, bounds[i], bounds[i + 1] - bounds[i])
         start = bounds[i] // plan.factor - layout.q_half - half - owned[0]
-        spec = {"plan": plan, "offset": bounds[i], "n_out": layout.corrected}
+        spec = {"plan": plan, "offset": bounds[i], "n_out": layout.corrected, "dtype": dtype}
         for j in sensels:
             keys = _pieces(tasks, (f"{name}-window", i, *j), lines, lambda k, j=j: (*j, k),
                            edges, -1, start, start + layout.decimated)
             tasks[(name, i, *j)] = (functools.partial(_correct_interpolate_task, spec=spec),
                                     (arr.name, i, *j), *keys)
-    return _dask_array(name, tasks, arr.chunks, float, [arr, lines])
+    return _dask_array(name, tasks, arr.chunks, dtype, [arr, lines])
 
 
 @njit(nogil=True, fastmath={"contract"})
@@ -431,14 +437,14 @@ def _sosfilt_rows(sos, rows, first, state, s0, s1, out):  # pragma: no cover
             y_row[s0 + s] = x[s] + first[s0 + s]
 
 
-def _causal_block(rows, first, state, sos, workers=1):
+def _causal_block(rows, first, state, sos, workers=1, dtype=float):
     """Filter ``rows`` (time first) causally from ``state``; return ``(out, state)``."""
     shape = rows.shape
     rows = _flat(rows)
     m = rows.shape[1]
     first = np.asarray(first, dtype=float).reshape(m)
     state = np.zeros((sos.shape[0], 2, m)) if state is None else state.copy()
-    out = np.empty(rows.shape, dtype=float)
+    out = np.empty(rows.shape, dtype=dtype)
     threads = (os.cpu_count() or 1) if workers == -1 else max(int(workers), 1)
     step = max(-(-m // threads), 256)
     run_tasks([lambda a=a: _sosfilt_rows(sos, rows, first, state, a, min(a + step, m), out)
@@ -446,7 +452,7 @@ def _causal_block(rows, first, state, sos, workers=1):
     return out.reshape(shape), state
 
 
-def _apply_causal(data, filt, workers=-1):
+def _apply_causal(data, filt, workers=-1, dtype=float):
     """Filter ``data`` with the causal inverse (second-order sections), time first.
 
     Each sensel's first value is removed before and added back after, so the filter starts
@@ -457,14 +463,14 @@ def _apply_causal(data, filt, workers=-1):
     sos = filt.sos()
     if data.chunks is None:
         x = data.values
-        return _causal_block(x, x[0], None, sos, workers=workers)[0]
+        return _causal_block(x, x[0], None, sos, workers=workers, dtype=dtype)[0]
     arr = data.data
     if arr.dtype not in (np.float32, np.float64):
         arr = arr.astype(float)
-    return _causal_dask(arr, sos)
+    return _causal_dask(arr, sos, dtype)
 
 
-def _causal_dask(arr, sos):
+def _causal_dask(arr, sos, dtype=float):
     """Filter a dask array causally: chunk ``(i, J)`` starts from ``(i - 1, J)``'s state.
 
     Each chunk's task returns ``(out, state)``; the next chunk depends on the state alone
@@ -475,23 +481,24 @@ def _causal_dask(arr, sos):
 
     from dask.base import tokenize
 
-    token = f"tactilecal-causal-{tokenize(arr, sos)}"
+    token = f"tactilecal-causal-{tokenize(arr, sos, dtype)}"
     first = _first_row(arr)
     layer = {}
     for j in _sensel_blocks(arr):
         state = None
         for i in range(len(arr.chunks[0])):
             run = (token + "-run", i, *j)
-            layer[run] = (_causal_task, sos, (arr.name, i, *j), (first.name, 0, *j), state)
+            layer[run] = (_causal_task, sos, (arr.name, i, *j), (first.name, 0, *j), state,
+                          dtype)
             layer[(token, i, *j)] = (operator.getitem, run, 0)
             state = (token + "-state", i, *j)
             layer[state] = (operator.getitem, run, 1)
-    return _dask_array(token, layer, arr.chunks, float, [arr, first])
+    return _dask_array(token, layer, arr.chunks, dtype, [arr, first])
 
 
-def _causal_task(sos, rows, first, state):
+def _causal_task(sos, rows, first, state, dtype):
     """Task body of :func:`_causal_dask`: ``(out, state)`` from the previous chunk's state."""
-    return _causal_block(rows, first[0], state, sos)
+    return _causal_block(rows, first[0], state, sos, dtype=dtype)
 
 
 def _nan_sensels(sums):
@@ -513,8 +520,19 @@ def _check_nan_gaps(x2d, where, suspects):
                          "sensels (all-NaN sensels outside the sensor shape are fine)")
 
 
+def _output_type(dtype):
+    """``dtype`` as a NumPy float64 or float32 type, else a ValueError naming it."""
+    try:
+        out = np.dtype(dtype)
+    except (TypeError, ValueError):
+        out = None  # compared with a dtype, None means float64: test it first
+    if out is None or out not in OUTPUT_TYPES:
+        raise ValueError(f"dtype={dtype!r}; expected 'float64' or 'float32'")
+    return out
+
+
 def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
-                 method="auto", causal=False):
+                 method="auto", causal=False, dtype="float64"):
     """Correct a record or every sensel of a recording with a dynamic filter.
 
     Implements the application of the digital filter of Gillis (2013), section 4.3.3, to
@@ -534,7 +552,7 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
         before the FFT and added back after it, so the rounding is relative to the dynamic
         part: differences from ``"double"`` measured at most 7e-7 of the record's range
         (RMS 4e-8) on the thesis sweep, far below an 8-bit sensel's resolution (1/255).
-        The result is float64 either way.
+        The result's type is ``dtype`` either way.
     workers : int
         Threads over the blocks of in-memory data (-1: one per core).
     progress : callable, optional
@@ -554,6 +572,12 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
         above the band like every filter, so noise above the band is not amplified, through
         the same multirate and dask paths). Zero-phase (log) and ``wiener`` filters have no
         causal form.
+    dtype : {"float64", "float32"}
+        Type of the result (default float64). ``"float32"`` halves the result's memory
+        and, for a float32 recording, the bytes written: the fastest path for long
+        recordings (``benchmarks/bench_dynamic.py``). It rounds each value to float32
+        (relative 6e-8 of the value, offset included: for an 8-bit sensel a ten-thousandth
+        of a count); a float32 recording is filtered in float32 already.
 
     Returns
     -------
@@ -565,7 +589,8 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
     ------
     ValueError
         Sampling rate not that of the filter, a record shorter than the filter, NaN gaps
-        inside a sensel (NumPy-backed data only; dask data is not scanned).
+        inside a sensel (NumPy-backed data only; dask data is not scanned), a ``dtype``
+        other than float64 or float32.
 
     Examples
     --------
@@ -588,6 +613,7 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
         raise ValueError(f"precision={precision!r}; expected 'single' or 'double'")
     if method not in METHODS:
         raise ValueError(f"method={method!r}; expected 'auto' or 'direct'")
+    dtype = _output_type(dtype)
     if "time" not in data.coords or data["time"].dims != data.dims[:1]:
         raise ValueError(f"{where}: expected a 'time' coordinate (s) along the first "
                          f"dimension; found dims {data.dims}")
@@ -602,12 +628,12 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
                          f"s); expected at least the filter length {filt.n_taps} frames "
                          f"({filt.length_s:.3g} s)")
     if causal:  # filt.sos() raises first for a filter with no causal form
-        values = _apply_causal(data, filt, workers)
+        values = _apply_causal(data, filt, workers, dtype)
     elif data.chunks is not None:
-        values = _apply_dask(data.data, filt, precision, method)
+        values = _apply_dask(data.data, filt, precision, method, dtype)
     else:
         x2d = data.values.reshape(data.shape[0], -1)
-        values = _apply_array(x2d, filt, workers, progress, precision, method, where)
+        values = _apply_array(x2d, filt, workers, progress, precision, method, where, dtype)
         values = values.reshape(data.shape)
     out = xr.DataArray(values, dims=data.dims, coords=data.coords, name=data.name,
                        attrs={**data.attrs, "dynamic_filter": dumps(filt.to_dict(),

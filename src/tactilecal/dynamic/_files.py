@@ -19,7 +19,8 @@ from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_
 __all__ = ["filter_recording", "filter_timeseries_csv", "write_evaluation"]
 
 
-def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progress=None):
+def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progress=None,
+                          dtype="float64"):
     """Filter every numeric value column of a time-series CSV; write the same columns.
 
     Parameters
@@ -32,7 +33,7 @@ def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progr
         Output CSV, written atomically: the input's columns, the numeric value columns
         filtered along time, numbers with 10 significant digits. Its provenance (input
         file with SHA-256, the filter, package version) goes to ``OUT.provenance.json``.
-    method, causal, progress
+    method, causal, progress, dtype
         As in :func:`apply_filter`.
 
     Returns
@@ -53,17 +54,19 @@ def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progr
                   if c != time_col and pd.api.types.is_numeric_dtype(table[c])]
     data = xr.DataArray(table[value_cols].to_numpy(float), dims=("time", "column"),
                         coords={"time": series["time"].values}, attrs={"source": str(path)})
-    filtered = apply_filter(data, filt, progress=progress, method=method, causal=causal)
+    filtered = apply_filter(data, filt, progress=progress, method=method, causal=causal,
+                            dtype=dtype)
     table[value_cols] = np.asarray(filtered.values)
     with atomic_path(out) as tmp:
         table.to_csv(tmp, index=False, float_format="%.10g")
-    write_sidecar(out, {**provenance_of([series], options={"method": method, "causal": causal}),
+    options = {"method": method, "causal": causal, "dtype": str(filtered.dtype)}
+    write_sidecar(out, {**provenance_of([series], options=options),
                         "dynamic_filter": filt.to_dict()})
     return len(value_cols), len(table)
 
 
 def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=False,
-                     progress=None):
+                     progress=None, dtype="float64"):
     """Filter every sensel of a recording along time (lazily, by chunks, for NetCDF).
 
     Parameters
@@ -75,8 +78,8 @@ def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=Fa
         ``chunk_frames`` frames, so a recording larger than memory streams through).
     chunk_frames : int
         Frames per chunk for NetCDF.
-    method, causal, progress
-        As in :func:`apply_filter`.
+    method, causal, progress, dtype
+        As in :func:`apply_filter` (``dtype="float32"`` halves the output's size).
 
     Returns
     -------
@@ -92,8 +95,9 @@ def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=Fa
     data = open_recording(path, chunks=chunk_frames if lazy else None)
     if lazy and data.dims and data.dims[0] in data.chunksizes:
         data = data.chunk({data.dims[0]: chunk_frames})
-    out = apply_filter(data, filt, progress=progress, method=method, causal=causal)
-    options = {"method": method, "causal": causal, "chunk_frames": chunk_frames}
+    out = apply_filter(data, filt, progress=progress, method=method, causal=causal, dtype=dtype)
+    options = {"method": method, "causal": causal, "chunk_frames": chunk_frames,
+               "dtype": str(out.dtype)}
     out.attrs["provenance"] = provenance_attr(provenance_of([data], options=options))
     return out
 

@@ -475,14 +475,14 @@ def correct(lines, plan, n_out, *, workers=1, out=None):
     return out[:, :n_out]
 
 
-def interpolate(rows, corrected, plan, offset, *, workers=1, progress=None):
-    """Stage 3: ``rows + P (h * up(corrected))`` as float64 (see :class:`BlockLayout`).
+def interpolate(rows, corrected, plan, offset, *, workers=1, progress=None, dtype=float):
+    """Stage 3: ``rows + P (h * up(corrected))`` as ``dtype`` (see :class:`BlockLayout`).
 
     ``corrected`` is sensel-major, its column 0 the corrected sample ``q_half`` grid points
     before the block's first one; ``offset`` is the block's first frame modulo ``P``.
     """
     n, m = rows.shape
-    out = np.empty((n, m), dtype=float)
+    out = np.empty((n, m), dtype=dtype)
     weights = plan.polyphase(corrected.dtype)
     threads = _threads(workers)
     size = FRAMES_PER_TASK if threads > 1 or progress else n  # one call: its buffers once
@@ -493,7 +493,7 @@ def interpolate(rows, corrected, plan, offset, *, workers=1, progress=None):
 
 
 def filter_block(before, rows, after, offset, plan, *, precision="single", workers=1,
-                 progress=None, check=None, timings=None):
+                 progress=None, check=None, timings=None, dtype=float):
     """Return ``x + c`` for the frames ``rows`` (time first, 2-D), see the module notes.
 
     Parameters
@@ -518,11 +518,13 @@ def filter_block(before, rows, after, offset, plan, *, precision="single", worke
         sensel has a NaN anywhere) before the FFTs.
     timings : dict, optional
         Receives the seconds of each stage.
+    dtype : numpy.dtype
+        Type of the result (float64 or float32).
 
     Returns
     -------
     numpy.ndarray
-        ``(frames, sensels)`` float64.
+        ``(frames, sensels)`` of type ``dtype``.
     """
     layout = BlockLayout.of(plan, offset, rows.shape[0])
     need_before, need_after = layout.margins
@@ -546,15 +548,17 @@ def filter_block(before, rows, after, offset, plan, *, precision="single", worke
         check(sums)
     corrected = correct(lines, plan, layout.corrected, workers=workers, out=lines)
     lap("correct")
-    out = interpolate(rows, corrected, plan, layout.offset, workers=workers, progress=progress)
+    out = interpolate(rows, corrected, plan, layout.offset, workers=workers, progress=progress,
+                      dtype=dtype)
     lap("interpolate into the new output")
     return out
 
 
-def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings=None):
+def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings=None,
+                    dtype=float):
     """Return ``x + c`` for ``x2d`` (time, sensels); see the module notes.
 
-    ``x2d`` float32 or float64 (the result is float64). ``precision`` ("single" or
+    ``x2d`` float32 or float64 (the result is ``dtype``). ``precision`` ("single" or
     "double") is the type of the decimated record and its FFTs. ``progress`` wraps the
     tasks of stage 3 (the last and longest). ``check(sums)``, if given, sees each sensel's
     sum over the decimated record before stage 2: a NaN anywhere in a sensel's record
@@ -564,4 +568,4 @@ def apply_multirate(x2d, plan, workers, progress, precision, check=None, timings
     """
     x2d = np.ascontiguousarray(x2d)  # the kernels stream whole rows
     return filter_block(None, x2d, None, 0, plan, precision=precision, workers=workers,
-                        progress=progress, check=check, timings=timings)
+                        progress=progress, check=check, timings=timings, dtype=dtype)
