@@ -33,7 +33,7 @@ def _traced(stored, source):
     """Check the output names the export it came from by its bytes; return it without that."""
     prov = json.loads(stored.attrs.pop("provenance"))
     assert prov["inputs"][0]["sha256"] == hashlib.sha256(source.read_bytes()).hexdigest()
-    assert set(prov["options"]) == {"chunks"}
+    assert set(prov["options"]) == {"chunks", "dtype"}
     return stored
 
 
@@ -84,9 +84,38 @@ def test_existing_store_is_replaced(tmp_path):
 def test_cli_converts_and_says_what_it_wrote(tmp_path, capsys):
     source = _export(tmp_path)
     assert main(["convert", str(source), str(tmp_path / "out.zarr"), "--chunks", "4"]) == 0
-    assert "30 frames of 4 x 6 sensels in blocks of 4 frames" in capsys.readouterr().err
+    assert "30 frames of 4 x 6 sensels (float64) in blocks of 4 frames" in capsys.readouterr().err
     with _open_zarr(tmp_path / "out.zarr") as stored:
         assert stored.encoding["chunks"] == (4, 4, 6) and stored.shape == (30, 4, 6)
+
+
+@pytest.mark.parametrize("suffix", [".zarr", ".nc"])
+def test_float32_store_holds_raw_readings_and_nan_exactly(tmp_path, suffix):
+    source = _export(tmp_path, n=200, rows=8, cols=8)
+    lines = source.read_text().splitlines()
+    for k, line in enumerate(lines[:-1]):
+        if line.startswith("Frame "):  # sensel (0, 0) outside the sensor's shape: NaN
+            lines[k + 1] = ",".join(["B"] + lines[k + 1].split(",")[1:])
+    source.write_text("\n".join(lines) + "\n")
+    wide, narrow = tmp_path / f"wide{suffix}", tmp_path / f"narrow{suffix}"
+    convert(source, wide)
+    assert main(["-q", "convert", str(source), str(narrow), "--dtype", "float32"]) == 0
+    truth = read_tekscan(source)
+    stored = _open_zarr(narrow) if suffix == ".zarr" else read_netcdf(narrow)
+    with stored:
+        assert stored.dtype == np.float32
+        assert np.isnan(stored.values[2, 0, 0]) and np.isnan(truth.values[2, 0, 0])
+        np.testing.assert_array_equal(stored.values, truth.values)  # 0..255 and NaN: exact
+        assert json.loads(stored.attrs["provenance"])["options"]["dtype"] == "float32"
+    if suffix == ".nc":  # uncompressed: half the bytes (Zarr compresses both)
+        assert narrow.stat().st_size < 0.7 * wide.stat().st_size
+
+
+@pytest.mark.parametrize("dtype", ["float16", "int64", "uint8", "raw"])
+def test_a_stored_type_other_than_float64_or_float32_is_refused(tmp_path, dtype):
+    with pytest.raises(ValueError, match=f"dtype='{dtype}'; expected 'float64' or 'float32'"):
+        convert(_export(tmp_path, n=3), tmp_path / "out.zarr", dtype=dtype)
+    assert not (tmp_path / "out.zarr").exists()
 
 
 def _fails(argv, capsys, match):

@@ -18,7 +18,8 @@ import numbers
 import re
 
 __all__ = ["decode_text", "read_text", "check_line_ends", "csv_rows", "parse_number",
-           "check_number", "check_numbers", "check_type", "require_keys", "check_size"]
+           "check_number", "check_numbers", "check_type", "require_keys", "check_size",
+           "float_type"]
 
 _BOMS = ((b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
 
@@ -258,6 +259,23 @@ def check_size(count, where, *, limit=MAX_VALUES):
     if count > limit:
         raise ValueError(f"{where}: {count:.4g} values; expected at most {limit:.4g}")
     return count
+
+
+def float_type(dtype, where="dtype"):
+    """``dtype`` as ``numpy.dtype`` float64 or float32, else a ValueError naming ``where``.
+
+    The types a recording's values may be stored and returned in (``convert(dtype=)``,
+    ``apply_filter(dtype=)``); numpy's own spellings are accepted ("float32", ``np.float32``).
+    """
+    import numpy as np
+
+    try:
+        out = np.dtype(dtype)
+    except (TypeError, ValueError):
+        out = None  # compared with a dtype, None means float64: test it first
+    if out is None or out not in (np.dtype(np.float64), np.dtype(np.float32)):
+        raise ValueError(f"{where}={dtype!r}; expected 'float64' or 'float32'")
+    return out
 
 
 def _line_of(raw, offset):

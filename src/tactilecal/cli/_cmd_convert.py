@@ -19,6 +19,9 @@ def register(subparsers):
     p.add_argument("--chunks", type=positive_int, default=DEFAULT_CHUNK_FRAMES,
                    metavar="FRAMES",
                    help=f"frames per block (default {DEFAULT_CHUNK_FRAMES})")
+    p.add_argument("--dtype", default="float64", choices=["float64", "float32"],
+                   help="type of the stored values (default float64; float32 halves the "
+                        "array and holds raw 8-bit readings exactly)")
     p.set_defaults(func=run)
 
 
@@ -26,8 +29,8 @@ def run(args):
     """Run ``tactilecal convert``."""
     from tactilecal.io import convert
 
-    data = convert(args.recording, args.out, chunks=args.chunks)
+    data = convert(args.recording, args.out, chunks=args.chunks, dtype=args.dtype)
     frames, rows, cols = data.shape
-    info(args, f"wrote {args.out}: {frames} frames of {rows} x {cols} sensels in blocks of "
-               f"{args.chunks} frames")
+    info(args, f"wrote {args.out}: {frames} frames of {rows} x {cols} sensels ({args.dtype}) "
+               f"in blocks of {args.chunks} frames")
     return 0

@@ -33,6 +33,7 @@ import xarray as xr
 from scipy import fft
 
 from tactilecal._numba import njit
+from tactilecal._validate import float_type
 from tactilecal.dynamic._filter import PRECISIONS
 from tactilecal.dynamic._multirate import (
     BlockLayout,
@@ -56,8 +57,6 @@ BLOCK_SENSELS = 32
 #: Relative mismatch allowed between the record's rate and the filter's ``fs_hz``.
 RATE_TOLERANCE = 0.005
 METHODS = ("auto", "direct")
-#: Floating types the result can be returned in (``apply_filter(dtype=...)``).
-OUTPUT_TYPES = (np.dtype(np.float64), np.dtype(np.float32))
 
 
 def _filter_lines(block, filt, precision="single"):
@@ -520,17 +519,6 @@ def _check_nan_gaps(x2d, where, suspects):
                          "sensels (all-NaN sensels outside the sensor shape are fine)")
 
 
-def _output_type(dtype):
-    """``dtype`` as a NumPy float64 or float32 type, else a ValueError naming it."""
-    try:
-        out = np.dtype(dtype)
-    except (TypeError, ValueError):
-        out = None  # compared with a dtype, None means float64: test it first
-    if out is None or out not in OUTPUT_TYPES:
-        raise ValueError(f"dtype={dtype!r}; expected 'float64' or 'float32'")
-    return out
-
-
 def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
                  method="auto", causal=False, dtype="float64"):
     """Correct a record or every sensel of a recording with a dynamic filter.
@@ -613,7 +601,7 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
         raise ValueError(f"precision={precision!r}; expected 'single' or 'double'")
     if method not in METHODS:
         raise ValueError(f"method={method!r}; expected 'auto' or 'direct'")
-    dtype = _output_type(dtype)
+    dtype = float_type(dtype)
     if "time" not in data.coords or data["time"].dims != data.dims[:1]:
         raise ValueError(f"{where}: expected a 'time' coordinate (s) along the first "
                          f"dimension; found dims {data.dims}")

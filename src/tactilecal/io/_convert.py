@@ -8,6 +8,7 @@ from pathlib import Path
 
 from tactilecal._atomic import _running, _umask, dask_tasks_finished
 from tactilecal._provenance import provenance_attr, provenance_of
+from tactilecal._validate import float_type
 from tactilecal.io._netcdf import write_netcdf
 from tactilecal.io._open import is_zarr_store
 from tactilecal.io._tekscan_read import read_tekscan
@@ -20,7 +21,7 @@ DEFAULT_CHUNK_FRAMES = 1000
 _SUFFIXES = (".zarr", ".nc")
 
 
-def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES):
+def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES, dtype="float64"):
     r"""Write a Tekscan export as Zarr or NetCDF without holding it in memory.
 
     The export is indexed once (every structural check of :func:`read_tekscan`), then each
@@ -42,6 +43,12 @@ def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES):
         that name is replaced.
     chunks : int, keyword-only
         Frames per block.
+    dtype : {"float64", "float32"}, keyword-only
+        Type of the stored values (default float64, what :func:`read_tekscan` returns).
+        float32 halves the array (and an uncompressed NetCDF file; a compressed Zarr store
+        shrinks less); it holds raw 8-bit readings and NaN exactly, other values to 7
+        significant digits, and a float32 recording is what
+        ``apply_filter(..., dtype="float32")`` filters fastest.
 
     Returns
     -------
@@ -52,7 +59,8 @@ def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES):
     ------
     ValueError
         ``target`` does not end in ``.zarr`` or ``.nc``, is an existing folder that is no
-        Zarr store, or the export is malformed (the message names the file and line).
+        Zarr store, the export is malformed (the message names the file and line), or
+        ``dtype`` is neither float64 nor float32.
     OSError
         ``target`` cannot be written (the message names it).
 
@@ -67,8 +75,12 @@ def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES):
     [[[1.0, 2.0]], [[3.0, nan]]]
     """
     _check_suffix(target)
+    dtype = float_type(dtype)
     data = read_tekscan(source, chunks=chunks)
-    data.attrs["provenance"] = provenance_attr(provenance_of([data], options={"chunks": chunks}))
+    if data.dtype != dtype:
+        data = data.astype(dtype, keep_attrs=True)
+    options = {"chunks": chunks, "dtype": dtype.name}
+    data.attrs["provenance"] = provenance_attr(provenance_of([data], options=options))
     write_lazy(data, target)
     return data
 
