@@ -1,9 +1,9 @@
 """Benchmark of the dynamic calibration (issues 5 and 16): accuracy on simulated truth, speed.
 
 Run: ``python benchmarks/bench_dynamic.py [--seconds 8] [--seeds 0 1 2] [--skip-accuracy]
-[--skip-throughput] [--stages] [--cluster] [--chunk-frames 8192] [--frames 8192 32768 131072
---chunks 8192 16384 4096]`` (``--frames``: the scaling rows at those record lengths in place
-of the ``--seconds`` throughput, and the cluster at each of them)
+[--skip-throughput] [--stages] [--cluster [--dtype float32]] [--chunk-frames 8192] [--frames
+8192 32768 131072 --chunks 8192 16384 4096]`` (``--frames``: the scaling rows at those record
+lengths in place of the ``--seconds`` throughput, and the cluster at each of them)
 
 Accuracy (Gillis 2013 Table 4.2 sessions from ``tactilecal.simulate``): the full sine sweep
 1..140 Hz (sensor 4000 Hz, load cell 5000 Hz starting ``lag_s`` later, white noise) with a
@@ -324,14 +324,14 @@ def scaling(frames, chunk_list, repeat):
         del rec, rec32, as_float32, runs
 
 
-def cluster(seconds, repeat, chunk_frames, malloc_trim=True):
+def cluster(seconds, repeat, chunk_frames, malloc_trim=True, dtype="float64"):
     import shutil
     import tempfile
     from pathlib import Path
 
     folder = Path(tempfile.mkdtemp(prefix="bench_dynamic_"))
     try:
-        _cluster(seconds, repeat, chunk_frames, folder, malloc_trim)
+        _cluster(seconds, repeat, chunk_frames, folder, malloc_trim, dtype)
     finally:
         shutil.rmtree(folder)
 
@@ -374,7 +374,7 @@ def _cpu_timed(client, runs):
     return {name: wrap(name, fn) for name, fn in runs.items()}, usage
 
 
-def _cluster(seconds, repeat, chunk_frames, folder, malloc_trim=True):
+def _cluster(seconds, repeat, chunk_frames, folder, malloc_trim=True, dtype="float64"):
     import warnings
 
     import dask
@@ -382,18 +382,20 @@ def _cluster(seconds, repeat, chunk_frames, folder, malloc_trim=True):
 
     from tactilecal.io import write_netcdf
 
-    rec = _recording(seconds)
+    rec = _recording(seconds).astype(dtype)
     filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000.0, band_hz=(1, 140))
+    filt_kw = {"dtype": dtype}  # the result's type: the recording's
     nc, zarr_in, zarr_out = folder / "rec.nc", folder / "rec.zarr", folder / "out.zarr"
     write_netcdf(rec, nc)
     rec.to_dataset(name="x").to_zarr(zarr_in, mode="w", consolidated=False, encoding={
         "x": {"compressors": None, "chunks": (chunk_frames, 44, 44)}})
-    memory = apply_filter(rec, filt).values
+    memory = apply_filter(rec, filt, **filt_kw).values
     environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ"))
     if not malloc_trim:  # distributed's default returns freed memory to the system at once
         environ.pop("MALLOC_TRIM_THRESHOLD_", None)
     print(f"== dask.distributed: LocalCluster, 2 worker processes x 1 thread; {rec.size / 1e6:.1f} "
-          f"M samples read by the workers in {chunk_frames}-frame chunks from {folder} "
+          f"M {dtype} samples (in and out) read by the workers in {chunk_frames}-frame chunks "
+          f"from {folder} "
           f"(uncompressed, removed after); {repeat} interleaved rounds; worker environment "
           f"{environ} ==")
 
@@ -404,13 +406,13 @@ def _cluster(seconds, repeat, chunk_frames, folder, malloc_trim=True):
 
     def kept(client, source, filtered=True):
         lazy = opened(source)
-        data = (apply_filter(lazy, filt) if filtered else lazy).data
+        data = (apply_filter(lazy, filt, **filt_kw) if filtered else lazy).data
         wait(client.persist(data))
         lazy.close()
 
     def written(source, filtered=True):
         lazy = opened(source)
-        out = (apply_filter(lazy, filt) if filtered else lazy).to_dataset(name="x")
+        out = (apply_filter(lazy, filt, **filt_kw) if filtered else lazy).to_dataset(name="x")
         out["time"] = out["time"].load()
         for variable in out.variables.values():
             variable.encoding = {}  # the source's chunking and compression
@@ -426,7 +428,7 @@ def _cluster(seconds, repeat, chunk_frames, folder, malloc_trim=True):
             kept(client, "netcdf")  # workers import tactilecal and load the numba kernels
             runs = {
                 "apply_filter in memory (this process) [baseline]":
-                    lambda: apply_filter(rec, filt),
+                    lambda: apply_filter(rec, filt, **filt_kw),
                 "cluster: read NetCDF, filter, keep on the workers":
                     lambda: kept(client, "netcdf"),
                 "cluster: read Zarr, filter, keep on the workers":
@@ -508,6 +510,8 @@ def main():
                              "in the workers' environment")
     parser.add_argument("--chunk-frames", type=int, default=8192,
                         help="frames per chunk read by the cluster's workers")
+    parser.add_argument("--dtype", default="float64", choices=["float64", "float32"],
+                        help="--cluster: the recording's type on disk and the result's")
     parser.add_argument("--frames", type=int, nargs="+",
                         help="scaling table: the filter at these record lengths (frames), "
                              "against the baseline and in memory, each size on its own, "
@@ -529,7 +533,8 @@ def main():
             size = args.chunk_frames
             while size >= n:  # at least two chunks
                 size //= 2
-            cluster(n / 4000.0, args.repeat, size, malloc_trim=not args.no_malloc_trim)
+            cluster(n / 4000.0, args.repeat, size, malloc_trim=not args.no_malloc_trim,
+                    dtype=args.dtype)
 
 
 if __name__ == "__main__":
