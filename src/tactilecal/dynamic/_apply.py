@@ -185,6 +185,7 @@ def _apply_dask(arr, filt, precision, method, dtype=float):
     plan = _plan(filt, arr.shape[0], method)
     if arr.dtype not in (np.float32, np.float64):
         arr = arr.astype(float)
+
     def chunk(a):  # its threads: one per core for an array of one chunk (after rechunking)
         return functools.partial(_chunk, filt=filt, precision=precision, dtype=dtype,
                                  workers=-1 if a.npartitions == 1 else 1)
