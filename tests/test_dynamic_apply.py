@@ -174,3 +174,22 @@ def test_real_iscan_movie_is_accepted_by_dynamic_apply(iscan_csv, tmp_path, caps
     assert main(["dynamic", "apply", str(filt), str(iscan_csv), "--out",
                  str(tmp_path / "o.nc")]) == 0
     assert re.search(r"off a uniform 9.90\d* Hz grid", capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("export", ["iscan_csv", "fscan_asf", "fscan_right_asf"])
+@pytest.mark.parametrize("method", ["auto", "direct"])
+def test_real_exports_filtered_to_float32_are_the_float64_result_rounded(export, method,
+                                                                        request):
+    from tactilecal.io import read_tekscan
+
+    rec = read_tekscan(request.getfixturevalue(export))
+    fs_hz = (rec.sizes["frame"] - 1) / float(rec["time"][-1] - rec["time"][0])
+    filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=fs_hz,
+                                       band_hz=(fs_hz / 200, fs_hz / 10), n_taps=101)
+    wide = apply_filter(rec, filt, method=method).values
+    narrow = apply_filter(rec, filt, method=method, dtype="float32").values
+    assert narrow.dtype == np.float32
+    np.testing.assert_array_equal(np.isnan(narrow), np.isnan(wide))  # outside the shape
+    # measured 0.25-0.50 float32 steps of the largest value (final rounding only)
+    step = np.spacing(np.float32(np.nanmax(np.abs(wide))))
+    np.testing.assert_allclose(narrow, wide, rtol=0, atol=2 * step)

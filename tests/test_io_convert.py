@@ -61,6 +61,15 @@ def test_real_export_converts_identically(iscan_csv, tmp_path):
         assert _traced(stored.load(), iscan_csv).identical(read_tekscan(iscan_csv))
 
 
+@pytest.mark.parametrize("export", ["iscan_csv", "fscan_asf", "fscan_right_asf"])
+def test_real_exports_convert_to_float32_exactly(export, request, tmp_path):
+    source = request.getfixturevalue(export)  # raw counts and kPa, all whole numbers
+    convert(source, tmp_path / "out.zarr", chunks=64, dtype="float32")
+    with _open_zarr(tmp_path / "out.zarr") as stored:
+        assert stored.dtype == np.float32
+        np.testing.assert_array_equal(stored.values, read_tekscan(source).values)
+
+
 def test_memory_is_bounded_by_the_blocks_not_the_recording(tmp_path, monkeypatch):
     """6.4 MB of float64 in 40 blocks of 160 kB: the peak stays well below the recording."""
     source = _export(tmp_path, n=2000, rows=20, cols=20)
