@@ -78,17 +78,6 @@ def test_a_method_carries_its_functions_signature_and_docstring(method, function
     assert "recording :" not in doc and "Examples" not in doc
 
 
-@pytest.mark.parametrize(("name", "method", "args"), [
-    ("total_force", "force", ()), ("summary", "frame_summary", ()),
-    ("row_profile", "profile", ("row",)), ("column_profile", "profile", ("col",)),
-])
-def test_the_functions_that_left_still_give_the_same_numbers(name, method, args):
-    rec = patch("kPa")
-    with pytest.warns(DeprecationWarning, match=r"recording\.tactile\." + method):
-        function = getattr(analysis, name)
-    xr.testing.assert_identical(function(rec), getattr(rec.tactile, method)(*args))
-
-
 def test_calibrate_is_apply(raw_and_cal, tmp_path):
     raw, cal = raw_and_cal
     xr.testing.assert_identical(raw.tactile.calibrate(cal), cal.apply(raw))

@@ -301,6 +301,9 @@ def test_apply_and_load_errors(tmp_path):
     with pytest.raises(ValueError, match="bad.json: not valid JSON"):
         load_calibration(bad)
     bad.write_text('{"method": "power"}')
+    with pytest.raises(ValueError, match="bad.json has no key 'format'"):
+        load_calibration(bad)
+    bad.write_text('{"format": "tactilecal-calibration/1", "method": "power"}')
     with pytest.raises(ValueError, match="lacks the keys"):
         load_calibration(bad)
 
@@ -312,12 +315,12 @@ def test_validate_held_out():
     load = _power_loads(test_raw) * 1.04  # every held-out load 4 % above the truth
     test_raw[0, 0, 0] = 255
     out = validate(fit, points_from_frames(test_raw, load))
-    s = out["summary"]
+    s = out.metrics
     assert s["n"] == 19 and s["n_saturated_excluded"] == 1
     assert s["within_5pct"] == 1.0 and s["within_3pct"] == 0.0
     assert s["median_abs_error_pct"] == pytest.approx(100 * (1 - 1 / 1.04), abs=1e-3)
-    assert out["points"][0]["saturated"] is True
-    assert set(out["points"][1]) >= {"file", "frame", "load_N", "predicted_N", "error_pct"}
+    assert out.points[0]["saturated"] is True
+    assert set(out.points[1]) >= {"file", "frame", "load_N", "predicted_N", "error_pct"}
 
 
 def test_plots_return_axes():

@@ -144,11 +144,11 @@ def test_validate_reads_a_manifest_with_the_recorded_gains(session):
     by_path = validate(result, session["manifest"])
     by_hand = validate(result, load_points(session["manifest"], equilibration=eq))
     without = validate(result, load_points(session["manifest"]))
-    predicted = [p["predicted_N"] for p in by_path["points"]]
-    np.testing.assert_allclose(predicted, [p["predicted_N"] for p in by_hand["points"]],
+    predicted = [p["predicted_N"] for p in by_path.points]
+    np.testing.assert_allclose(predicted, [p["predicted_N"] for p in by_hand.points],
                                rtol=RTOL)
     # the gains matter (5 % spread): without them the predictions differ
-    assert not np.allclose(predicted, [p["predicted_N"] for p in without["points"]],
+    assert not np.allclose(predicted, [p["predicted_N"] for p in without.points],
                            rtol=1e-6)
 
 

@@ -68,7 +68,7 @@ def test_equilibration_improves_calibration():
     for name, tf in (("plain", lambda x: x), ("equilibrated", eq.apply)):
         fit = calibrate(points_from_frames(tf(cal.raw.values), cal.load_N), method="power")
         out = validate(fit, points_from_frames(tf(val.raw.values), val.load_N))
-        med[name] = out["summary"]["median_abs_error_pct"]
+        med[name] = out.metrics["median_abs_error_pct"]
     assert med["equilibrated"] < 0.2 * med["plain"]  # measured 2.13 % -> 0.09 %
 
 
@@ -84,7 +84,7 @@ def test_equilibration_errors(tmp_path):
         eq.apply(np.ones((1, 2, 2)))
     bad = tmp_path / "x.json"
     bad.write_text('{"kind": "calibration"}')
-    with pytest.raises(ValueError, match="x.json is not an equilibration JSON"):
+    with pytest.raises(ValueError, match="x.json has no key 'format'; expected an equilibration"):
         Equilibration.from_json(bad)
     bad.write_text("[")
     with pytest.raises(ValueError, match="x.json: not valid JSON"):

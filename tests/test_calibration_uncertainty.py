@@ -89,8 +89,8 @@ def test_interval_reaches_json_summary_and_validate(tmp_path):
     from tactilecal.calibration import load_calibration
 
     report = validate(load_calibration(path), _points(test))
-    assert 0.0 <= report["summary"]["interval_coverage"] <= 1.0
-    saturated = [r for r in report["points"] if r["saturated"]]
+    assert 0.0 <= report.metrics["interval_coverage"] <= 1.0
+    saturated = [r for r in report.points if r["saturated"]]
     assert saturated and all(r["predicted_is_lower_bound"] and r["predicted_high_N"] == np.inf
                              for r in saturated)
 

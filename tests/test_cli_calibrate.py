@@ -38,7 +38,8 @@ def test_calibrate_validate_apply(sessions, capsys):
 
     assert main(["validate", str(out), str(sessions["val"]), "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
-    assert set(report) == {"points", "summary"}
+    assert set(report) == {"format", "points", "summary", "provenance"}
+    assert report["format"] == "tactilecal-validation/1"
     s = report["summary"]
     assert s["n"] == 11 and s["n_saturated_excluded"] == 1
     assert 0.9 <= s["within_5pct"] <= 1 and 0 <= s["within_10pct"] <= 1

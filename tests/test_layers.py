@@ -42,12 +42,7 @@ LAYERS = (
 )
 """Subpackages by layer, lowest first; those sharing a layer may not import each other."""
 
-KNOWN_UNTIL_MERGE = {
-    # The deprecated tactilecal.zvyagin.calibrate_zvyagin (until 0.3) calls
-    # tactilecal.calibration.calibrate, where the adapter from points now lives: the one
-    # upward import, inside the deprecated function only. Remove with the alias.
-    ("tactilecal.zvyagin", "tactilecal.calibration"),
-}
+KNOWN_UNTIL_MERGE = frozenset()
 """(importing module, imported module) pairs tolerated, each with its reason and its end."""
 
 MODULE_PATH = re.compile(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)+")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tactilecal._progress import from_quiet, no_progress, resolve, terminal_bar
+from tactilecal._progress import no_progress, resolve, terminal_bar
 from tactilecal.calibration import load_points
 from tactilecal.calibration._manifest import load_frames
 from tactilecal.io import write_tekscan
@@ -52,17 +52,6 @@ def test_short_manifest_reads_without_progress(manifest_of):
     bar = Recorder()
     assert len(load_points(manifest_of(49), progress=bar)) == 49
     assert bar.calls == []
-
-
-def test_quiet_keyword_is_deprecated_but_still_works(manifest_of):
-    with pytest.warns(DeprecationWarning, match=r"load_points\(quiet=\.\.\.\) is deprecated"):
-        assert len(load_points(manifest_of(2), quiet=True)) == 2
-    with pytest.warns(DeprecationWarning, match=r"load_frames\(quiet=\.\.\.\) is deprecated"):
-        assert load_frames(manifest_of(2), quiet=False).shape == (2, 3, 4)
-    with pytest.warns(DeprecationWarning, match="deprecated"):
-        assert from_quiet(None, False, "f") is terminal_bar
-    with pytest.warns(DeprecationWarning, match="deprecated"):
-        assert from_quiet(None, True, "f") is no_progress
 
 
 def test_resolve_and_no_progress():

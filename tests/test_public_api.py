@@ -1,7 +1,7 @@
 """The public API: one ``__all__`` per subpackage, documented in docs/api.md, no clashes.
 
-Names that left the public API still import for one release, with a DeprecationWarning
-that names the replacement (``tactilecal._deprecated``).
+Nothing is released, so nothing is deprecated: a name that leaves the API is gone, and no
+module serves names through a module ``__getattr__``.
 """
 
 import inspect
@@ -18,11 +18,6 @@ API_PAGE = Path(__file__).resolve().parents[1] / "docs" / "api.md"
 
 def _modules():
     return {sub: import_module(f"tactilecal.{sub}") for sub in SUBPACKAGES}
-
-
-def _moved(module):
-    getattr_ = vars(module).get("__getattr__")
-    return getattr(getattr_, "moved", {})
 
 
 def test_every_public_name_exists_and_every_callable_is_documented():
@@ -67,18 +62,20 @@ def test_the_public_surface_stays_small():
     assert sum(len(m.__all__) for m in _modules().values()) <= 90
 
 
-def test_moved_names_still_import_with_a_deprecation_warning():
-    n_moved = 0
-    for sub, module in _modules().items():
-        for name, (_, attribute, _) in _moved(module).items():
-            assert name not in module.__all__ and name not in dir(module)
-            with pytest.warns(DeprecationWarning,
-                              match=rf"tactilecal\.{sub}\.{name} is no longer part of the "
-                                    r"public API and will be removed in tactilecal 0\.3; "):
-                obj = getattr(module, name)
-            assert obj is not None and getattr(obj, "__name__", attribute) == attribute
-            n_moved += 1
-    assert n_moved >= 50
+def test_no_module_serves_names_it_does_not_define():
+    """No module ``__getattr__`` (PEP 562) anywhere but the lazy top level."""
+    root = Path(import_module("tactilecal").__file__).parent
+    serving = [str(path.relative_to(root)) for path in root.rglob("*.py")
+               if re.search(r"^def __getattr__\(|^__getattr__ = ", path.read_text(), re.M)]
+    assert serving == ["__init__.py"]
+
+
+def test_nothing_is_deprecated():
+    root = Path(import_module("tactilecal").__file__).parent
+    hits = [f"{path.relative_to(root)}:{k}" for path in root.rglob("*.py")
+            for k, line in enumerate(path.read_text().splitlines(), 1)
+            if re.search(r"DeprecationWarning|[Dd]eprecat", line)]
+    assert hits == []
 
 
 def test_an_unknown_name_is_still_an_attribute_error():

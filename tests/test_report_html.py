@@ -127,7 +127,7 @@ def test_method_comparison_lists_every_calibration_with_its_held_out_errors(sess
     table = text[text.index("<h2>Method comparison</h2>"):text.index("<h2>Calibration")]
     rows = re.findall(r"<tr><td>CalibrationResult in memory</td><td>([\w-]+)</td>", table)
     assert rows == ["power", "linear", "lut"]
-    held_out = check["summary"]["median_abs_error_pct"]
+    held_out = check.metrics["median_abs_error_pct"]
     assert f"<td>{held_out:.6g}</td>" in table
     assert table.count("no validation input") == 2  # linear and lut were not validated
     assert "Calibration curves of all methods" in table

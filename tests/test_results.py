@@ -124,8 +124,8 @@ def test_validation_round_trips_through_load(calibrations, points, tmp_path):
     assert back.points == out.points
 
 
-# ---------------------------------------------------------------- validation as a dict
-def test_validation_reads_like_the_dict_it_was_with_plain_python_values():
+# ---------------------------------------------------------------- validation values
+def test_validation_holds_plain_python_values():
     from importlib.resources import files
 
     from tactilecal.calibration import load_points
@@ -133,43 +133,35 @@ def test_validation_reads_like_the_dict_it_was_with_plain_python_values():
     manifest = files("tactilecal") / "data" / "demo" / "session-a" / "manifest.csv"
     points = load_points(manifest)  # file names, labels, frames from a manifest
     out = validate(calibrate(points[:40]), points[40:])
-    assert set(out) == {"points", "summary"}
-    assert out["summary"] is out.metrics and out["points"] is out.points
-    assert 0.0 <= out["summary"]["within_5pct"] <= 1.0
+    assert 0.0 <= out.metrics["within_5pct"] <= 1.0
     values = list(out.metrics.values()) + [v for row in out.points for v in row.values()]
     assert all(type(v) in PLAIN for v in values), {type(v) for v in values}
-    json.dumps(dict(out))  # plain Python: the standard library serialises it
+    json.dumps(out.to_dict())  # plain Python: the standard library serialises it
     assert isinstance(out.summary(), str) and "within 5 %" in out.summary()
 
 
-# ---------------------------------------------------------------- earlier versions' files
-def test_untagged_files_of_earlier_versions_load(calibrations, points, tmp_path):
-    """Calibration: no tag; equilibration: "kind"; validation: the --json output."""
+# ---------------------------------------------------------------- files without the tag
+def test_files_without_the_format_tag_are_refused(calibrations, points, tmp_path):
     cal = calibrations["zvyagin"].to_dict()
     eq = _equilibration().to_dict()
     val = validate(calibrations["power"], points).to_dict()
-    for data in (cal, eq, val):  # earlier versions wrote neither key
-        del data["format"]
-        data.pop("provenance", None)
-    eq["kind"] = "equilibration"
     for name, data, cls in (("cal.json", cal, CalibrationResult),
                             ("eq.json", eq, Equilibration),
                             ("val.json", val, ValidationResult)):
+        del data["format"]
         (tmp_path / name).write_text(json.dumps(data))
-        assert isinstance(tactilecal.load(tmp_path / name), cls)
-    assert load_calibration(tmp_path / "cal.json").params == calibrations["zvyagin"].params
-    np.testing.assert_array_equal(Equilibration.from_json(tmp_path / "eq.json").gain,
-                                  _equilibration().gain)
+        with pytest.raises(ValueError, match=f"{name} has no key 'format'; expected a "):
+            tactilecal.load(tmp_path / name)
+        with pytest.raises(ValueError, match=f"{name} has no key 'format'; expected "
+                                             f"{cls.DESCRIPTION}"):
+            cls.from_json(tmp_path / name)
 
 
-def test_non_working_sensels_of_an_earlier_calibration_read_without_shape():
-    mask = np.zeros((4, 5), bool)
-    mask[1, 2] = mask[3, 0] = True
-    old = {"sensels": [[1, 2], [3, 0]], "n_frames": 7, "evidence_frames": [4, 6]}
-    back = NonWorkingSensels.from_dict(old)
-    assert back.sensels == [[1, 2], [3, 0]]
-    assert back.mask.shape == (4, 3)  # the smallest holding the sensels: no shape stored
-    assert back.evidence_frames[3, 0] == 6 and back.n_frames == 7
+def test_non_working_sensels_need_their_shape():
+    old = {"format": "tactilecal-non-working-sensels/1", "sensels": [[1, 2], [3, 0]],
+           "n_frames": 7, "evidence_frames": [4, 6]}
+    with pytest.raises(ValueError, match=r"lacks the keys \['shape'\]"):
+        NonWorkingSensels.from_dict(old)
 
 
 def test_filter_file_of_an_earlier_version_loads(tmp_path):
@@ -194,7 +186,7 @@ def _json(tmp_path, data, name="x.json"):
     ({"format": "calibration v2"}, r"key 'format' of .*x.json is 'calibration v2'; expected "
                                    r"'tactilecal-<kind>/<version>'"),
     ({"format": 3}, r"key 'format' of .*x.json is 3; expected 'tactilecal-<kind>/"),
-    ({"a": 1}, r"x.json has no key 'format' and is none of the files earlier versions wrote"),
+    ({"a": 1}, r"x.json has no key 'format'; expected a tactilecal result JSON"),
     ({"format": "tactilecal-calibration/1", "model": "power"},
      r"x.json lacks the keys \['method', 'params', "),
     ({"format": "tactilecal-calibration/2"}, r"key 'format' of .*x.json is "

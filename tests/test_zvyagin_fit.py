@@ -114,13 +114,6 @@ def test_keep_saturated_alias_and_unknown_option():
         .options["saturated"] == "drop"
     with pytest.raises(ValueError, match=r"unknown options \['extra'\]"):
         tactilecal.calibrate(pts, method="zvyagin", extra=10)
-    with pytest.warns(DeprecationWarning, match="calibrate_zvyagin is no longer part of the "
-                                                "public API"):
-        from tactilecal.zvyagin import calibrate_zvyagin
-    # the deprecated name keeps its options: calibrate's bootstrap options are refused
-    with pytest.raises(ValueError, match=r"unknown options \['n_bootstrap'\]"):
-        calibrate_zvyagin(pts, n_bootstrap=10)
-    assert calibrate_zvyagin(pts).params == tactilecal.calibrate(pts, method="zvyagin").params
     for p in pts:
         p.sensel_area_mm2 = float("nan")
     with pytest.warns(UserWarning, match=r"no sensel area .* p_s \(eq. 16\) is unknown"):

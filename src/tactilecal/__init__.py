@@ -39,6 +39,7 @@ always by ``import tactilecal.analysis``. (Importing xarray here would take ``py
 import sys
 from importlib import import_module
 
+from tactilecal._errors import TactilecalError, TactilecalTypeError
 from tactilecal._version import __version__
 
 _LAZY = {
@@ -63,7 +64,7 @@ _LAZY = {
     "calibration": "tactilecal.calibration",
 }
 
-__all__ = ["__version__", "load", *_LAZY]
+__all__ = ["__version__", "load", "TactilecalError", "TactilecalTypeError", *_LAZY]
 
 #: The subpackages that define the saved kinds (importing them registers the kinds).
 _SAVED_KINDS_IN = ("tactilecal.calibration", "tactilecal.dynamic")
@@ -88,9 +89,9 @@ def load(path):
 
     Raises
     ------
-    ValueError, TypeError
-        Not JSON, an unknown tag, or a missing or bad key: one line naming the file and
-        the key.
+    TactilecalError
+        Not JSON, no tag or an unknown one, or a missing or bad key: one line naming the
+        file and the key (:class:`TactilecalTypeError` for a key of the wrong type).
 
     Examples
     --------

@@ -8,6 +8,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from tactilecal._errors import TactilecalError
+
 
 @contextlib.contextmanager
 def atomic_path(path, *, suffix=None):
@@ -177,7 +179,7 @@ def make_folder(path, *, what="output folder"):
     """
     path = Path(path)
     if path.exists() and not path.is_dir():
-        raise ValueError(f"{what} {path} is a file; expected a folder (or a new name)")
+        raise TactilecalError(f"{what} {path} is a file; expected a folder (or a new name)")
     path.mkdir(parents=True, exist_ok=True)
     return path
 

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from tactilecal._atomic import write_text_atomic
+from tactilecal._errors import TactilecalError
 
 
 def to_jsonable(obj):
@@ -76,10 +77,10 @@ def read_json_object(path, expected):
     try:
         data = json.loads(read_text(Path(path), expected=expected))
     except json.JSONDecodeError as exc:
-        raise ValueError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}); "
-                         f"expected {expected}") from None
+        raise TactilecalError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}); "
+                              f"expected {expected}") from None
     if not isinstance(data, dict):
-        raise ValueError(f"{path}: JSON {type(data).__name__}; expected an object")
+        raise TactilecalError(f"{path}: JSON {type(data).__name__}; expected an object")
     return data
 
 

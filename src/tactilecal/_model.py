@@ -17,6 +17,8 @@ further on.
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
+
 __all__ = ["DIMS", "POSITIVE_ATTRS", "recording_name", "recording_units", "check_recording",
            "positive_attr"]
 
@@ -47,13 +49,13 @@ def recording_units(data):
 
     unit = data.attrs.get("units")
     if unit is None:
-        raise ValueError(f"{recording_name(data)}: attribute 'units' is missing; "
-                         f"{_UNITS_EXPECTED}")
+        raise TactilecalError(f"{recording_name(data)}: attribute 'units' is missing; "
+                              f"{_UNITS_EXPECTED}")
     unit = normalise_unit(unit, where=f"attribute 'units' of {recording_name(data)}")
     kind = unit_kind(unit)
     if kind not in _KINDS:
-        raise ValueError(f"{recording_name(data)}: units {unit!r} are a {kind}; "
-                         f"{_UNITS_EXPECTED}")
+        raise TactilecalError(f"{recording_name(data)}: units {unit!r} are a {kind}; "
+                              f"{_UNITS_EXPECTED}")
     return unit, kind
 
 
@@ -72,8 +74,8 @@ def positive_attr(data, key):
     except (TypeError, ValueError):
         number = float("nan")
     if not (np.isfinite(number) and number > 0):
-        raise ValueError(f"{recording_name(data)}: attribute {key!r} is {value!r}; expected "
-                         f"{POSITIVE_ATTRS.get(key, 'a positive number')}")
+        raise TactilecalError(f"{recording_name(data)}: attribute {key!r} is {value!r}; expected "
+                              f"{POSITIVE_ATTRS.get(key, 'a positive number')}")
     return number
 
 
@@ -107,11 +109,11 @@ def check_recording(data, *, values=False):
                         "with dims ('frame', 'row', 'col') (see tactilecal.io.open_recording)")
     name = recording_name(data)
     if tuple(data.dims) != DIMS:
-        raise ValueError(f"{name}: dims {tuple(data.dims)}; expected {DIMS}")
+        raise TactilecalError(f"{name}: dims {tuple(data.dims)}; expected {DIMS}")
     for coord, dim in (("frame", "frame"), ("time", "frame"), ("row", "row"), ("col", "col")):
         if coord in data.coords and data[coord].dims != (dim,):
-            raise ValueError(f"{name}: coordinate {coord!r} has dims {data[coord].dims}; "
-                             f"expected it along {dim!r}")
+            raise TactilecalError(f"{name}: coordinate {coord!r} has dims {data[coord].dims}; "
+                                  f"expected it along {dim!r}")
     for key in POSITIVE_ATTRS:
         if key in data.attrs:
             positive_attr(data, key)
@@ -133,5 +135,6 @@ def _check_values(data, name, kind):
             what = f"{kind} values are finite and not negative (NaN outside the sensor)"
     if bad.any():
         k, i, j = np.argwhere(bad)[0]
-        raise ValueError(f"{name}: frame {data['frame'].values[k]}, row {i}, col {j} is "
-                         f"{float(v[k, i, j])!r} ({int(bad.sum())} such values); expected {what}")
+        raise TactilecalError(f"{name}: frame {data['frame'].values[k]}, row {i}, col {j} is "
+                              f"{float(v[k, i, j])!r} ({int(bad.sum())} such values); expected "
+                              f"{what}")

@@ -15,7 +15,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
-__all__ = ["Fit", "OBJECTIVES", "DEFAULT_OBJECTIVE", "LS_OBJECTIVE", "B_BOUNDS", "LEVELS",
+from tactilecal._errors import TactilecalError
+
+__all__ = ["Fit", "OBJECTIVES", "DEFAULT_OBJECTIVE", "B_BOUNDS", "LEVELS",
            "COMPILED_MIN_POINTS", "NO_STDERR",
            "objective_weights", "fit_power", "fit_power_censored",
            "check_unsaturated", "hist_products"]
@@ -27,8 +29,6 @@ DEFAULT_OBJECTIVE = "l1"
 """The power method's default: on the simulated family (``benchmarks/bench_static_family.py
 --seeds 20 --test-patches 150``) l1 had the best worst case of the three objectives;
 relative and l2 fell to 0.90-0.91 of the true law's worst share on 9500-b1.4."""
-LS_OBJECTIVE = "relative"
-"""Default of piecewise until issue 12's review (now l1, as power's); kept for importers."""
 B_BOUNDS = (0.2, 4.0)
 with np.errstate(divide="ignore"):
     LOG_LEVELS = np.where(LEVELS > 0, np.log(LEVELS), 0.0)
@@ -49,7 +49,7 @@ def _check_objective(objective, method=None):
     """Refuse an objective not in :data:`OBJECTIVES`, naming ``method`` when given."""
     if objective not in OBJECTIVES:
         what = "is unknown" if method is None else f"is not available for {method}"
-        raise ValueError(f"objective={objective!r} {what}; expected one of {OBJECTIVES}")
+        raise TactilecalError(f"objective={objective!r} {what}; expected one of {OBJECTIVES}")
 
 
 def objective_weights(load_N, objective):
@@ -186,9 +186,9 @@ def _minimise_b(hist, load_N, objective, b_bounds, n_grid=13, xtol=1e-10, censor
 
 def _check_interior(k, grid, b_bounds):
     if k in (0, len(grid) - 1):
-        raise ValueError(f"power fit: best exponent b = {grid[k]:.3f} is at the edge of "
-                         f"b_bounds {tuple(b_bounds)}; expected an interior optimum "
-                         "(check the loads)")
+        raise TactilecalError(f"power fit: best exponent b = {grid[k]:.3f} is at the edge of "
+                              f"b_bounds {tuple(b_bounds)}; expected an interior optimum "
+                              "(check the loads)")
 
 
 # ------------------------------------------------------- many points (movie calibration)
@@ -532,8 +532,8 @@ def check_unsaturated(censored, name_of=None, kind="patch(es)"):
         saturated = np.flatnonzero(censored)
         listed = (f"; saturated: {', '.join(name_of(k) for k in saturated[:8])}"
                   f"{' ...' if len(saturated) > 8 else ''}")
-    raise ValueError(f"{n_clean} {kind} without a saturated sensel; a censored fit needs at "
-                     f"least 2 to start from (every other one is only a lower bound{listed})")
+    raise TactilecalError(f"{n_clean} {kind} without a saturated sensel; a censored fit needs at "
+                          f"least 2 to start from (every other one is only a lower bound{listed})")
 
 
 def fit_power_censored(hist, load_N, censored, *, objective=DEFAULT_OBJECTIVE,

@@ -8,9 +8,8 @@ shown only on a terminal), a notebook may pass ``tqdm.auto.tqdm``, a test a reco
 """
 
 import sys
-import warnings
 
-__all__ = ["no_progress", "resolve", "terminal_bar", "from_quiet"]
+__all__ = ["no_progress", "resolve", "terminal_bar"]
 
 
 def no_progress(iterable, *, total=None, desc=None):
@@ -51,18 +50,3 @@ def terminal_bar(iterable=None, *, total=None, desc=None, quiet=False):
     return tqdm(iterable, total=total, desc=desc, disable=quiet or not sys.stderr.isatty(),
                 file=sys.stderr, leave=False)
 
-
-def from_quiet(progress, quiet, where):
-    """Resolve ``progress`` beside the deprecated ``quiet`` keyword of ``where``.
-
-    ``quiet=False`` used to ask the library for a terminal bar; it still gives
-    :func:`terminal_bar` (when ``progress`` is None) but warns with ``DeprecationWarning``,
-    as does ``quiet=True`` (now the default: no bar unless ``progress`` is given).
-    """
-    if quiet is not None:
-        warnings.warn(f"{where}(quiet=...) is deprecated; pass progress=None (no bar) or a "
-                      "callable progress(iterable, total=, desc=)", DeprecationWarning,
-                      stacklevel=3)
-        if progress is None and not quiet:
-            return terminal_bar
-    return resolve(progress)

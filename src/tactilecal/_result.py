@@ -5,11 +5,8 @@ dynamic filter, a validation) is a :class:`SavedResult`. Its JSON carries one ta
 
 ``"format": "tactilecal-<kind>/<version>"`` (e.g. ``"tactilecal-calibration/1"``),
 
-the convention FILTER.json has used since its first version, so a filter's file is
-unchanged. ``version`` counts incompatible changes of that kind's keys; a reader refuses a
-version newer than its own. Files of earlier tactilecal versions carried no tag (a
-calibration) or ``"kind": "equilibration"``; each class recognises its own untagged files
-(:meth:`SavedResult.is_untagged`), so they all still load.
+``version`` counts incompatible changes of that kind's keys; a reader refuses a version
+newer than its own, and a file without the tag.
 
 :func:`load_result` opens any saved result by its tag (``tactilecal.load`` imports the
 subpackages that define the kinds, then calls it).
@@ -22,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from tactilecal._atomic import write_text_atomic
+from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps, read_json_object
 from tactilecal._validate import check_type
 
@@ -50,8 +48,8 @@ def parse_format(tag, source):
     """
     match = _TAG.fullmatch(tag) if isinstance(tag, str) else None
     if match is None:
-        raise ValueError(f"key 'format' of {source} is {tag!r}; expected "
-                         "'tactilecal-<kind>/<version>' such as 'tactilecal-calibration/1'")
+        raise TactilecalError(f"key 'format' of {source} is {tag!r}; expected "
+                              "'tactilecal-<kind>/<version>' such as 'tactilecal-calibration/1'")
     return match.group(1), int(match.group(2))
 
 
@@ -116,8 +114,7 @@ class SavedResult(ShortRepr):
     after the tag was checked), ``summary`` (text) and ``_repr_fields``.
 
     ``to_dict`` puts ``"format"`` first; ``from_dict`` accepts a dict with this kind's tag
-    (a version up to ``FORMAT_VERSION``) or, without a tag, one that :meth:`is_untagged`
-    recognises as written by an earlier version.
+    (a version up to ``FORMAT_VERSION``).
     """
 
     FORMAT_KIND = None
@@ -140,43 +137,28 @@ class SavedResult(ShortRepr):
         return format_tag(cls.FORMAT_KIND, cls.FORMAT_VERSION)
 
     @classmethod
-    def is_untagged(cls, data):
-        """Whether ``data`` (no ``"format"`` key) is this kind as an earlier version wrote it."""
-        return False
-
-    @classmethod
-    def check_untagged(cls, data, source):
-        """Raise ValueError unless untagged ``data`` may be read as this kind.
-
-        By default: only if :meth:`is_untagged` recognises it. A kind whose earlier files
-        had no tag overrides this to leave the key checks of ``_from_dict`` to speak.
-        """
-        if not cls.is_untagged(data):
-            raise ValueError(f"{source} has no key 'format'; expected {cls.DESCRIPTION} "
-                             f"('format': {cls.format_tag()!r})")
-
-    @classmethod
     def check_format(cls, data, source):
-        """Raise (naming ``source``) unless ``data`` is this kind, by its tag or untagged.
+        """Raise (naming ``source``) unless ``data`` is this kind, by its tag.
 
         Raises
         ------
         TypeError
             ``data`` is not a dict.
         ValueError
-            Another kind's tag, a newer version, or untagged and not this kind.
+            No tag, another kind's tag, or a newer version.
         """
         check_type(data, dict, source, expected=f"{cls.DESCRIPTION} object")
         if "format" not in data:
-            cls.check_untagged(data, source)
-            return
+            raise TactilecalError(f"{source} has no key 'format'; expected {cls.DESCRIPTION} "
+                                  f"('format': {cls.format_tag()!r})")
         kind, version = parse_format(data["format"], source)
         if kind != cls.FORMAT_KIND:
-            raise ValueError(f"key 'format' of {source} is {data['format']!r}; expected "
-                             f"{cls.format_tag()!r} ({cls.DESCRIPTION})")
+            raise TactilecalError(f"key 'format' of {source} is {data['format']!r}; expected "
+                                  f"{cls.format_tag()!r} ({cls.DESCRIPTION})")
         if version > cls.FORMAT_VERSION:
-            raise ValueError(f"key 'format' of {source} is {data['format']!r}, newer than this "
-                             f"tactilecal reads; expected version <= {cls.FORMAT_VERSION}")
+            raise TactilecalError(f"key 'format' of {source} is {data['format']!r}, newer than "
+                                  f"this "
+                                  f"tactilecal reads; expected version <= {cls.FORMAT_VERSION}")
 
     # ---------------------------------------------------------------- dict and JSON
     def to_dict(self):
@@ -209,7 +191,7 @@ class SavedResult(ShortRepr):
 
     @classmethod
     def from_json(cls, path):
-        """Read a JSON file written by :meth:`to_json` (or an earlier version's file).
+        """Read a JSON file written by :meth:`to_json`.
 
         Raises
         ------
@@ -233,24 +215,22 @@ class SavedResult(ShortRepr):
 
 
 def result_class(data, source):
-    """Return the :class:`SavedResult` subclass a JSON object is, by its tag or its keys.
+    """Return the :class:`SavedResult` subclass a JSON object is, by its tag.
 
     Raises
     ------
     ValueError
-        Unknown tag, or no tag and no earlier version's keys; the message names ``source``.
+        No tag or an unknown one; the message names ``source``.
     """
-    if "format" in data:
-        kind, _ = parse_format(data["format"], source)
-        if kind not in _KINDS:
-            raise ValueError(f"key 'format' of {source} is {data['format']!r}, a kind this "
-                             f"tactilecal does not know; expected one of {sorted(_KINDS)}")
-        return _KINDS[kind]
-    for cls in _KINDS.values():
-        if cls.is_untagged(data):
-            return cls
-    raise ValueError(f"{source} has no key 'format' and is none of the files earlier versions "
-                     f"wrote; expected a tactilecal result JSON ({', '.join(sorted(_KINDS))})")
+    if "format" not in data:
+        raise TactilecalError(f"{source} has no key 'format'; expected a tactilecal result JSON "
+                              f"('format': 'tactilecal-<kind>/<version>', kind one of "
+                              f"{', '.join(sorted(_KINDS))})")
+    kind, _ = parse_format(data["format"], source)
+    if kind not in _KINDS:
+        raise TactilecalError(f"key 'format' of {source} is {data['format']!r}, a kind this "
+                              f"tactilecal does not know; expected one of {sorted(_KINDS)}")
+    return _KINDS[kind]
 
 
 def load_result(path):

@@ -7,6 +7,8 @@ the fit and reported. The CLI (``--saturated``) and the API (``saturated=``) rea
 from here, so the two give the same calibration from the same manifest.
 """
 
+from tactilecal._errors import TactilecalError
+
 __all__ = ["SATURATED_CHOICES", "SATURATED_DEFAULT", "resolve_saturated"]
 
 SATURATED_CHOICES = ("drop", "keep", "censored")
@@ -36,10 +38,10 @@ def resolve_saturated(saturated=None, keep_saturated=None):
     if keep_saturated is not None:
         alias = "keep" if keep_saturated else "drop"
         if saturated is not None and saturated != alias:
-            raise ValueError(f"saturated={saturated!r} and keep_saturated={keep_saturated!r} "
-                             "disagree; expected one of them")
+            raise TactilecalError(f"saturated={saturated!r} and keep_saturated={keep_saturated!r} "
+                                  "disagree; expected one of them")
         saturated = alias
     saturated = SATURATED_DEFAULT if saturated is None else saturated
     if saturated not in SATURATED_CHOICES:
-        raise ValueError(f"saturated={saturated!r}; expected one of {SATURATED_CHOICES}")
+        raise TactilecalError(f"saturated={saturated!r}; expected one of {SATURATED_CHOICES}")
     return saturated

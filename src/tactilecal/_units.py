@@ -15,6 +15,8 @@ catalogue, :mod:`tactilecal.sensors`.
 
 import re
 
+from tactilecal._errors import TactilecalError
+
 __all__ = ["G_STANDARD", "LB_KG", "LBF_N", "PSI_TO_KPA", "KPA_MM2_TO_N", "N_PER_MM2_TO_KPA",
            "normalise_unit", "length_to_mm", "area_to_mm2", "force_to_N", "mass_to_N",
            "pressure_to_kPa", "time_to_s", "unit_kind", "unit_from_column"]
@@ -109,8 +111,8 @@ def normalise_unit(text, *, where="unit"):
     key = str(text).strip().strip("()[]").strip().lower()
     key = re.sub(r"\s+", " ", key.replace("^", "").replace("²", "2"))
     if key not in _ALIASES:
-        raise ValueError(f"unknown unit {str(text).strip()!r} in {where}; expected one of "
-                         f"{', '.join(_UNITS)}")
+        raise TactilecalError(f"unknown unit {str(text).strip()!r} in {where}; expected one of "
+                              f"{', '.join(_UNITS)}")
     return _ALIASES[key]
 
 
@@ -123,8 +125,8 @@ def unit_kind(unit):
     ('force', 'mass')
     """
     if unit not in _UNITS:
-        raise ValueError(f"unit {unit!r} is not a canonical unit; pass it through "
-                         "normalise_unit first")
+        raise TactilecalError(f"unit {unit!r} is not a canonical unit; pass it through "
+                              "normalise_unit first")
     return _UNITS[unit][0]
 
 
@@ -132,7 +134,7 @@ def _convert(value, unit, kinds, target):
     unit = normalise_unit(unit)
     kind, factor = _UNITS[unit]
     if kind not in kinds:
-        raise ValueError(f"cannot convert {unit!r} ({kind}) to {target}")
+        raise TactilecalError(f"cannot convert {unit!r} ({kind}) to {target}")
     return value * factor
 
 

@@ -17,6 +17,8 @@ import math
 import numbers
 import re
 
+from tactilecal._errors import TactilecalError, TactilecalTypeError
+
 __all__ = ["decode_text", "read_text", "check_line_ends", "csv_rows", "parse_number",
            "check_number", "check_numbers", "check_type", "require_keys", "check_size",
            "float_type"]
@@ -64,24 +66,24 @@ def decode_text(raw, name, *, expected="a text file"):
             try:
                 text = raw.decode(codec)
             except UnicodeDecodeError as exc:
-                raise ValueError(f"line {_line_of(raw, exc.start)} of {name}: bytes "
-                                 f"that are not {codec.upper()} after its byte-order mark; "
-                                 f"expected {expected}") from None
+                raise TactilecalError(f"line {_line_of(raw, exc.start)} of {name}: bytes "
+                                      f"that are not {codec.upper()} after its byte-order mark; "
+                                      f"expected {expected}") from None
             return text.lstrip("\ufeff")
     nul = raw.find(b"\x00")
     if nul >= 0:
-        raise ValueError(f"line {_line_of(raw, nul)} of {name}: a NUL byte (a binary "
-                         f"file, or UTF-16 without byte-order mark?); expected {expected} "
-                         "in UTF-8")
+        raise TactilecalError(f"line {_line_of(raw, nul)} of {name}: a NUL byte (a binary "
+                              f"file, or UTF-16 without byte-order mark?); expected {expected} "
+                              "in UTF-8")
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError as first:
         try:
             return raw.decode("cp1252")
         except UnicodeDecodeError:
-            raise ValueError(f"line {_line_of(raw, first.start)} of {name}: byte "
-                             f"0x{raw[first.start]:02x} is not text (UTF-8 or Windows "
-                             f"cp1252); expected {expected}") from None
+            raise TactilecalError(f"line {_line_of(raw, first.start)} of {name}: byte "
+                                  f"0x{raw[first.start]:02x} is not text (UTF-8 or Windows "
+                                  f"cp1252); expected {expected}") from None
 
 
 def read_text(path, *, expected="a text file"):
@@ -91,7 +93,7 @@ def read_text(path, *, expected="a text file"):
 
 
 def check_line_ends(text, name):
-    r"""Raise ValueError naming the line of a carriage return that ends no line (not CRLF).
+    r"""Raise TactilecalError naming the line of a carriage return that ends no line (not CRLF).
 
     CSV parsers end a line at a lone CR, so a row would silently split in two.
 
@@ -101,14 +103,14 @@ def check_line_ends(text, name):
     >>> check_line_ends("a,b\n1\r,2\n", "m.csv")
     Traceback (most recent call last):
     ...
-    ValueError: line 2 of m.csv: a carriage return (CR) inside the line; expected CR only ...
+    tactilecal.TactilecalError: line 2 of m.csv: a carriage return (CR) inside the line; ...
     """
     unix = text.replace("\r\n", "\n")
     lone = unix.find("\r")
     if lone >= 0:
-        raise ValueError(f"line {unix.count(chr(10), 0, lone) + 1} of {name}: a carriage "
-                         "return (CR) inside the line; expected CR only before the line feed "
-                         "(CRLF line ends)")
+        raise TactilecalError(f"line {unix.count(chr(10), 0, lone) + 1} of {name}: a carriage "
+                              "return (CR) inside the line; expected CR only before the line feed "
+                              "(CRLF line ends)")
 
 
 def csv_rows(text, name):
@@ -124,7 +126,7 @@ def csv_rows(text, name):
     >>> list(csv_rows("a,b\n1,,2\n", "m.csv"))
     Traceback (most recent call last):
     ...
-    ValueError: line 2 of m.csv has 3 values; expected 2, one per column ['a', 'b']
+    tactilecal.TactilecalError: line 2 of m.csv has 3 values; expected 2, one per column ['a', 'b']
     """
     check_line_ends(text, name)
     reader = csv.reader(io.StringIO(text, newline=""))
@@ -136,8 +138,8 @@ def csv_rows(text, name):
         if width is None:
             width, header = len(cells), cells
         elif len(cells) != width:
-            raise ValueError(f"line {reader.line_num} of {name} has {len(cells)} values; "
-                             f"expected {width}, one per column {header}")
+            raise TactilecalError(f"line {reader.line_num} of {name} has {len(cells)} values; "
+                                  f"expected {width}, one per column {header}")
         yield reader.line_num, cells
 
 
@@ -156,10 +158,10 @@ def parse_number(text, where, **limits):
     >>> parse_number("1_0", "line 3 of m.csv, mass_kg")
     Traceback (most recent call last):
     ...
-    ValueError: line 3 of m.csv, mass_kg is '1_0'; expected a number
+    tactilecal.TactilecalError: line 3 of m.csv, mass_kg is '1_0'; expected a number
     """
     if not isinstance(text, str) or not _NUMBER.fullmatch(text):
-        raise ValueError(f"{where} is {_short(text)}; expected a number")
+        raise TactilecalError(f"{where} is {_short(text)}; expected a number")
     return check_number(float(text), where, **limits)
 
 
@@ -176,8 +178,8 @@ def check_type(value, types, where, *, expected):
     else:
         ok = isinstance(value, types)
     if not ok:
-        raise TypeError(f"{where} is {_short(value)} ({type(value).__name__}); "
-                        f"expected {expected}")
+        raise TactilecalTypeError(f"{where} is {_short(value)} ({type(value).__name__}); "
+                                  f"expected {expected}")
     return value
 
 
@@ -214,13 +216,13 @@ def check_number(value, where, *, minimum=None, maximum=None, min_inclusive=True
     >>> check_number(-1.0, "key 'A' of cal.json", minimum=0, min_inclusive=False)
     Traceback (most recent call last):
     ...
-    ValueError: key 'A' of cal.json is -1.0; expected a finite number > 0
+    tactilecal.TactilecalError: key 'A' of cal.json is -1.0; expected a finite number > 0
     """
     if value is None and allow_none:
         return None
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{where} is {_short(value)} ({type(value).__name__}); expected a "
-                        f"{'whole ' if integer else ''}number")
+        raise TactilecalTypeError(f"{where} is {_short(value)} ({type(value).__name__}); "
+                                  f"expected a {'whole ' if integer else ''}number")
     number = float(value)
     expected = _range_text(minimum, maximum, min_inclusive, max_inclusive, integer)
     bad = not math.isfinite(number) or (integer and not number.is_integer())
@@ -229,7 +231,7 @@ def check_number(value, where, *, minimum=None, maximum=None, min_inclusive=True
     if maximum is not None:
         bad |= number > maximum or (number == maximum and not max_inclusive)
     if bad:
-        raise ValueError(f"{where} is {_short(value)}; expected {expected}")
+        raise TactilecalError(f"{where} is {_short(value)}; expected {expected}")
     return int(number) if integer else number
 
 
@@ -250,14 +252,14 @@ def require_keys(data, keys, where, *, expected):
     """Raise ValueError naming the missing keys of a JSON object (``expected`` says what)."""
     missing = [k for k in keys if k not in data]
     if missing:
-        raise ValueError(f"{where} lacks the keys {missing}; expected {expected} with "
-                         f"{list(keys)}")
+        raise TactilecalError(f"{where} lacks the keys {missing}; expected {expected} with "
+                              f"{list(keys)}")
 
 
 def check_size(count, where, *, limit=MAX_VALUES):
     """Raise ValueError when ``count`` values would be more than ``limit`` (before allocating)."""
     if count > limit:
-        raise ValueError(f"{where}: {count:.4g} values; expected at most {limit:.4g}")
+        raise TactilecalError(f"{where}: {count:.4g} values; expected at most {limit:.4g}")
     return count
 
 
@@ -274,7 +276,7 @@ def float_type(dtype, where="dtype"):
     except (TypeError, ValueError):
         out = None  # compared with a dtype, None means float64: test it first
     if out is None or out not in (np.dtype(np.float64), np.dtype(np.float32)):
-        raise ValueError(f"{where}={dtype!r}; expected 'float64' or 'float32'")
+        raise TactilecalError(f"{where}={dtype!r}; expected 'float64' or 'float32'")
     return out
 
 

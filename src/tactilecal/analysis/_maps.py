@@ -8,6 +8,7 @@ dask-backed arrays) and returns a DataArray with dim ``frame`` and the recording
 import numpy as np
 import xarray as xr
 
+from tactilecal._errors import TactilecalError
 from tactilecal._model import check_recording
 from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.analysis._units import (
@@ -59,8 +60,8 @@ def loaded_mask(recording, *, threshold_kPa=0.0, calibration=None):
     threshold_kPa = _non_negative("threshold_kPa", threshold_kPa)
     if kind == "raw" and calibration is None:
         if threshold_kPa != 0:
-            raise ValueError(f"threshold_kPa is {threshold_kPa!r} but the recording is raw "
-                             "and no calibration was given; expected 0 (loaded = raw > 0)")
+            raise TactilecalError(f"threshold_kPa is {threshold_kPa!r} but the recording is raw "
+                                  "and no calibration was given; expected 0 (loaded = raw > 0)")
         return recording > 0
     return pressure_map_kPa(recording, calibration=calibration) > threshold_kPa
 
@@ -229,7 +230,7 @@ def mean_pressure(recording, *, threshold_kPa=0.0, calibration=None):
 def _non_negative(name, value):
     """Return ``value`` as a float, checked to be finite and >= 0 (else ValueError)."""
     if not np.isfinite(value) or value < 0:
-        raise ValueError(f"{name} is {value!r}; expected a finite value >= 0")
+        raise TactilecalError(f"{name} is {value!r}; expected a finite value >= 0")
     return float(value)
 
 

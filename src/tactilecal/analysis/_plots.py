@@ -6,7 +6,7 @@ matplotlib is imported inside each function (figures are built on
 
 import numpy as np
 
-from tactilecal.analysis._regions import column_profile, row_profile
+from tactilecal.analysis._regions import profile
 from tactilecal.analysis._units import pressure_map_kPa, spacing_mm
 
 __all__ = ["plot_force_time", "plot_pressure_map", "plot_cof_path", "plot_profiles",
@@ -148,8 +148,8 @@ def plot_profiles(recording, frame, *, nonworking=None, calibration=None, axes=N
 
         axes = Figure(figsize=(9, 3.5), layout="constrained").subplots(1, 2)
     one = recording.isel(frame=[frame])
-    rows = row_profile(one, nonworking=nonworking, calibration=calibration)[0]
-    cols = column_profile(one, nonworking=nonworking, calibration=calibration)[0]
+    rows = profile(one, "row", nonworking=nonworking, calibration=calibration)[0]
+    cols = profile(one, "col", nonworking=nonworking, calibration=calibration)[0]
     axes[0].plot(rows.values, rows["row_mm"].values, "o-", ms=3)
     axes[0].invert_yaxis()
     axes[0].set_xlabel("mean row pressure [kPa]")

@@ -4,6 +4,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._errors import TactilecalError
 from tactilecal._model import check_recording, recording_name
 from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.analysis._units import (
@@ -13,7 +14,7 @@ from tactilecal.analysis._units import (
     spacing_mm,
 )
 
-__all__ = ["select_region", "profile", "row_profile", "column_profile", "max_window_load",
+__all__ = ["select_region", "profile", "max_window_load",
            "label_zones", "high_pressure_zones"]
 
 
@@ -22,9 +23,9 @@ def _plane_mask(recording, mask, what):
     shape = (recording.sizes["row"], recording.sizes["col"])
     values = np.asarray(mask)
     if values.dtype != bool or values.shape != shape:
-        raise ValueError(f"{what} has dtype {values.dtype} and shape {values.shape}; "
-                         f"expected a boolean array of shape {shape} (rows, cols) "
-                         f"of {recording_name(recording)}")
+        raise TactilecalError(f"{what} has dtype {values.dtype} and shape {values.shape}; "
+                              f"expected a boolean array of shape {shape} (rows, cols) "
+                              f"of {recording_name(recording)}")
     return xr.DataArray(values, dims=("row", "col"),
                         coords={"row": recording["row"], "col": recording["col"]})
 
@@ -64,9 +65,10 @@ def select_region(recording, region):
         r0, r1, c0, c1 = (int(v) for v in region)
         rows, cols = recording.sizes["row"], recording.sizes["col"]
         if not (0 <= r0 < r1 <= rows and 0 <= c0 < c1 <= cols):
-            raise ValueError(f"region box {region} is empty or outside the {rows} x {cols} "
-                             f"sensels of {recording_name(recording)}; expected 0 <= row_start < "
-                             "row_stop <= rows and 0 <= col_start < col_stop <= cols")
+            raise TactilecalError(f"region box {region} is empty or outside the {rows} x {cols} "
+                                  f"sensels of {recording_name(recording)}; expected 0 <= "
+                                  f"row_start < "
+                                  "row_stop <= rows and 0 <= col_start < col_stop <= cols")
         mask = np.zeros((rows, cols), dtype=bool)
         mask[r0:r1, c0:c1] = True
     else:
@@ -114,7 +116,7 @@ def profile(recording, dim="row", *, nonworking=None, calibration=None):
     array([[ 5., 20.]])
     """
     if dim not in ("row", "col"):
-        raise ValueError(f"profile dim is {dim!r}; expected 'row' or 'col'")
+        raise TactilecalError(f"profile dim is {dim!r}; expected 'row' or 'col'")
     pressure = pressure_map_kPa(recording, calibration=calibration)
     if nonworking is not None:
         pressure = pressure.where(~_plane_mask(recording, nonworking, "nonworking mask"))
@@ -127,32 +129,23 @@ def profile(recording, dim="row", *, nonworking=None, calibration=None):
     return mean
 
 
-def row_profile(recording, *, nonworking=None, calibration=None):
-    """Return ``profile(recording, "row", ...)`` (the deprecated name)."""
-    return profile(recording, "row", nonworking=nonworking, calibration=calibration)
-
-
-def column_profile(recording, *, nonworking=None, calibration=None):
-    """Return ``profile(recording, "col", ...)`` (the deprecated name)."""
-    return profile(recording, "col", nonworking=nonworking, calibration=calibration)
-
-
 def _window_shape(recording, window, area_mm2):
     rows, cols = recording.sizes["row"], recording.sizes["col"]
     if (window is None) == (area_mm2 is None):
-        raise ValueError("give exactly one of window=(rows, cols) in sensels or area_mm2; "
-                         f"got window={window!r}, area_mm2={area_mm2!r}")
+        raise TactilecalError("give exactly one of window=(rows, cols) in sensels or area_mm2; "
+                              f"got window={window!r}, area_mm2={area_mm2!r}")
     if area_mm2 is not None:
         if not np.isfinite(area_mm2) or area_mm2 <= 0:
-            raise ValueError(f"area_mm2 is {area_mm2!r}; expected a positive area in mm2")
+            raise TactilecalError(f"area_mm2 is {area_mm2!r}; expected a positive area in mm2")
         side_mm = np.sqrt(area_mm2)
         row_mm, col_mm = spacing_mm(recording)
         window = (max(1, round(side_mm / row_mm)), max(1, round(side_mm / col_mm)))
     h, w = (int(v) for v in window)
     if not (1 <= h <= rows and 1 <= w <= cols):
-        raise ValueError(f"window of {h} x {w} sensels does not fit the {rows} x {cols} "
-                         f"sensels of {recording_name(recording)}; expected 1..{rows} rows and "
-                         f"1..{cols} columns")
+        raise TactilecalError(f"window of {h} x {w} sensels does not fit the {rows} x {cols} "
+                              f"sensels of {recording_name(recording)}; expected 1..{rows} rows "
+                              f"and "
+                              f"1..{cols} columns")
     return h, w
 
 
@@ -278,8 +271,8 @@ def label_zones(recording, level_kPa, *, connectivity=1, calibration=None):
     from scipy import ndimage
 
     if connectivity not in (1, 2):
-        raise ValueError(f"connectivity is {connectivity!r}; expected 1 (edges) or 2 "
-                         "(edges and corners)")
+        raise TactilecalError(f"connectivity is {connectivity!r}; expected 1 (edges) or 2 "
+                              "(edges and corners)")
     pressure = pressure_map_kPa(recording, calibration=calibration)
     plane = ndimage.generate_binary_structure(2, connectivity)
     structure = np.zeros((3, 3, 3), dtype=bool)

@@ -12,6 +12,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 import xarray as xr
 
+from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps
 
 __all__ = ["CreepResult", "HysteresisResult", "creep", "hysteresis"]
@@ -26,14 +27,14 @@ def _as_series(signal, time_s, calibration, what):
     units = signal.attrs.get("units", "") if isinstance(signal, xr.DataArray) else ""
     if time_s is None:
         if not isinstance(signal, xr.DataArray) or "time" not in signal.coords:
-            raise ValueError(f"{what} has no 'time' coordinate; expected a DataArray with "
-                             "time in s or time_s=...")
+            raise TactilecalError(f"{what} has no 'time' coordinate; expected a DataArray with "
+                                  "time in s or time_s=...")
         time_s = signal["time"].values
     values = np.asarray(signal, dtype=float)
     time_s = np.asarray(time_s, dtype=float)
     if values.ndim != 1 or values.shape != time_s.shape:
-        raise ValueError(f"{what} has shape {values.shape} and time {time_s.shape}; "
-                         "expected two 1-D arrays of the same length")
+        raise TactilecalError(f"{what} has shape {values.shape} and time {time_s.shape}; "
+                              "expected two 1-D arrays of the same length")
     return values, time_s, units
 
 
@@ -149,17 +150,17 @@ def creep(signal, *, time_s=None, start_s=None, stop_s=None, t_load_s=None,
     t_load_s = start_s if t_load_s is None else float(t_load_s)
     keep = (t >= start_s) & (t <= stop_s) & np.isfinite(values) & np.isfinite(t)
     if keep.sum() < 3:
-        raise ValueError(f"creep window {start_s:g}-{stop_s:g} s holds {int(keep.sum())} "
-                         "samples; expected at least 3")
+        raise TactilecalError(f"creep window {start_s:g}-{stop_s:g} s holds {int(keep.sum())} "
+                              "samples; expected at least 3")
     lin = stats.linregress((t[keep] - start_s) / 60.0, values[keep])
     reference = float(lin.intercept)
     if reference <= 0:
-        raise ValueError(f"fitted signal at start_s={start_s:g} s is {reference:g}; expected "
-                         "a positive held load")
+        raise TactilecalError(f"fitted signal at start_s={start_s:g} s is {reference:g}; expected "
+                              "a positive held load")
     after = keep & (t > t_load_s)
     if after.sum() < 3:
-        raise ValueError(f"{int(after.sum())} samples after t_load_s={t_load_s:g} s in the "
-                         "window; expected at least 3 for the log-time fit")
+        raise TactilecalError(f"{int(after.sum())} samples after t_load_s={t_load_s:g} s in the "
+                              "window; expected at least 3 for the log-time fit")
     log = stats.linregress(np.log10(t[after] - t_load_s), values[after])
     return CreepResult(
         units=units, n=int(keep.sum()), start_s=start_s, stop_s=stop_s, t_load_s=t_load_s,
@@ -269,14 +270,14 @@ def hysteresis(reference, measured, *, n_grid=501):
     ref = np.asarray(reference, dtype=float)
     meas = np.asarray(measured, dtype=float)
     if ref.ndim != 1 or ref.shape != meas.shape:
-        raise ValueError(f"reference has shape {ref.shape} and measured {meas.shape}; "
-                         "expected two 1-D arrays of the same length")
+        raise TactilecalError(f"reference has shape {ref.shape} and measured {meas.shape}; "
+                              "expected two 1-D arrays of the same length")
     if not (np.isfinite(ref).all() and np.isfinite(meas).all()):
-        raise ValueError("reference or measured holds NaN or inf; expected finite values")
+        raise TactilecalError("reference or measured holds NaN or inf; expected finite values")
     peak = int(np.argmax(ref))
     if peak < 1 or peak > ref.size - 2:
-        raise ValueError(f"the reference peaks at sample {peak} of {ref.size}; expected a "
-                         "loading branch and an unloading branch of at least 2 samples each")
+        raise TactilecalError(f"the reference peaks at sample {peak} of {ref.size}; expected a "
+                              "loading branch and an unloading branch of at least 2 samples each")
     load, unload = slice(0, peak + 1), slice(peak, None)
     lo = max(ref[load].min(), ref[unload].min())
     grid = np.linspace(lo, ref[peak], n_grid)

@@ -8,6 +8,7 @@ one place.
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal._model import check_recording, positive_attr, recording_name, recording_units
 from tactilecal._units import KPA_MM2_TO_N, N_PER_MM2_TO_KPA
 
@@ -72,8 +73,8 @@ def spacing_mm(recording):
 def _calibrated(recording, calibration, units):
     """Apply ``calibration`` (object with ``apply`` or a JSON path) to a raw recording."""
     if calibration is None:
-        raise ValueError(f"{recording_name(recording)}: units are 'raw'; give a calibration "
-                         "(calibration=... or --cal CAL.json) to get pressure or force")
+        raise TactilecalError(f"{recording_name(recording)}: units are 'raw'; give a calibration "
+                              "(calibration=... or --cal CAL.json) to get pressure or force")
     if not hasattr(calibration, "apply"):
         from tactilecal.calibration import load_calibration
 

@@ -8,7 +8,6 @@ uncertainty, the error on every point, its figures (``cal.plot_curve()``,
 See ``docs/static-calibration.md``.
 """
 
-from tactilecal._deprecated import moved_names
 from tactilecal.calibration._calibrate import METHODS, calibrate, validate
 from tactilecal.calibration._header import header_calibration
 from tactilecal.calibration._manifest import load_points
@@ -30,30 +29,3 @@ __all__ = [
     "equilibrate", "Equilibration", "find_dead_sensels", "NonWorkingSensels",
     "ValidationResult",
 ]
-
-_RESULT = "use CalibrationResult.force_table() or .predict_sensel_force(raw)"
-__getattr__ = moved_names(__name__, {
-    "MODELS": ("_models", "MODELS", "the model of each method is CalibrationResult.model"),
-    "OBJECTIVES": ("_methods", "OBJECTIVES", "see calibrate()'s objective= docstring"),
-    "force_table": ("_models", "force_table", _RESULT),
-    "sensel_force": ("_models", "sensel_force", _RESULT),
-    "make_result": ("_calibrate", "make_result", "use calibrate()"),
-    "select_points": ("_calibrate", "select_points", "select the points before calibrate()"),
-    "find_plateau": ("_manifest", "find_plateau", "load_points() finds the plateau"),
-    "load_frames": ("_manifest", "load_frames", "calibrate(manifest, mask='detect') finds "
-                    "the non-working sensels over the manifest's frames"),
-    "movie_points": ("_movie", "movie_points", "use calibrate_movie()"),
-    "read_movie_loads": ("_movie", "read_movie_loads", "use calibrate_movie()"),
-    "points_to_arrays": ("_points", "points_to_arrays", "use calibrate()"),
-    "PredictionInterval": ("_uncertainty", "PredictionInterval",
-                           "use calibrate(..., n_interval_resamples=N)"),
-    "prediction_interval": ("_uncertainty", "prediction_interval",
-                            "use calibrate(..., n_interval_resamples=N)"),
-    "plot_calibration_curve": ("_plots", "plot_calibration_curve",
-                               "use the method CalibrationResult.plot_curve()"),
-    "plot_points": ("_plots", "plot_points", "use the method CalibrationResult.plot_points()"),
-    "plot_error_histogram": ("_plots", "plot_error_histogram",
-                             "use the method CalibrationResult.plot_error_histogram()"),
-    "load_equilibration": ("_sensels", "load_equilibration", "use "
-                           "Equilibration.from_json(path) or tactilecal.load(path)"),
-})

@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from tactilecal._errors import TactilecalError
 from tactilecal._powerfit import NO_STDERR, hist_products
 from tactilecal._provenance import provenance
 from tactilecal._saturation import resolve_saturated
@@ -141,7 +142,7 @@ def calibrate(points, method="power", *, equilibration=None, mask=None, progress
     (1.2, 0.004)
     """
     if method not in METHODS:  # before any manifest file is read
-        raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
+        raise TactilecalError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
     if is_path(points):
         manifest = points
         points, dead, eq = manifest_points(manifest, equilibration=equilibration, mask=mask,
@@ -149,13 +150,13 @@ def calibrate(points, method="power", *, equilibration=None, mask=None, progress
         try:
             result = _calibrate_points(points, method, options)
         except ValueError as err:  # name the manifest: the points' names are in the text
-            raise ValueError(f"{os.fspath(manifest)}: {err}") from None
+            raise TactilecalError(f"{os.fspath(manifest)}: {err}") from None
         result.provenance = _manifest_provenance(manifest, points)
         return record_preprocessing(result, dead, eq)
     if equilibration is not None or mask is not None:
-        raise ValueError("equilibration= and mask= act on frames, and points are "
-                         "histograms; expected the manifest's path as points, or "
-                         "load_points(..., equilibration=, mask=)")
+        raise TactilecalError("equilibration= and mask= act on frames, and points are "
+                              "histograms; expected the manifest's path as points, or "
+                              "load_points(..., equilibration=, mask=)")
     return _calibrate_points(points, method, options)
 
 
@@ -164,7 +165,7 @@ def _calibrate_points(points, method, options):
     points = list(points)
     if method != "zvyagin":  # resampled, if asked, by calibrate_arrays on the arrays
         if method not in FITTERS:
-            raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
+            raise TactilecalError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
         hist, load = points_to_arrays(points)
         return calibrate_arrays(hist, load, point_meta(points), method=method, **options)
     from tactilecal.calibration._zvyagin import calibrate_zvyagin as zvyagin  # imports us
@@ -182,7 +183,7 @@ def _pop_uncertainty(options):
     counts = {k: options.pop(k, 0) for k in ("n_bootstrap", "n_interval_resamples")}
     for key, count in counts.items():
         if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0:
-            raise ValueError(f"{key}={count!r}; expected a whole number >= 0")
+            raise TactilecalError(f"{key}={count!r}; expected a whole number >= 0")
     seed = options.pop("seed", 0)
     return int(counts["n_bootstrap"]), int(counts["n_interval_resamples"]), seed
 
@@ -226,7 +227,7 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
     without making a Python object per frame.
     """
     if method not in FITTERS:
-        raise ValueError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
+        raise TactilecalError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
     saturated = resolve_saturated(options.pop("saturated", None),
                                   options.pop("keep_saturated", None))
     keep_saturated = saturated == "keep"
@@ -235,14 +236,15 @@ def calibrate_arrays(hist, load, meta, *, method="power", **options):
     n_params, n_interval, seed = _pop_uncertainty(options)
     _check_options(method, options)
     if scale_by_working and method not in SCALABLE:
-        raise ValueError(f"scale_by_working is offered for {SCALABLE}; method={method!r}")
+        raise TactilecalError(f"scale_by_working is offered for {SCALABLE}; method={method!r}")
     used, reasons = _select(load, meta, keep_saturated or saturated == "censored")
     if not used.any():
         kinds = sorted({str(r).split(":")[0] for r in reasons})
         names = [_point_name(meta, k) for k in range(min(len(load), 8))]
-        raise ValueError(f"no usable calibration points among {len(load)} ({', '.join(kinds)}: "
-                         f"{', '.join(names)}{' ...' if len(load) > 8 else ''}); expected at "
-                         "least one unsaturated point with a positive load")
+        raise TactilecalError(f"no usable calibration points among {len(load)} "
+                              f"({', '.join(kinds)}: {', '.join(names)}"
+                              f"{' ...' if len(load) > 8 else ''}); expected at least one "
+                              "unsaturated point with a positive load")
     if saturated == "censored":
         check_unsaturated(meta["saturated_cells"][used] > 0,
                           lambda k: _point_name(meta, np.flatnonzero(used)[k]),
@@ -303,8 +305,8 @@ def _check_options(method, options):
     if unknown:
         generic = ["saturated", "keep_saturated", "sensel_area_mm2", "scale_by_working",
                    "n_bootstrap", "n_interval_resamples", "seed"]
-        raise ValueError(f"method={method!r} does not take the options {unknown}; expected "
-                         f"{accepted + generic}")
+        raise TactilecalError(f"method={method!r} does not take the options {unknown}; expected "
+                              f"{accepted + generic}")
 
 
 def _working_fraction(meta):
@@ -363,8 +365,8 @@ def _sensel_area(areas, area):
     areas = np.asarray(areas, dtype=float)
     areas = np.unique(areas[np.isfinite(areas)])
     if len(areas) > 1 and not np.allclose(areas, areas[0], rtol=1e-6):
-        raise ValueError(f"points have different sensel areas {areas.tolist()} mm2; "
-                         "expected one sensor model per calibration")
+        raise TactilecalError(f"points have different sensel areas {areas.tolist()} mm2; "
+                              "expected one sensor model per calibration")
     return float(areas[0]) if len(areas) else float("nan")
 
 
@@ -437,8 +439,8 @@ def validate(result, points, *, include_saturated=False, progress=None):
     keep = np.isfinite(error_pct) & (include_saturated | ~saturated)
     inside = _interval_columns(result, rows, predicted, load)
     if not keep.any():
-        raise ValueError(f"none of the {len(points)} validation points has a positive load "
-                         "and no saturated sensels; expected at least one")
+        raise TactilecalError(f"none of the {len(points)} validation points has a positive load "
+                              "and no saturated sensels; expected at least one")
     pct = np.abs(error_pct[keep])
     summary = {"n": int(keep.sum()), "within_5pct": float(np.mean(pct <= 5.0)),
                "within_10pct": float(np.mean(pct <= 10.0)),

@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal._units import N_PER_MM2_TO_KPA, pressure_to_kPa, unit_kind
 from tactilecal._validate import check_number
 from tactilecal.calibration._calibrate import result_from_arrays
@@ -45,21 +46,21 @@ def header_calibration(recording):
     name = attrs.get("source", "recording")
     area = attrs.get("sensel_area_mm2")
     if area is None:
-        raise ValueError(f"{name}: no sensel_area_mm2 in the header; expected SENSEL_AREA")
+        raise TactilecalError(f"{name}: no sensel_area_mm2 in the header; expected SENSEL_AREA")
     area = float(area)
     if "scale_factor" in attrs and "exponent" in attrs:
         return _power_law(attrs, name, area)
     if "calibration_point_1_load_N" not in attrs:
-        raise ValueError(f"{name}: the header has no CALIBRATION_POINT_1 and no SCALE_FACTOR/"
-                         "EXPONENT; expected a Tekscan calibration in the header")
+        raise TactilecalError(f"{name}: the header has no CALIBRATION_POINT_1 and no SCALE_FACTOR/"
+                              "EXPONENT; expected a Tekscan calibration in the header")
     load = float(attrs["calibration_point_1_load_N"])
     raw_sum = float(attrs["calibration_point_1_raw_sum"])
     cells = int(attrs.get("calibration_point_1_loaded_cells", 0))
     hist = np.zeros((1, 256))
     if cells:  # the header keeps only sums: spread the raw sum evenly over the cells
         if not 0 < raw_sum <= 255 * cells:
-            raise ValueError(f"{name}: CALIBRATION_POINT_1 has a raw sum of {raw_sum:g} over "
-                             f"{cells} loaded cells; expected 1..{255 * cells} (0..255 each)")
+            raise TactilecalError(f"{name}: CALIBRATION_POINT_1 has a raw sum of {raw_sum:g} over "
+                                  f"{cells} loaded cells; expected 1..{255 * cells} (0..255 each)")
         lo = min(int(raw_sum // cells), 254)
         hist[0, lo], hist[0, lo + 1] = cells - (raw_sum - lo * cells), raw_sum - lo * cells
     return _result({"A": load / raw_sum, "b": 1.0}, "header-linear", area, hist,
@@ -75,9 +76,9 @@ def _power_law(attrs, name, area):
     candidates = (attrs.get("units"), attrs.get("saturation_pressure_unit"))
     unit = next((u for u in candidates if u is not None and unit_kind(u) == "pressure"), None)
     if unit is None:
-        raise ValueError(f"{name}: SCALE_FACTOR/EXPONENT without a pressure unit (UNITS is "
-                         f"{attrs.get('units')!r}, no SATURATION_PRESSURE unit); expected "
-                         "UNITS e.g. MPa or kPa")
+        raise TactilecalError(f"{name}: SCALE_FACTOR/EXPONENT without a pressure unit (UNITS is "
+                              f"{attrs.get('units')!r}, no SATURATION_PRESSURE unit); expected "
+                              "UNITS e.g. MPa or kPa")
     scale = check_number(attrs["scale_factor"], f"SCALE_FACTOR of {name}", minimum=0,
                          min_inclusive=False)
     exponent = check_number(attrs["exponent"], f"EXPONENT of {name}", minimum=0,

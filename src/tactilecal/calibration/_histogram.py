@@ -14,6 +14,8 @@ the same counts and the same errors.
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
+
 N_LEVELS = 256
 SATURATION_RAW = 255
 #: Readings from which the compiled kernel is used (2**26: 35,000 frames of 44 x 44, where
@@ -69,8 +71,8 @@ def count_into(frames, skip, out, *, compiled):
     if bad >= 0:
         value = frames.flat[bad]
         value = np.rint(value) if frames.dtype.kind == "f" else value
-        raise ValueError(f"raw frames contain the value {value:g}; expected raw readings "
-                         "0..255")
+        raise TactilecalError(f"raw frames contain the value {value:g}; expected raw readings "
+                              "0..255")
     if not direct:
         out[...] = target
     return out

@@ -5,7 +5,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from tactilecal._progress import from_quiet
+from tactilecal._errors import TactilecalError
+from tactilecal._progress import resolve
 from tactilecal._provenance import sensor_of
 from tactilecal._validate import check_number, csv_rows, parse_number, read_text
 from tactilecal.calibration._points import _points_from_histograms, frame_histograms
@@ -56,7 +57,7 @@ def find_plateau(total, *, window=3, rel_tol=0.02, min_level=0.5):
     """
     total = pd.Series(np.asarray(total, dtype=float))
     if not (total > 0).any():
-        raise ValueError("every frame has a total raw reading of 0; expected a loaded plateau")
+        raise TactilecalError("every frame has a total raw reading of 0; expected a loaded plateau")
     if len(total) < window:
         i = int(total.to_numpy().argmax())
         return i, i, i, 0.0
@@ -82,15 +83,15 @@ def _manifest_table(path):
     """
     lines = list(csv_rows(read_text(path, expected="a manifest CSV"), path))
     if not lines:
-        raise ValueError(f"{path} is empty; expected a CSV header with file, frame and "
-                         "load_N or mass_kg")
+        raise TactilecalError(f"{path} is empty; expected a CSV header with file, frame and "
+                              "load_N or mass_kg")
     columns = lines[0][1]
     missing = [c for c in ("file", "frame") if c not in columns]
     if missing or not ({"load_N", "mass_kg"} & set(columns)):
-        raise ValueError(f"{path} has columns {columns}; expected file, frame and "
-                         "load_N or mass_kg (optional pad_mass_g, label)")
+        raise TactilecalError(f"{path} has columns {columns}; expected file, frame and "
+                              "load_N or mass_kg (optional pad_mass_g, label)")
     if len(lines) == 1:
-        raise ValueError(f"{path} has no rows; expected one row per calibration point")
+        raise TactilecalError(f"{path} has no rows; expected one row per calibration point")
     return [(number, dict(zip(columns, cells, strict=True))) for number, cells in lines[1:]]
 
 
@@ -115,7 +116,7 @@ def _row_load_N(row, where):
         mass = _number(row["mass_kg"], "mass_kg", where, minimum=0.0, maximum=_MAX_LOAD_N)
         return check_number((mass + pad / 1000.0) * G_STANDARD, f"{where}: the load in N",
                             **positive)
-    raise ValueError(f"{where}: load_N and mass_kg are both blank; expected a load")
+    raise TactilecalError(f"{where}: load_N and mass_kg are both blank; expected a load")
 
 
 def _read_recording(path, where, cache):
@@ -123,15 +124,15 @@ def _read_recording(path, where, cache):
 
     if path not in cache:
         if not path.exists():
-            raise ValueError(f"{where}: file {path} does not exist")
+            raise TactilecalError(f"{where}: file {path} does not exist")
         try:
             rec = open_recording(path)
         except ValueError as exc:  # name the manifest line that points at the file
-            raise ValueError(f"{where}: {exc}") from None
+            raise TactilecalError(f"{where}: {exc}") from None
         units = rec.attrs.get("units", "raw")
         if units != "raw":
-            raise ValueError(f"{where}: {path.name} has units {units!r}; expected raw "
-                             "readings (units raw) to calibrate")
+            raise TactilecalError(f"{where}: {path.name} has units {units!r}; expected raw "
+                                  "readings (units raw) to calibrate")
         cache[path] = rec
     return cache[path]
 
@@ -143,14 +144,14 @@ def _pick_frame(rec, text, where, name):
         number = _number(text, "frame", where, integer=True)
         hits = np.flatnonzero(frames == number)
         if not len(hits):
-            raise ValueError(f"{where}: frame {text} is not in {name} (frames "
-                             f"{frames[0]}..{frames[-1]}); expected one of its frame numbers")
+            raise TactilecalError(f"{where}: frame {text} is not in {name} (frames "
+                                  f"{frames[0]}..{frames[-1]}); expected one of its frame numbers")
         return int(hits[0]), ""
     total = np.nansum(rec.values.reshape(len(frames), -1), axis=1)
     try:
         i, first, last, cv = find_plateau(total)
     except ValueError as exc:  # an empty recording: name the manifest line and its file
-        raise ValueError(f"{where}: {name}: {exc}") from None
+        raise TactilecalError(f"{where}: {name}: {exc}") from None
     note = (f"frame blank: chose frame {frames[i]}, middle of the plateau frames "
             f"{frames[first]}..{frames[last]} (raw sum {total[i]:.0f}, variation {cv:.2%})")
     return i, note
@@ -180,26 +181,26 @@ def _manifest_frames(manifest_path, equilibration, progress):
         yield row, frame, int(rec["frame"].values[i]), note, rec.attrs, load
 
 
-def load_frames(manifest_path, *, equilibration=None, progress=None, quiet=None):
+def load_frames(manifest_path, *, equilibration=None, progress=None):
     """Return the manifest's chosen frames stacked (n, rows, cols), e.g. to find dead sensels.
 
-    ``equilibration``, ``progress`` and ``quiet`` are as in :func:`load_points`.
+    ``equilibration`` and ``progress`` are as in :func:`load_points`.
 
     Raises
     ------
     ValueError
         As :func:`load_points`, and if the files' frame shapes differ.
     """
-    progress = from_quiet(progress, quiet, "load_frames")
+    progress = resolve(progress)
     frames = [f[1][0] for f in _manifest_frames(manifest_path, equilibration, progress)]
     shapes = sorted({f.shape for f in frames})
     if len(shapes) > 1:
-        raise ValueError(f"{manifest_path}: files have frame shapes {shapes}; expected one "
-                         "sensor model")
+        raise TactilecalError(f"{manifest_path}: files have frame shapes {shapes}; expected one "
+                              "sensor model")
     return np.stack(frames)
 
 
-def load_points(manifest_path, *, mask=None, equilibration=None, progress=None, quiet=None):
+def load_points(manifest_path, *, mask=None, equilibration=None, progress=None):
     """Read a calibration manifest and return its calibration points.
 
     The manifest is a CSV with one row per point: ``file`` (path relative to the manifest),
@@ -218,8 +219,6 @@ def load_points(manifest_path, *, mask=None, equilibration=None, progress=None, 
     progress : callable, optional
         ``progress(iterable, total=, desc=)`` wrapping the rows of manifests of 50 rows or
         more, e.g. a progress bar (see :mod:`tactilecal._progress`); None: no bar.
-    quiet : bool, optional
-        Deprecated (warns): ``quiet=False`` asks for a terminal bar; use ``progress``.
 
     Returns
     -------
@@ -231,7 +230,7 @@ def load_points(manifest_path, *, mask=None, equilibration=None, progress=None, 
         Missing columns, a blank or non-numeric load, a missing file, a frame not in its
         file, a file that is not raw; messages name the manifest line.
     """
-    progress = from_quiet(progress, quiet, "load_points")
+    progress = resolve(progress)
     points = []
     for row, frame, number, note, attrs, load in _manifest_frames(manifest_path, equilibration,
                                                                    progress):
@@ -250,6 +249,6 @@ def _frame_mask(mask, shape, name):
     """Return ``mask`` as a boolean (rows, cols) array of the frames' shape."""
     mask = np.asarray(mask, dtype=bool)
     if mask.shape != tuple(shape):
-        raise ValueError(f"mask has shape {mask.shape}; expected {tuple(shape)}, the frames "
-                         f"of {name}")
+        raise TactilecalError(f"mask has shape {mask.shape}; expected {tuple(shape)}, the frames "
+                              f"of {name}")
     return mask

@@ -8,6 +8,7 @@ fit does not depend on the number of sensels: ``sum_k X_k**b = hist @ arange(256
 import numpy as np
 from scipy import optimize
 
+from tactilecal._errors import TactilecalError
 from tactilecal._powerfit import (
     B_BOUNDS,
     DEFAULT_OBJECTIVE,
@@ -33,8 +34,8 @@ __all__ = ["Fit", "FITTERS", "EXACT_METHODS", "OBJECTIVES", "DEFAULT_OBJECTIVE",
 
 def _check_ls_objective(objective, method):
     if objective not in ("l2", "relative"):
-        raise ValueError(f"objective={objective!r} is not available for {method}; "
-                         "expected 'l2' or 'relative'")
+        raise TactilecalError(f"objective={objective!r} is not available for {method}; "
+                              "expected 'l2' or 'relative'")
 
 
 
@@ -50,8 +51,8 @@ def fit_linear(hist, load_N, *, point=None, **_):
     details = {}
     if point is not None:
         if not 0 <= int(point) < len(load_N):
-            raise ValueError(f"point={point!r} is invalid; expected an index into the "
-                             f"{len(load_N)} usable points")
+            raise TactilecalError(f"point={point!r} is invalid; expected an index into the "
+                                  f"{len(load_N)} usable points")
         hist, load_N = hist[[int(point)]], load_N[[int(point)]]
         details["point"] = int(point)
     raw_sum = hist @ LEVELS
@@ -82,7 +83,7 @@ def fit_power_2pt(hist, load_N, *, pair=None, **_):
 
 def _choose_pair(load_N, pair):
     if len(load_N) < 2:
-        raise ValueError(f"power-2pt needs 2 usable points; found {len(load_N)}")
+        raise TactilecalError(f"power-2pt needs 2 usable points; found {len(load_N)}")
     if pair is None:
         top = load_N.max()
         i = int(np.argmin(np.abs(load_N - 0.2 * top)))
@@ -90,13 +91,13 @@ def _choose_pair(load_N, pair):
         if load_N[i] == load_N[j]:
             j = int(np.argmax(load_N))
         if load_N[i] == load_N[j]:
-            raise ValueError("power-2pt needs two different loads; all usable points have "
-                             f"load_N = {load_N[i]:.6g}")
+            raise TactilecalError("power-2pt needs two different loads; all usable points have "
+                                  f"load_N = {load_N[i]:.6g}")
         return i, j
     i, j = (int(k) for k in pair)
     if not (0 <= i < len(load_N) and 0 <= j < len(load_N)) or i == j:
-        raise ValueError(f"pair={pair!r} is invalid; expected two different indices "
-                         f"into the {len(load_N)} usable points")
+        raise TactilecalError(f"pair={pair!r} is invalid; expected two different indices "
+                              f"into the {len(load_N)} usable points")
     return i, j
 
 
@@ -125,7 +126,7 @@ def fit_polynomial(hist, load_N, *, degree=3, objective="l2", **_):
     """
     _check_ls_objective(objective, "polynomial")
     if int(degree) < 1:
-        raise ValueError(f"degree={degree!r}; expected an integer >= 1")
+        raise TactilecalError(f"degree={degree!r}; expected an integer >= 1")
     powers = np.arange(1, int(degree) + 1)
     design = hist @ ((LEVELS / 255.0)[:, None] ** powers)
     w = _weights(load_N, objective)
@@ -153,7 +154,7 @@ def penalty_weight(smoothing, load_N, objective):
 
 def _check_smoothing(smoothing):
     if not (np.isfinite(smoothing) and smoothing >= 0):
-        raise ValueError(f"smoothing={smoothing!r}; expected a number >= 0")
+        raise TactilecalError(f"smoothing={smoothing!r}; expected a number >= 0")
 
 
 def _piecewise_shape(knots, slopes):
@@ -235,8 +236,8 @@ def fit_piecewise(hist, load_N, *, knots=(1, 16, 64, 255), objective=DEFAULT_OBJ
     _check_smoothing(smoothing)
     knots = np.asarray(knots, dtype=float)
     if len(knots) < 2 or np.any(np.diff(knots) <= 0) or knots[0] <= 0:
-        raise ValueError(f"knots={knots.tolist()} must increase and be > 0; expected e.g. "
-                         "(1, 16, 64, 255)")
+        raise TactilecalError(f"knots={knots.tolist()} must increase and be > 0; expected e.g. "
+                              "(1, 16, 64, 255)")
     start = fit_power(hist, load_N, objective=objective).params
     weight = penalty_weight(smoothing, load_N, objective)
     if objective == "l1":
@@ -333,8 +334,8 @@ def fit_lut(hist, load_N, *, knots=None, objective="l1", smoothing=LUT_SMOOTHING
         knots = np.r_[0, np.unique(np.rint(np.geomspace(3, 255, 12)))]
     knots = np.asarray(knots, dtype=float)
     if knots[0] != 0 or knots[-1] < 255 or np.any(np.diff(knots) <= 0):
-        raise ValueError(f"knots={knots.tolist()} must increase from 0 to 255; expected e.g. "
-                         "[0, 3, 5, ..., 255]")
+        raise TactilecalError(f"knots={knots.tolist()} must increase from 0 to 255; expected e.g. "
+                              "[0, 3, 5, ..., 255]")
     shape = fit_power(hist, load_N, objective="l1").params
     design, cumulative = _lut_design(hist, knots, shape["b"])
     # squared rows: with IRLS's weights an l1 cost, so the l1 weight holds for the l1 fit too
@@ -424,5 +425,5 @@ def fit_censored(method, hist, load_N, censored, **options):
             fit.details.update(censored=int(censored.sum()), censored_active=int(now.sum()))
             return fit
         active = now
-    raise ValueError(f"censored {method} fit: the set of over-predicted saturated patches "
-                     "did not settle in 50 refits; expected 'drop' for this session")
+    raise TactilecalError(f"censored {method} fit: the set of over-predicted saturated patches "
+                          "did not settle in 50 refits; expected 'drop' for this session")

@@ -7,6 +7,8 @@ Every model is a function ``f(raw, params)`` with ``f(0) = 0``. A frame's total 
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
+
 __all__ = ["MODELS", "sensel_force", "force_table"]
 
 LEVELS = np.arange(256, dtype=float)
@@ -96,7 +98,7 @@ def sensel_force(model, params, raw):
     [0.0, 2.0, nan]
     """
     if model not in MODELS:
-        raise ValueError(f"model {model!r} is unknown; expected one of {sorted(MODELS)}")
+        raise TactilecalError(f"model {model!r} is unknown; expected one of {sorted(MODELS)}")
     out = MODELS[model](np.nan_to_num(raw, nan=0.0), params)
     return np.where(np.isnan(raw), np.nan, out)
 

@@ -16,8 +16,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._errors import TactilecalError
 from tactilecal._powerfit import COMPILED_MIN_POINTS, hist_products
-from tactilecal._progress import from_quiet
+from tactilecal._progress import resolve
 from tactilecal._provenance import provenance_of
 from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
@@ -68,8 +69,8 @@ def read_movie_loads(path, *, time_col=None, load_col=None):
     if len(header) > 1 or time_col is not None:
         series = read_timeseries(path, time_col=time_col, value_col=load_col)
         if series.attrs.get("units") not in ("N", "unknown"):
-            raise ValueError(f"{path}: load column {series.attrs.get('column')!r} is in "
-                             f"{series.attrs['units']!r}; expected a force or mass unit")
+            raise TactilecalError(f"{path}: load column {series.attrs.get('column')!r} is in "
+                                  f"{series.attrs['units']!r}; expected a force or mass unit")
         return series.assign_attrs(units="N")
     column = str(header[0]).strip()
     unit = unit_from_column(column, where=f"column {column!r} of {path}")
@@ -77,14 +78,14 @@ def read_movie_loads(path, *, time_col=None, load_col=None):
     values = pd.to_numeric(table.iloc[:, 0], errors="coerce").to_numpy(float)
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
-        raise ValueError(f"line {bad[0] + 2} of {path}: load {table.iloc[bad[0], 0]!r} is "
-                         "not a number; expected one load per frame")
+        raise TactilecalError(f"line {bad[0] + 2} of {path}: load {table.iloc[bad[0], 0]!r} is "
+                              "not a number; expected one load per frame")
     if unit is None:
         return values
     kind = unit_kind(unit)
     if kind not in ("force", "mass"):
-        raise ValueError(f"{path}: load column {column!r} is in {unit!r}; expected a force "
-                         "or mass unit")
+        raise TactilecalError(f"{path}: load column {column!r} is in {unit!r}; expected a force "
+                              "or mass unit")
     return force_to_N(values, unit) if kind == "force" else mass_to_N(values, unit)
 
 
@@ -179,8 +180,8 @@ def _frame_times(recording, n):
         return np.asarray(recording["time"].values, dtype=float)
     spf = recording.attrs.get("seconds_per_frame")
     if spf is None:
-        raise ValueError("recording has neither a time coordinate nor seconds_per_frame; "
-                         "expected frame times to align the load record")
+        raise TactilecalError("recording has neither a time coordinate nor seconds_per_frame; "
+                              "expected frame times to align the load record")
     return np.arange(n) * float(spf)
 
 
@@ -206,8 +207,8 @@ def _align_loads(loads, total, times, n, name, lag_s, max_lag_s, near=None):
     if not isinstance(loads, xr.DataArray):
         loads = np.asarray(loads, dtype=float).ravel()
         if len(loads) != n:
-            raise ValueError(f"loads have {len(loads)} values and no time column; expected "
-                             f"{n} (one per frame of {name}), as I-Scan's movie calibration")
+            raise TactilecalError(f"loads have {len(loads)} values and no time column; expected "
+                                  f"{n} (one per frame of {name}), as I-Scan's movie calibration")
         return loads, {"lag_s": None, "aligned": "one load per frame (no time column)"}
     if lag_s is None:
         lag_s = _lag_on(total, times, loads, max_lag_s, near)
@@ -254,7 +255,7 @@ def _decimated(total, times, rate_hz):
 
 
 def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
-                 equilibration=None, min_load_fraction=0.02, progress=None, quiet=None):
+                 equilibration=None, min_load_fraction=0.02, progress=None):
     """Make one calibration point per frame of a movie paired with a load-cell record.
 
     Parameters
@@ -278,8 +279,6 @@ def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
     progress : callable, optional
         ``progress(iterable, total=, desc=)`` wrapping the chunks of frames of long movies,
         e.g. a progress bar (see :mod:`tactilecal._progress`); None: no bar.
-    quiet : bool, optional
-        Deprecated (warns): ``quiet=False`` asks for a terminal bar; use ``progress``.
 
     Returns
     -------
@@ -293,7 +292,7 @@ def movie_points(recording, loads, *, lag_s=None, max_lag_s=None, mask=None,
     ValueError
         A count mismatch without a time column, records that do not overlap in time.
     """
-    progress = from_quiet(progress, quiet, "movie_points")
+    progress = resolve(progress)
     hist = _histograms(recording.data, None if mask is None else np.asarray(mask, bool),
                        equilibration, progress)
     return _points_from_movie(recording, hist, loads, lag_s=lag_s, max_lag_s=max_lag_s,
@@ -447,7 +446,7 @@ def _first_pass_table(hist, load, method, options, min_load_fraction):
 
 def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col=None,
                     lag_s=None, max_lag_s=None, mask_dead=False, equilibration=None,
-                    min_load_fraction=0.02, progress=None, quiet=None, **options):
+                    min_load_fraction=0.02, progress=None, **options):
     """Movie calibration: align, resample, trim saturated frames, fit every frame.
 
     ``equilibration`` may also be the path of an equilibration JSON.
@@ -462,7 +461,7 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
         Calibration method (see :func:`calibrate`).
     time_col, load_col : str or int, optional
         Columns of the load-cell CSV.
-    lag_s, max_lag_s, equilibration, min_load_fraction, progress, quiet
+    lag_s, max_lag_s, equilibration, min_load_fraction, progress
         See :func:`movie_points`.
     mask_dead : bool
         Detect non-working sensels over the movie (:func:`find_dead_sensels`) and mask them.
@@ -486,8 +485,8 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
 
         recording = open_recording(recording)
     if recording.attrs.get("units", "raw") != "raw":
-        raise ValueError(f"recording {recording.attrs.get('source', '')!r} has units "
-                         f"{recording.attrs['units']!r}; expected raw readings")
+        raise TactilecalError(f"recording {recording.attrs.get('source', '')!r} has units "
+                              f"{recording.attrs['units']!r}; expected raw readings")
     files = [loads] if isinstance(loads, str | Path) else []
     if files:
         loads = read_movie_loads(loads, time_col=time_col, load_col=load_col)
@@ -495,7 +494,7 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     fits_compiled = method in ("power", "piecewise") and \
         recording.sizes[recording.dims[0]] >= COMPILED_MIN_POINTS  # fit_power's kernels
     hist = _histograms(recording.data, None if dead is None else dead.mask, equilibration,
-                       from_quiet(progress, quiet, "calibrate_movie"), fits_compiled)
+                       resolve(progress), fits_compiled)
     sums = _frame_sums(hist)
     signal_N, first = None, None
     if lag_s is None and isinstance(loads, xr.DataArray) and method in FITTERS:

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal._result import ShortRepr
 
 __all__ = [
@@ -141,7 +142,8 @@ def _frame_histograms(raw, *, chunk_frames=64, out=None, prepare=None, mask=None
     if raw.ndim == 2:
         raw = raw[None]
     if raw.ndim != 3:
-        raise ValueError(f"raw frames have {raw.ndim} dimensions; expected 3 (frame, row, col)")
+        raise TactilecalError(f"raw frames have {raw.ndim} dimensions; expected 3 (frame, row, "
+                              f"col)")
     compiled = raw.size >= COMPILED_MIN_VALUES if compiled is None else compiled
     n = raw.shape[0]
     skip = (np.zeros(raw.shape[1:], bool) if mask is None
@@ -220,14 +222,14 @@ def points_from_frames(raw, load_N, *, source="", labels=None, frames=None, mask
 
 def _check_length(name, found, expected):
     if found != expected:
-        raise ValueError(f"{name} has {found} entries; expected {expected} (one per frame)")
+        raise TactilecalError(f"{name} has {found} entries; expected {expected} (one per frame)")
 
 
 def _checked_mask(mask, shape):
     mask = np.asarray(mask, dtype=bool)
     if mask.shape != tuple(shape):
-        raise ValueError(f"mask has shape {mask.shape}; expected {tuple(shape)} "
-                         "(rows, cols of the frames)")
+        raise TactilecalError(f"mask has shape {mask.shape}; expected {tuple(shape)} "
+                              "(rows, cols of the frames)")
     return mask
 
 
@@ -282,8 +284,8 @@ def keep_rows_in_place(rows, keep, *, piece_rows=4096):
     """
     idx = np.flatnonzero(keep)
     if len(keep) != len(rows):
-        raise ValueError(f"keep has {len(keep)} flags for {len(rows)} rows; expected one "
-                         "per row")
+        raise TactilecalError(f"keep has {len(keep)} flags for {len(rows)} rows; expected one "
+                              "per row")
     if not len(idx):
         return rows[:0]
     breaks = np.flatnonzero(np.diff(idx) != 1) + 1
@@ -323,7 +325,7 @@ def points_to_arrays(points):
     ((2, 256), [1.0, 2.0])
     """
     if len(points) == 0:
-        raise ValueError("points is empty; expected at least one calibration point")
+        raise TactilecalError("points is empty; expected at least one calibration point")
     hist = np.stack([np.asarray(p.histogram, dtype=np.int64) for p in points])
     load = np.array([p.load_N for p in points], dtype=float)
     return hist, load

@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps, to_jsonable
 from tactilecal._result import SavedResult
 from tactilecal._units import N_PER_MM2_TO_KPA
@@ -30,8 +31,7 @@ REQUIRED_KEYS = ["method", "model", "params", "sensel_area_mm2", "saturation_pre
 class CalibrationResult(SavedResult):
     """A fitted static calibration (force per sensel as a function of its raw reading).
 
-    Saved as ``"format": "tactilecal-calibration/1"`` (:mod:`tactilecal._result`); files of
-    earlier versions, without the tag, load as before.
+    Saved as ``"format": "tactilecal-calibration/1"`` (:mod:`tactilecal._result`).
 
     Attributes
     ----------
@@ -174,14 +174,14 @@ class CalibrationResult(SavedResult):
         source = recording.attrs.get("source", "")
         units = normalise_unit(units, where="units=")
         if unit_kind(units) not in ("pressure", "force"):
-            raise ValueError(f"units={units!r} is a {unit_kind(units)} unit; expected a "
-                             "pressure (kPa, MPa, psi, bar...) or force (N, kN, lbf...) unit")
+            raise TactilecalError(f"units={units!r} is a {unit_kind(units)} unit; expected a "
+                                  "pressure (kPa, MPa, psi, bar...) or force (N, kN, lbf...) unit")
         # the data model's check; a recording made in memory without units is raw readings
         rec_units, _ = check_recording(recording.assign_attrs(
             units=recording.attrs.get("units", "raw")))
         if rec_units != "raw":
-            raise ValueError(f"recording {source!r} has units {rec_units!r}; expected raw "
-                             "readings (units 'raw')")
+            raise TactilecalError(f"recording {source!r} has units {rec_units!r}; expected raw "
+                                  "readings (units 'raw')")
         self._check_sensor(recording, source)
         if unit_kind(units) == "force":
             scale = 1.0 / force_to_N(1.0, units)
@@ -211,9 +211,10 @@ class CalibrationResult(SavedResult):
         rec_area = recording.attrs.get("sensel_area_mm2")
         if rec_area is not None and np.isfinite(self.sensel_area_mm2) and not np.isclose(
                 float(rec_area), self.sensel_area_mm2, rtol=0.01):
-            raise ValueError(f"recording {source!r}: sensel_area_mm2 = {rec_area} differs from "
-                             f"the calibration's {self.sensel_area_mm2}; expected the same "
-                             "sensor model (a law per sensel does not transfer between sizes)")
+            raise TactilecalError(f"recording {source!r}: sensel_area_mm2 = {rec_area} differs "
+                                  f"from "
+                                  f"the calibration's {self.sensel_area_mm2}; expected the same "
+                                  "sensor model (a law per sensel does not transfer between sizes)")
         made_on = self.provenance.get("sensor_type")
         rec_type = recording.attrs.get("sensor_type")
         if isinstance(made_on, str) and rec_type is not None and str(rec_type) != made_on:
@@ -227,8 +228,8 @@ class CalibrationResult(SavedResult):
         if not np.isfinite(area):
             area = float("nan") if rec_area is None else float(rec_area)
         if not np.isfinite(area) or area <= 0:
-            raise ValueError("sensel area unknown: neither the calibration nor the recording "
-                             "has sensel_area_mm2; expected a positive area to give pressures")
+            raise TactilecalError("sensel area unknown: neither the calibration nor the recording "
+                                  "has sensel_area_mm2; expected a positive area to give pressures")
         return area
 
     # ------------------------------------------------------------------ figures
@@ -308,15 +309,6 @@ class CalibrationResult(SavedResult):
         return dumps(self.to_dict(), indent=2 if len(self.points) <= 1000 else None)
 
     @classmethod
-    def check_untagged(cls, data, source):
-        """Calibration JSON files before the tag had none: the key checks speak for them."""
-
-    @classmethod
-    def is_untagged(cls, data):
-        """Recognise an earlier version's calibration JSON: no tag, a model and its params."""
-        return "format" not in data and "model" in data and "params" in data
-
-    @classmethod
     def _from_dict(cls, data, source):
         """Rebuild a result from :meth:`to_dict` output (``source`` names it in errors)."""
         require_keys(data, REQUIRED_KEYS, source, expected="a calibration JSON")
@@ -348,9 +340,9 @@ def _method_result(data, source):
         return ZvyaginResult.from_details(details)
     except (KeyError, IndexError, TypeError, ValueError, AttributeError, ArithmeticError) \
             as exc:  # any malformed part of the details: one line naming the key
-        raise ValueError(f"key 'details' of {source}: the Zvyagin intermediates cannot be "
-                         f"read ({type(exc).__name__}: {exc}); expected those written by "
-                         "method='zvyagin'") from None
+        raise TactilecalError(f"key 'details' of {source}: the Zvyagin intermediates cannot be "
+                              f"read ({type(exc).__name__}: {exc}); expected those written by "
+                              "method='zvyagin'") from None
 
 
 def check_calibration(data, source):
@@ -363,8 +355,8 @@ def check_calibration(data, source):
     check_type(data["method"], str, where.format("method"), expected="a method name")
     model = check_type(data["model"], str, where.format("model"), expected="a model name")
     if model not in MODELS:
-        raise ValueError(f"{where.format('model')} is {model!r}; expected one of "
-                         f"{sorted(MODELS)}")
+        raise TactilecalError(f"{where.format('model')} is {model!r}; expected one of "
+                              f"{sorted(MODELS)}")
     params = check_type(data["params"], dict, where.format("params"),
                         expected="an object of parameters")
     for key in ("points", "metrics", "details", "options", "params_stderr"):
@@ -387,12 +379,12 @@ def check_calibration(data, source):
         with np.errstate(all="ignore"):  # overflow is caught below as a non-finite force
             table_N = force_table(model, params)
     except (KeyError, IndexError, TypeError, ValueError) as exc:
-        raise ValueError(f"{where.format('params')}: {exc!r} with model {model!r}; expected "
-                         "the parameters of that model") from None
+        raise TactilecalError(f"{where.format('params')}: {exc!r} with model {model!r}; expected "
+                              "the parameters of that model") from None
     if not np.all(np.isfinite(table_N)) or not table_N[255] > 0:
-        raise ValueError(f"{where.format('params')} give forces from {np.nanmin(table_N):g} "
-                         f"to {np.nanmax(table_N):g} N at raw 0..255; expected finite forces, "
-                         "positive at 255")
+        raise TactilecalError(f"{where.format('params')} give forces from {np.nanmin(table_N):g} "
+                              f"to {np.nanmax(table_N):g} N at raw 0..255; expected finite forces, "
+                              "positive at 255")
 
 
 def load_calibration(path):

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage
 
+from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import to_jsonable
 from tactilecal._provenance import provenance_of
 from tactilecal._result import SavedResult
@@ -26,7 +27,7 @@ def _as_frames(raw, name="raw"):
     if values.ndim == 2:
         values = values[None]
     if values.ndim != 3:
-        raise ValueError(f"{name} has {values.ndim} dimensions; expected 3 (frame, row, col)")
+        raise TactilecalError(f"{name} has {values.ndim} dimensions; expected 3 (frame, row, col)")
     return values
 
 
@@ -43,7 +44,7 @@ def _frame_blocks(raw, chunk_frames):
     if values.ndim == 2:
         values = values[None]
     if values.ndim != 3:
-        raise ValueError(f"raw has {values.ndim} dimensions; expected 3 (frame, row, col)")
+        raise TactilecalError(f"raw has {values.ndim} dimensions; expected 3 (frame, row, col)")
     if hasattr(values, "chunks") and not isinstance(values, np.ndarray):
         bounds = np.cumsum((0, *values.chunks[0])).tolist()
     else:
@@ -116,18 +117,9 @@ class NonWorkingSensels(SavedResult):
                             "shape": list(self.mask.shape)})
 
     @classmethod
-    def is_untagged(cls, data):
-        """Recognise the untagged form earlier versions stored in a calibration's details."""
-        return "format" not in data and {"sensels", "n_frames", "evidence_frames"} <= set(data)
-
-    @classmethod
     def _from_dict(cls, data, source):
-        """Rebuild from :meth:`to_dict` output.
-
-        The untagged form of earlier versions has no ``shape``: the mask is then the
-        smallest that holds every listed sensel (the sensels and counts are exact).
-        """
-        require_keys(data, ("sensels", "n_frames", "evidence_frames"), source,
+        """Rebuild from :meth:`to_dict` output."""
+        require_keys(data, ("sensels", "n_frames", "evidence_frames", "shape"), source,
                      expected=cls.DESCRIPTION)
         where = f"key '{{}}' of {source}"
         sensels = check_type(data["sensels"], list, where.format("sensels"),
@@ -136,9 +128,9 @@ class NonWorkingSensels(SavedResult):
                               expected="a list of counts")
         if len(evidence) != len(sensels) or not all(
                 isinstance(rc, list) and len(rc) == 2 for rc in sensels):
-            raise ValueError(f"{where.format('sensels')} holds {len(sensels)} entries and "
-                             f"evidence_frames {len(evidence)}; expected one [row, col] and "
-                             "one count per sensel")
+            raise TactilecalError(f"{where.format('sensels')} holds {len(sensels)} entries and "
+                                  f"evidence_frames {len(evidence)}; expected one [row, col] and "
+                                  "one count per sensel")
         for k, (row, col) in enumerate(sensels):
             for value in (row, col):
                 check_number(value, f"{where.format('sensels')}, entry {k}", minimum=0,
@@ -146,16 +138,12 @@ class NonWorkingSensels(SavedResult):
         n_frames = check_number(data["n_frames"], where.format("n_frames"), minimum=0,
                                 integer=True)
         rows_cols = np.array(sensels, dtype=int).reshape(-1, 2)
-        shape = data.get("shape")
-        if shape is None:
-            shape = tuple(rows_cols.max(axis=0) + 1) if len(rows_cols) else (0, 0)
-        else:
-            shape = tuple(check_number(v, where.format("shape"), minimum=0, integer=True)
-                          for v in check_type(shape, list, where.format("shape"),
-                                              expected="[rows, cols]"))
-            if len(shape) != 2 or (len(rows_cols) and np.any(rows_cols.max(axis=0) >= shape)):
-                raise ValueError(f"{where.format('shape')} is {list(shape)}; expected [rows, "
-                                 "cols] holding every listed sensel")
+        shape = tuple(check_number(v, where.format("shape"), minimum=0, integer=True)
+                      for v in check_type(data["shape"], list, where.format("shape"),
+                                          expected="[rows, cols]"))
+        if len(shape) != 2 or (len(rows_cols) and np.any(rows_cols.max(axis=0) >= shape)):
+            raise TactilecalError(f"{where.format('shape')} is {list(shape)}; expected [rows, "
+                                  "cols] holding every listed sensel")
         mask = np.zeros(shape, dtype=bool)
         frames = np.zeros(shape, dtype=int)
         mask[tuple(rows_cols.T)] = True
@@ -203,9 +191,9 @@ def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=20
     [[2, 2]]
     """
     if not 0 < neighbour_share <= 1:
-        raise ValueError(f"neighbour_share={neighbour_share}; expected a share in (0, 1]")
+        raise TactilecalError(f"neighbour_share={neighbour_share}; expected a share in (0, 1]")
     if int(min_frames) < 1:
-        raise ValueError(f"min_frames={min_frames}; expected an integer >= 1")
+        raise TactilecalError(f"min_frames={min_frames}; expected an integer >= 1")
     values, bounds = _frame_blocks(raw, chunk_frames)
     exists = np.isfinite(np.asarray(values[0], dtype=float))
     n_exist = ndimage.convolve(exists.astype(int), _NEIGHBOURS, mode="constant")
@@ -228,8 +216,7 @@ def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=20
 class Equilibration(SavedResult):
     """Per-sensel gains that equalise the raw output under a uniform load.
 
-    Saved as ``"format": "tactilecal-equilibration/1"``; files of earlier versions, tagged
-    ``"kind": "equilibration"``, load as before.
+    Saved as ``"format": "tactilecal-equilibration/1"``.
 
     ``apply`` multiplies every reading by its sensel's gain (0 stays 0, 255 stays 255 as a
     saturated reading cannot be corrected, results are clipped to 255, NaN where the gain
@@ -253,8 +240,8 @@ class Equilibration(SavedResult):
         """Return equilibrated frames (float, same shape as ``raw``)."""
         values = np.asarray(getattr(raw, "values", raw), dtype=float)
         if values.shape[-2:] != self.gain.shape:
-            raise ValueError(f"frames have shape {values.shape[-2:]}; expected "
-                             f"{self.gain.shape} (the equilibration's sensor)")
+            raise TactilecalError(f"frames have shape {values.shape[-2:]}; expected "
+                                  f"{self.gain.shape} (the equilibration's sensor)")
         out = np.clip(values * self.gain, 0.0, 255.0)
         return np.where(values == 255, 255.0, out)
 
@@ -283,19 +270,6 @@ class Equilibration(SavedResult):
         return to_jsonable({"gain": self.gain, "levels": self.levels})
 
     @classmethod
-    def is_untagged(cls, data):
-        """Recognise an earlier version's equilibration JSON (``"kind": "equilibration"``)."""
-        return "format" not in data and data.get("kind") == "equilibration"
-
-    @classmethod
-    def check_untagged(cls, data, source):
-        """Raise unless untagged ``data`` is an earlier version's equilibration JSON."""
-        if not cls.is_untagged(data):
-            raise ValueError(f"{source} is not an equilibration JSON; expected \"format\": "
-                             f"\"{cls.format_tag()}\" (or \"kind\": \"equilibration\") and a "
-                             "\"gain\" table")
-
-    @classmethod
     def _from_dict(cls, data, source):
         """Rebuild from :meth:`to_dict` output."""
         return cls(gain=_gain_table(data.get("gain"), source),
@@ -313,7 +287,7 @@ def _gain_table(rows, source):
     where = f"key 'gain' of {source}"
     check_type(rows, list, where, expected="a list of rows")
     if not rows or not all(isinstance(row, list) and len(row) == len(rows[0]) for row in rows):
-        raise ValueError(f"{where} is not a table; expected rows of equal length")
+        raise TactilecalError(f"{where} is not a table; expected rows of equal length")
     for i, row in enumerate(rows):
         for j, value in enumerate(row):
             check_number(value, f"{where}, row {i} col {j}", minimum=0.0, min_inclusive=False,
@@ -367,21 +341,21 @@ def equilibrate(levels):
     [[[50.0, 50.0], [50.0, 50.0]]]
     """
     if len(levels) == 0:
-        raise ValueError("levels is empty; expected uniform-load frames at one level or more")
+        raise TactilecalError("levels is empty; expected uniform-load frames at one level or more")
     means = []
     for k, level in enumerate(levels):
         frames = _as_frames(level, f"level {k}")
         if means and frames.shape[1:] != means[0].shape:
-            raise ValueError(f"level {k} has frames of shape {frames.shape[1:]}; expected "
-                             f"{means[0].shape} like level 0")
+            raise TactilecalError(f"level {k} has frames of shape {frames.shape[1:]}; expected "
+                                  f"{means[0].shape} like level 0")
         means.append(frames.mean(axis=0))
     m = np.stack(means)
     valid = np.isfinite(m) & (m > 0) & (m < 255)
     M = np.array([np.nanmean(np.where(v, lvl, np.nan)) if v.any() else np.nan
                   for lvl, v in zip(m, valid, strict=True)])
     if np.isnan(M).any():
-        raise ValueError(f"level {int(np.flatnonzero(np.isnan(M))[0])} has no loaded, "
-                         "unsaturated sensel; expected a uniform load on the sensor")
+        raise TactilecalError(f"level {int(np.flatnonzero(np.isnan(M))[0])} has no loaded, "
+                              "unsaturated sensel; expected a uniform load on the sensor")
     mz = np.where(valid, m, 0.0)
     with np.errstate(invalid="ignore", divide="ignore"):
         gain = (M[:, None, None] * mz).sum(axis=0) / (mz ** 2).sum(axis=0)

@@ -30,6 +30,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal.calibration._points import points_to_arrays
 
 __all__ = ["Bootstrap", "PredictionInterval", "bootstrap_refits", "prediction_interval"]
@@ -82,11 +83,11 @@ class Bootstrap:
     def prediction_interval(self, level=0.95):
         """Quantiles of the out-of-bag relative errors; raises with fewer than 20 of them."""
         if not 0 < level < 1:
-            raise ValueError(f"level={level!r}; expected a probability in (0, 1)")
+            raise TactilecalError(f"level={level!r}; expected a probability in (0, 1)")
         if self.rel_errors.size < 20:
-            raise ValueError(f"only {self.rel_errors.size} out-of-bag errors from "
-                             f"{self.n_resamples} resamples ({self.n_failed} could not be "
-                             "fitted); expected at least 20")
+            raise TactilecalError(f"only {self.rel_errors.size} out-of-bag errors from "
+                                  f"{self.n_resamples} resamples ({self.n_failed} could not be "
+                                  "fitted); expected at least 20")
         low, high = np.quantile(self.rel_errors, [(1 - level) / 2, (1 + level) / 2])
         return PredictionInterval(float(level), float(low), float(high), self.n_resamples,
                                   self.n_failed, int(self.rel_errors.size))
@@ -163,9 +164,9 @@ def prediction_interval(points, method="power", *, n_resamples=200, level=0.95, 
 
     points = list(points)
     if len(points) < 3:
-        raise ValueError(f"{len(points)} patches; a prediction interval needs at least 3")
+        raise TactilecalError(f"{len(points)} patches; a prediction interval needs at least 3")
     if not 0 < level < 1:
-        raise ValueError(f"level={level!r}; expected a probability in (0, 1)")
+        raise TactilecalError(f"level={level!r}; expected a probability in (0, 1)")
     hist, load = points_to_arrays(points)
     boot = bootstrap_refits(lambda idx: calibrate([points[k] for k in idx], method=method,
                                                   **options),

@@ -1,6 +1,5 @@
 """What :func:`tactilecal.calibration.validate` returns: points and scores, a saved result."""
 
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from tactilecal._jsonutil import to_jsonable, to_python
@@ -9,18 +8,16 @@ from tactilecal._validate import check_type, require_keys
 
 __all__ = ["ValidationResult"]
 
-#: The keys of the result read as a dict (those of the JSON ``validate --json`` prints).
+#: The keys of the JSON (``validate --json`` prints it).
 KEYS = ("points", "summary")
 
 
 @dataclass(repr=False, eq=False)
-class ValidationResult(SavedResult, Mapping):
+class ValidationResult(SavedResult):
     """A calibration's predicted loads against the applied loads of (held-out) points.
 
-    It reads like the dict earlier versions returned (``out["points"]``,
-    ``out["summary"]["within_5pct"]``, ``dict(out)``); every value is a plain Python
-    ``float``, ``int``, ``bool``, ``str`` or ``None`` (NaN stays a float in Python, null in
-    the JSON). Saved as ``"format": "tactilecal-validation/1"``.
+    Every value is a plain Python ``float``, ``int``, ``bool``, ``str`` or ``None`` (NaN
+    stays a float in Python, null in the JSON). Saved as ``"format": "tactilecal-validation/1"``.
 
     Attributes
     ----------
@@ -45,20 +42,6 @@ class ValidationResult(SavedResult, Mapping):
         self.points = to_python(list(self.points))
         self.metrics = to_python(dict(self.metrics))
 
-    # ---------------------------------------------------------------- dict-style access
-    def __getitem__(self, key):
-        if key == "points":
-            return self.points
-        if key == "summary":
-            return self.metrics
-        raise KeyError(key)
-
-    def __iter__(self):
-        return iter(KEYS)
-
-    def __len__(self):
-        return len(KEYS)
-
     # ---------------------------------------------------------------- text
     def summary(self):
         """One line: how many points, the shares within 5 % and 10 %, median and max error."""
@@ -76,11 +59,6 @@ class ValidationResult(SavedResult, Mapping):
     # ---------------------------------------------------------------- JSON
     def _to_dict(self):
         return to_jsonable({"points": self.points, "summary": self.metrics})
-
-    @classmethod
-    def is_untagged(cls, data):
-        """Recognise ``validate --json`` output of earlier versions: exactly these keys."""
-        return set(data) == set(KEYS)
 
     @classmethod
     def _from_dict(cls, data, source):

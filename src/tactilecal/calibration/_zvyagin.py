@@ -9,6 +9,7 @@ import warnings
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import to_jsonable
 from tactilecal._saturation import resolve_saturated
 from tactilecal.calibration._calibrate import make_result
@@ -69,7 +70,7 @@ def calibrate_zvyagin(points, **options):
     """Calibrate with Zvyagin's (2022) multi-patch method; return a CalibrationResult.
 
     ``tactilecal.calibrate(points, method="zvyagin", **options)`` calls this (and adds the
-    bootstrap options); ``tactilecal.zvyagin.calibrate_zvyagin`` is its deprecated alias.
+    bootstrap options).
 
     Parameters
     ----------
@@ -108,13 +109,13 @@ def calibrate_zvyagin(points, **options):
     """
     unknown = sorted(set(options) - set(OPTIONS))
     if unknown:
-        raise ValueError(f"calibrate_zvyagin: unknown options {unknown}; expected some of "
-                         f"{list(OPTIONS)}")
+        raise TactilecalError(f"calibrate_zvyagin: unknown options {unknown}; expected some of "
+                              f"{list(OPTIONS)}")
     opts = dict(options)
     opts["saturated"] = resolve_saturated(opts.get("saturated"), opts.pop("keep_saturated", None))
     points = list(points)
     if len(points) < 2:
-        raise ValueError(f"{len(points)} calibration point(s); expected at least 2 patches")
+        raise TactilecalError(f"{len(points)} calibration point(s); expected at least 2 patches")
     area = _sensel_area(points, opts.pop("sensel_area_mm2", None))
     hist, load = points_to_arrays(points)
     res = zvyagin_fit(hist, load, labels=_point_labels(points), sensel_area_mm2=area, **opts)

@@ -5,15 +5,20 @@ Each command lives in its own module ``_cmd_<name>.py`` in this package and defi
 parsed arguments and returning an exit code). Commands are discovered by name, so adding
 a command never touches this file.
 
-Exit codes: 0 success, 1 failure (bad input, a bad flag value, failed fit: the message says
-why, in one line), 2 usage error (argparse: unknown flag, missing argument).
+Exit codes: 0 success, 1 failure (bad input: a :class:`tactilecal.TactilecalError` or an
+:class:`OSError`, printed as one line; a bad flag value; or a bug in tactilecal, printed with
+its traceback and a request to report it), 2 usage error (argparse: unknown flag, missing
+argument). ``--debug`` shows the traceback of every error.
 """
 
+import shlex
 import sys
+import traceback
 import warnings
 from functools import partial
 
-from tactilecal.cli._messages import error_line, print_warning
+from tactilecal._errors import TactilecalError
+from tactilecal.cli._messages import BUG_REPORT, error_line, print_warning
 from tactilecal.cli._outputs import check_outputs, silence_stdout
 from tactilecal.cli._parser import BadFlagValue, build_parser
 
@@ -33,6 +38,7 @@ def main(argv=None):
         return 2
     try:
         check_outputs(args)
+        args.command_line = shlex.join(["tactilecal", *(sys.argv[1:] if argv is None else argv)])
         with warnings.catch_warnings():  # the CLI shows warnings (one line), never raises them
             warnings.simplefilter("default")
             warnings.showwarning = partial(print_warning, args.command, parser)
@@ -40,8 +46,15 @@ def main(argv=None):
     except BrokenPipeError:  # the reader went away (`tactilecal info F | head`): stop quietly
         silence_stdout()
         return 1
-    except (ValueError, TypeError, KeyError, RuntimeError, OSError) as exc:
+    except (TactilecalError, OSError) as exc:  # bad input: one line naming it
+        if args.debug:
+            traceback.print_exc()
         print(f"tactilecal {args.command}: error: {error_line(exc, parser)}", file=sys.stderr)
+        return 1
+    except Exception:  # noqa: BLE001 (a bug: say so, with everything needed to report it)
+        traceback.print_exc()
+        print(f"tactilecal {args.command}: internal error (a bug in tactilecal, not in your "
+              f"input); {BUG_REPORT}", file=sys.stderr)
         return 1
     return 0 if code is None else int(code)
 

@@ -1,5 +1,6 @@
 """The fit options of ``tactilecal calibrate``: their flags and the library keywords they give."""
 
+from tactilecal._errors import TactilecalError
 from tactilecal._saturation import SATURATED_CHOICES, SATURATED_DEFAULT, resolve_saturated
 from tactilecal.cli._types import non_negative_int, positive_int
 
@@ -47,8 +48,8 @@ def fit_options(args):
     """Return the method options of the command line (absent flags: library defaults)."""
     saturated = resolve_saturated(args.saturated, args.keep_saturated or None)
     if args.mode and args.method != "zvyagin":
-        raise ValueError(f"--mode {args.mode} applies to --method zvyagin only, "
-                         f"not {args.method!r}")
+        raise TactilecalError(f"--mode {args.mode} applies to --method zvyagin only, "
+                              f"not {args.method!r}")
     knots = numbers(args.knots, "--knots", float, "comma-separated numbers")
     pair = numbers(args.pair, "--pair", int, "two integers 'I,J'")
     opts = {"saturated": saturated, "objective": args.objective or None, "mode": args.mode,
@@ -73,4 +74,4 @@ def numbers(text, flag, kind, expected):
     try:
         return [kind(item) for item in text.split(",")]
     except ValueError:
-        raise ValueError(f"{flag} {text!r}: expected {expected}") from None
+        raise TactilecalError(f"{flag} {text!r}: expected {expected}") from None

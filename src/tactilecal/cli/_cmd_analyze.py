@@ -1,5 +1,6 @@
 """``tactilecal analyze RECORDING [--cal CAL.json] [--json] [--out summary.csv]``."""
 
+from tactilecal._errors import TactilecalError
 from tactilecal.cli._common import info, print_aligned, print_json, progress, warn_saturated
 from tactilecal.cli._types import non_negative_float
 
@@ -31,13 +32,13 @@ def run(args):
     bar = progress(total=3, desc="analyze", quiet=args.quiet)
     kind, recording, _ = load_input(args.recording, what="RECORDING")
     if kind != "recording":
-        raise ValueError(f"{args.recording} is a {kind} file; expected a recording")
+        raise TactilecalError(f"{args.recording} is a {kind} file; expected a recording")
     bar.update()
     calibration = None
     if args.cal:
         kind, calibration, _ = load_input(args.cal, what="--cal")
         if kind != "calibration":
-            raise ValueError(f"--cal {args.cal} is a {kind} file; expected a calibration JSON")
+            raise TactilecalError(f"--cal {args.cal} is a {kind} file; expected a calibration JSON")
     table = recording.tactile.frame_table(calibration=calibration,
                                           threshold_kPa=args.threshold_kpa)
     bar.update()

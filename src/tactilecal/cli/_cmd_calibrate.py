@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+from tactilecal._errors import TactilecalError
 from tactilecal.cli._calibrate_options import add_fit_options, fit_options
 from tactilecal.cli._common import info, info_grouped, print_json, progress_for
 from tactilecal.cli._types import positive_float
@@ -35,11 +36,11 @@ def run(args):
     from tactilecal.calibration import METHODS, NonWorkingSensels, calibrate, calibrate_movie
 
     if args.method not in METHODS:  # before any manifest file is read
-        raise ValueError(f"--method {args.method!r}; expected one of {', '.join(METHODS)}")
+        raise TactilecalError(f"--method {args.method!r}; expected one of {', '.join(METHODS)}")
     if args.movie:
         if args.manifest or not args.loads:
-            raise ValueError("--movie needs --loads LOADCELL.csv and no MANIFEST; expected "
-                             "'tactilecal calibrate --movie REC --loads LOADCELL.csv'")
+            raise TactilecalError("--movie needs --loads LOADCELL.csv and no MANIFEST; expected "
+                                  "'tactilecal calibrate --movie REC --loads LOADCELL.csv'")
         result = calibrate_movie(args.movie, args.loads, method=args.method,
                                  time_col=args.time_col, load_col=args.load_col,
                                  lag_s=args.lag, max_lag_s=args.max_lag,
@@ -48,8 +49,8 @@ def run(args):
         info(args, result.details["movie"]["report"])
     else:
         if not args.manifest:
-            raise ValueError("no MANIFEST given; expected 'tactilecal calibrate MANIFEST' "
-                             "or '--movie REC --loads LOADCELL.csv'")
+            raise TactilecalError("no MANIFEST given; expected 'tactilecal calibrate MANIFEST' "
+                                  "or '--movie REC --loads LOADCELL.csv'")
         result = calibrate(args.manifest, method=args.method,
                            progress=progress_for(args),
                            equilibration=args.equilibration,

@@ -1,5 +1,6 @@
 """``tactilecal equilibrate``: per-sensel gains from uniform-load recordings."""
 
+from tactilecal._errors import TactilecalError
 from tactilecal.cli._common import info, print_json
 
 
@@ -25,7 +26,7 @@ def run(args):
     for path in args.recordings:
         rec = open_recording(path)
         if rec.attrs.get("units", "raw") != "raw":
-            raise ValueError(f"{path} has units {rec.attrs['units']!r}; expected raw readings")
+            raise TactilecalError(f"{path} has units {rec.attrs['units']!r}; expected raw readings")
         levels.append(rec)
     eq = equilibrate(levels)
     eq.to_json(args.out)

@@ -1,7 +1,5 @@
 """``tactilecal report INPUT... --out report.html``: one self-contained HTML page."""
 
-import shlex
-import sys
 
 from tactilecal.cli._common import info, progress_for
 from tactilecal.cli._types import non_negative_float
@@ -39,7 +37,7 @@ def run(args):
     path = write_report(args.inputs, args.out, calibration=args.cal, filter=args.filter,
                         title=args.title, threshold_kPa=args.threshold_kpa,
                         cof_min_force_N=args.cof_min_force_n,
-                        command=shlex.join(["tactilecal", *sys.argv[1:]]),
+                        command=args.command_line,
                         progress=progress_for(args))
     info(args, f"report written to {path}")
     return 0

@@ -21,11 +21,11 @@ def register(subparsers):
 
 def _table(out):
     lines = [f"{'file':<28} {'frame':>6} {'load_N':>10} {'predicted_N':>12} {'error_%':>8}"]
-    for p in out["points"]:
+    for p in out.points:
         flag = "  saturated" if p["saturated"] else ""
         lines.append(f"{str(p['file'])[:28]:<28} {p['frame']:>6} {p['load_N']:>10.4g} "
                      f"{p['predicted_N']:>12.4g} {p['error_pct']:>8.2f}{flag}")
-    s = out["summary"]
+    s = out.metrics
     lines.append(f"n = {s['n']} (saturated left out: {s['n_saturated_excluded']}): "
                  f"{s['within_5pct']:.1%} within 5 %, {s['within_10pct']:.1%} within 10 %, "
                  f"median |error| {s['median_abs_error_pct']:.2f} %, "
@@ -42,7 +42,7 @@ def run(args):
                    progress=progress_for(args),
                    include_saturated=args.include_saturated)
     if args.json:
-        print_json(out)
+        print_json(out.to_dict())
     else:
         print(_table(out))
     return 0

@@ -4,7 +4,11 @@ import argparse
 import re
 import sys
 
-__all__ = ["print_warning", "error_line"]
+__all__ = ["BUG_REPORT", "print_warning", "error_line"]
+
+BUG_REPORT = ("please report it with the command line and the traceback above at "
+              "https://github.com/tactilecal/tactilecal/issues")
+"""What the CLI asks of a user who met a bug (any error that is not bad input)."""
 
 
 def print_warning(command, parser, message, category, filename, lineno, file=None, line=None):
@@ -14,7 +18,7 @@ def print_warning(command, parser, message, category, filename, lineno, file=Non
 
 
 def _flags(parser):
-    """Map each option's keyword (``keep_saturated``) to its flag (``--keep-saturated``)."""
+    """Map each option's keyword (``scale_by_working``) to its flag (``--scale-by-working``)."""
     flags, todo = {}, [parser]
     while todo:
         for action in todo.pop()._actions:
@@ -26,7 +30,7 @@ def _flags(parser):
 
 
 def _as_flags(text, flags):
-    """Say ``--keep-saturated True`` where the library's message says ``keep_saturated=True``.
+    """Say ``--max-lag 3`` where the library's message says ``max_lag=3``.
 
     The library names its keyword arguments; a command-line user typed flags.
     """
@@ -36,9 +40,7 @@ def _as_flags(text, flags):
 
 def _one_line(exc):
     """Return the message of ``exc`` on one line; an OSError names the path the user gave."""
-    if isinstance(exc, KeyError) and exc.args:
-        text = str(exc.args[0])
-    elif isinstance(exc, OSError) and exc.filename is not None and exc.strerror:
+    if isinstance(exc, OSError) and exc.filename is not None and exc.strerror:
         text = f"{exc.filename}: {exc.strerror}"
     else:
         text = str(exc)

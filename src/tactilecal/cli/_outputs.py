@@ -3,6 +3,8 @@
 import sys
 from pathlib import Path
 
+from tactilecal._errors import TactilecalError
+
 __all__ = ["check_outputs", "silence_stdout"]
 
 
@@ -23,8 +25,8 @@ def check_outputs(args):
             for item in value if isinstance(value, list) else [value]:
                 if isinstance(item, str) and Path(item).is_file() and \
                         out_path.resolve() == Path(item).resolve():
-                    raise ValueError(f"--out {out} is the input {item}; expected a new path "
-                                     "(the input would be replaced)")
+                    raise TactilecalError(f"--out {out} is the input {item}; expected a new path "
+                                          "(the input would be replaced)")
 
 
 def silence_stdout():

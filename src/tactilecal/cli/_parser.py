@@ -5,6 +5,7 @@ import pkgutil
 from importlib import import_module
 from pathlib import Path
 
+from tactilecal._errors import TactilecalError
 from tactilecal._version import __version__
 
 __all__ = ["BadFlagValue", "build_parser"]
@@ -14,17 +15,20 @@ class _Parser(argparse.ArgumentParser):
     """An ArgumentParser for which a flag's bad *value* is bad input (exit 1, one line).
 
     A malformed command line (unknown flag, missing argument) stays a usage error (exit 2,
-    with the usage); a value refused by the flag types of ``_common`` ("...; expected ...")
-    is bad input like a bad file, and exits 1 with one line naming the flag.
+    with the usage); a value refused by one of the flag types of ``_types`` (marked
+    ``checks_value``) is bad input like a bad file, and exits 1 with one line naming the flag.
     """
 
-    def error(self, message):
-        if "; expected" in message:
-            raise BadFlagValue(f"{self.prog}: error: {message}")
-        super().error(message)
+    def _get_value(self, action, arg_string):
+        try:
+            return super()._get_value(action, arg_string)
+        except argparse.ArgumentError as exc:
+            if getattr(action.type, "checks_value", False):
+                raise BadFlagValue(f"{self.prog}: error: {exc}") from None
+            raise
 
 
-class BadFlagValue(ValueError):
+class BadFlagValue(TactilecalError):
     """A flag value refused while parsing; ``main`` prints it and returns 1."""
 
 
@@ -37,6 +41,8 @@ def build_parser():
     parser.add_argument("--version", action="version", version=f"tactilecal {__version__}")
     parser.add_argument("-q", "--quiet", action="store_true",
                         help="no progress bars or informational messages")
+    parser.add_argument("--debug", action="store_true",
+                        help="show the traceback of every error, also of bad input")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
     package = Path(__file__).parent
     for info in sorted(pkgutil.iter_modules([str(package)]), key=lambda m: m.name):
@@ -47,7 +53,7 @@ def build_parser():
 
 
 def _add_quiet(subparsers):
-    """Accept ``-q/--quiet`` after every (sub-)command too, not only before it."""
+    """Accept ``-q/--quiet`` and ``--debug`` after every (sub-)command too, not only before it."""
     for sub in subparsers.choices.values():
         nested = [a for a in sub._actions if isinstance(a, argparse._SubParsersAction)]
         if nested:
@@ -55,3 +61,5 @@ def _add_quiet(subparsers):
         else:  # SUPPRESS: absent after the command, the top-level value stands
             sub.add_argument("-q", "--quiet", action="store_true", default=argparse.SUPPRESS,
                              help="no progress bars or informational messages")
+            sub.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                             help="show the traceback of every error, also of bad input")

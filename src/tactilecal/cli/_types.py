@@ -15,13 +15,14 @@ def _number(kind, minimum, inclusive, maximum=None):
     def convert(text):
         try:
             value = kind(text)
-        except ValueError:  # "; expected": bad input (exit 1, one line), like a bad range
+        except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r}; expected a {what} {bound}") from None
         if not math.isfinite(value) or value < minimum or (value == minimum and not inclusive) \
                 or (maximum is not None and value > maximum):
             raise argparse.ArgumentTypeError(f"{text!r}; expected a finite number {bound}")
         return value
     convert.__name__ = kind.__name__  # argparse says "invalid int value" on a bare failure
+    convert.checks_value = True  # a refused value is bad input (exit 1), not bad usage
     return convert
 
 

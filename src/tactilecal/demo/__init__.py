@@ -6,15 +6,8 @@ simulated loading-machine recording, fits and tests a dynamic filter, and writes
 report. :func:`make_bundle` regenerates the bundled sessions from their seeds.
 """
 
-from tactilecal._deprecated import moved_names
 from tactilecal.demo._bundle import bundle_path
 from tactilecal.demo._run import run_demo
 
 __all__ = ["bundle_path", "run_demo"]
 
-__getattr__ = moved_names(__name__, {
-    "BUNDLE": ("_bundle", "BUNDLE", "use bundle_path()"),
-    "demo_sensor": ("_bundle", "demo_sensor", "use tactilecal.simulate.make_sensor()"),
-    "make_bundle": ("_bundle", "make_bundle", "a maintainer's tool: run "
-                    "python -m tactilecal.demo._bundle"),
-})

@@ -47,11 +47,11 @@ def _static_calibrations(manifests, out, quiet):
         check = validate(result, points_b)
         check.to_json(out / "validation" / f"{method}.json")
         results[method] = result
-        rows.append({"method": method, **check["summary"],
+        rows.append({"method": method, **check.metrics,
                      "A": result.params.get("A"), "b": result.params.get("b")})
         _say(quiet, f"  {method:<14} held-out patches within 5%: "
-                    f"{check['summary']['within_5pct']:6.1%}  "
-                    f"median |error| {check['summary']['median_abs_error_pct']:.2f}%")
+                    f"{check.metrics['within_5pct']:6.1%}  "
+                    f"median |error| {check.metrics['median_abs_error_pct']:.2f}%")
     return rows, results
 
 

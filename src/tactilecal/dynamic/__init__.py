@@ -10,7 +10,6 @@ on the sensor's clock, positive when the reference record starts later. Recordin
 the data model of ``docs/data-model.md``: time along the first dimension.
 """
 
-from tactilecal._deprecated import moved_names
 from tactilecal.dynamic._align import align, estimate_lag, resample_to
 from tactilecal.dynamic._apply import apply_filter
 from tactilecal.dynamic._calibrate import (
@@ -37,23 +36,3 @@ __all__ = [
     "filter_recording", "filter_timeseries_csv",
 ]
 
-__getattr__ = moved_names(__name__, {
-    "MODELS": ("_fit", "MODELS", "fit_transfer()'s docstring lists the models"),
-    "TransferFunction": ("_transfer", "TransferFunction", "transfer_function() returns it"),
-    "TransferFit": ("_fit", "TransferFit", "fit_transfer() returns it"),
-    "model_gain": ("_fit", "model_gain", "use TransferFit.gain(f_hz)"),
-    "complex_r2": ("_fit", "complex_r2", "fit_transfer() reports r2_complex"),
-    "dynamic_part": ("_calibrate", "dynamic_part", "use fit_filter()"),
-    "water_head_pressure_kPa": ("_centrifuge", "water_head_pressure_kPa",
-                                "use tactilecal.geotech.hydrostatic_pressure_kPa"),
-    "to_prototype": ("tactilecal.geotech", "to_prototype", "use tactilecal.geotech.to_prototype"),
-    "prototype_frequency_hz": ("tactilecal.geotech", "prototype_frequency_hz",
-                               "use tactilecal.geotech.prototype_frequency_hz"),
-    "plot_transfer": ("_plots", "plot_transfer", "use the method CorrectionFilter.plot_transfer()"),
-    **{name: ("_plots", name, f"use the method Evaluation.{name}()")
-       for name in ("plot_time", "plot_spectra", "plot_error")},
-    "write_evaluation": ("_files", "write_evaluation", "use the method Evaluation.save(folder, "
-                         "filt)"),
-    "load_filter": ("_filter", "load_filter", "use CorrectionFilter.from_json(path) or "
-                    "tactilecal.load(path)"),
-})

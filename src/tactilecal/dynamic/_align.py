@@ -12,6 +12,7 @@ import numpy as np
 import xarray as xr
 from scipy import interpolate, signal
 
+from tactilecal._errors import TactilecalError
 from tactilecal.dynamic._records import (
     MAX_ALIGN_JITTER,
     label,
@@ -171,13 +172,13 @@ def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where, 
         corr = _bounded(_normalised_xcorr(x_sens, x_ref, MIN_OVERLAP), lag_s, max_lag_s)
     i = int(np.argmax(corr))
     if not np.isfinite(corr[i]):
-        raise ValueError(f"{where}: no lag with an overlap of at least {MIN_OVERLAP} of the "
-                         f"shorter record (max_lag_s={max_lag_s}); expected records of the "
-                         "same loading that overlap")
+        raise TactilecalError(f"{where}: no lag with an overlap of at least {MIN_OVERLAP} of the "
+                              f"shorter record (max_lag_s={max_lag_s}); expected records of the "
+                              "same loading that overlap")
     if not corr[i] >= MIN_CORRELATION:
-        raise ValueError(f"{where}: records do not overlap in time (best correlation "
-                         f"{corr[i]:.3g} at lag {lag_s[i]:.6g} s); expected records of the "
-                         f"same loading (correlation >= {MIN_CORRELATION})")
+        raise TactilecalError(f"{where}: records do not overlap in time (best correlation "
+                              f"{corr[i]:.3g} at lag {lag_s[i]:.6g} s); expected records of the "
+                              f"same loading (correlation >= {MIN_CORRELATION})")
     window = corr[max(i - 1, 0):i + 2]
     offset = _parabolic_offset(window, 1) if window.size == 3 and np.all(
         np.isfinite(window)) else 0.0
@@ -194,9 +195,9 @@ def _first_peak_time(time_s, values, prominence, where):
     span = float(values.max() - values.min())
     peaks, _ = signal.find_peaks(values, prominence=prominence * span)
     if span == 0 or peaks.size == 0:
-        raise ValueError(f"{where}: no peak with prominence >= {prominence} x the record's "
-                         f"range ({span:.6g}); expected a loading with a clear first peak "
-                         "(lower `prominence` or use method='xcorr')")
+        raise TactilecalError(f"{where}: no peak with prominence >= {prominence} x the record's "
+                              f"range ({span:.6g}); expected a loading with a clear first peak "
+                              "(lower `prominence` or use method='xcorr')")
     i = int(peaks[0])
     step = (time_s[-1] - time_s[0]) / (time_s.size - 1)
     return float(time_s[i] + _parabolic_offset(values, i) * step)
@@ -272,8 +273,8 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
     if method == "xcorr":
         return _xcorr_lag(sensor, reference, max_lag_s, near_lag_s, near_width_s)
     if near_lag_s is not None:
-        raise ValueError(f"near_lag_s={near_lag_s!r} is for method='xcorr'; "
-                         f"method={method!r} takes none")
+        raise TactilecalError(f"near_lag_s={near_lag_s!r} is for method='xcorr'; "
+                              f"method={method!r} takes none")
     t_sens, x_sens, _ = on_uniform_grid(*time_and_values(sensor, "sensor"),
                                         label(sensor, "sensor"))
     t_ref, x_ref, _ = on_uniform_grid(*time_and_values(reference, "reference"),
@@ -281,7 +282,7 @@ def estimate_lag(sensor, reference, *, method="xcorr", max_lag_s=None, prominenc
     if method == "first-peak":
         return (_first_peak_time(t_sens, x_sens, prominence, label(sensor, "sensor"))
                 - _first_peak_time(t_ref, x_ref, prominence, label(reference, "reference")))
-    raise ValueError(f"method={method!r}; expected 'xcorr' or 'first-peak'")
+    raise TactilecalError(f"method={method!r}; expected 'xcorr' or 'first-peak'")
 
 
 def _xcorr_lag(sensor, reference, max_lag_s, near_lag_s, near_width_s):
@@ -295,8 +296,8 @@ def _xcorr_lag(sensor, reference, max_lag_s, near_lag_s, near_width_s):
     if near_lag_s is not None:
         width = NEAR_SAMPLES if near_width_s is None else float(near_width_s) * fs_sens
         if not width >= 1:
-            raise ValueError(f"near_width_s={near_width_s!r}; expected at least one sample "
-                             f"of the sensor ({1 / fs_sens:.6g} s)")
+            raise TactilecalError(f"near_width_s={near_width_s!r}; expected at least one sample "
+                                  f"of the sensor ({1 / fs_sens:.6g} s)")
         near = (float(near_lag_s), int(round(width)))
     return _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where, near)
 
@@ -365,15 +366,15 @@ def resample_to(reference, time_s, *, lag_s=0.0):
     t_ref = t_ref + float(lag_s)
     target, like = _target_times(time_s)
     if target.size < 2 or not np.all(np.diff(target) > 0):
-        raise ValueError(f"{label(like, 'time_s')}: {target.size} target time stamps; "
-                         "expected at least 2, strictly increasing")
+        raise TactilecalError(f"{label(like, 'time_s')}: {target.size} target time stamps; "
+                              "expected at least 2, strictly increasing")
     fs_out = sampling_rate_hz(target, label(like, "time_s"), max_jitter=MAX_ALIGN_JITTER)
     y, fs_y = _polyphase(x_ref, fs_in, fs_out)
     t_y = t_ref[0] + np.arange(y.size) / fs_y
     tol_s = 1e-6 / fs_out  # float round-off of the stamps
     keep = (target >= t_ref[0] - tol_s) & (target <= min(t_ref[-1], t_y[-1]) + tol_s)
     if np.count_nonzero(keep) < 2:
-        raise ValueError(
+        raise TactilecalError(
             f"{where}: records do not overlap in time; the reference spans "
             f"{t_ref[0]:.6g}..{t_ref[-1]:.6g} s (lag_s={lag_s:.6g} added) and the target "
             f"{target[0]:.6g}..{target[-1]:.6g} s; expected a common time span")

@@ -32,6 +32,7 @@ import numpy as np
 import xarray as xr
 from scipy import fft
 
+from tactilecal._errors import TactilecalError
 from tactilecal._numba import njit
 from tactilecal._validate import float_type
 from tactilecal.dynamic._filter import PRECISIONS
@@ -514,10 +515,10 @@ def _check_nan_gaps(x2d, where, suspects):
     partial = np.flatnonzero(nan.any(axis=0) & ~nan.all(axis=0))
     if partial.size:
         k = int(partial[0])
-        raise ValueError(f"{where}: sensel {int(suspects[k])} (flattened) has NaN from frame "
-                         f"index {int(np.flatnonzero(nan[:, k])[0])} while other frames are "
-                         f"finite ({partial.size} sensels with gaps); expected complete "
-                         "sensels (all-NaN sensels outside the sensor shape are fine)")
+        raise TactilecalError(f"{where}: sensel {int(suspects[k])} (flattened) has NaN from frame "
+                              f"index {int(np.flatnonzero(nan[:, k])[0])} while other frames are "
+                              f"finite ({partial.size} sensels with gaps); expected complete "
+                              "sensels (all-NaN sensels outside the sensor shape are fine)")
 
 
 def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
@@ -599,23 +600,23 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
 
     where = label(data, "data")
     if precision not in PRECISIONS:
-        raise ValueError(f"precision={precision!r}; expected 'single' or 'double'")
+        raise TactilecalError(f"precision={precision!r}; expected 'single' or 'double'")
     if method not in METHODS:
-        raise ValueError(f"method={method!r}; expected 'auto' or 'direct'")
+        raise TactilecalError(f"method={method!r}; expected 'auto' or 'direct'")
     dtype = float_type(dtype)
     if "time" not in data.coords or data["time"].dims != data.dims[:1]:
-        raise ValueError(f"{where}: expected a 'time' coordinate (s) along the first "
-                         f"dimension; found dims {data.dims}")
+        raise TactilecalError(f"{where}: expected a 'time' coordinate (s) along the first "
+                              f"dimension; found dims {data.dims}")
     time_s = data["time"].values  # once: on a cluster each .values is a round trip
     fs_hz = sampling_rate_hz(time_s, where)
     if abs(fs_hz / filt.fs_hz - 1.0) > RATE_TOLERANCE:
-        raise ValueError(f"{where} is sampled at {fs_hz:.6g} Hz; the filter was built for "
-                         f"{filt.fs_hz:.6g} Hz (expected the same rate: resample first or "
-                         "build a filter for this rate)")
+        raise TactilecalError(f"{where} is sampled at {fs_hz:.6g} Hz; the filter was built for "
+                              f"{filt.fs_hz:.6g} Hz (expected the same rate: resample first or "
+                              "build a filter for this rate)")
     if data.shape[0] < filt.n_taps and not causal:
-        raise ValueError(f"{where} has {data.shape[0]} frames ({data.shape[0] / fs_hz:.3g} "
-                         f"s); expected at least the filter length {filt.n_taps} frames "
-                         f"({filt.length_s:.3g} s)")
+        raise TactilecalError(f"{where} has {data.shape[0]} frames ({data.shape[0] / fs_hz:.3g} "
+                              f"s); expected at least the filter length {filt.n_taps} frames "
+                              f"({filt.length_s:.3g} s)")
     if causal:  # filt.sos() raises first for a filter with no causal form
         values = _apply_causal(data, filt, workers, dtype)
     elif data.chunks is not None:

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
+from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import read_json_object
 from tactilecal._provenance import provenance_of
 from tactilecal._result import ShortRepr
@@ -47,8 +48,8 @@ def static_factor(sensor, reference):
     """
     mean_s = float(np.mean(sensor))
     if mean_s == 0:
-        raise ValueError(f"{label(sensor, 'sensor')}: mean reading is 0; expected a loaded "
-                         "record to calibrate statically")
+        raise TactilecalError(f"{label(sensor, 'sensor')}: mean reading is 0; expected a loaded "
+                              "record to calibrate statically")
     return float(np.mean(reference)) / mean_s
 
 
@@ -135,7 +136,7 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
     try:
         fit = fit_transfer(tf, model="log" if model in CHOSEN_MODELS else model)
     except ValueError as exc:  # e.g. no coherent band: name the records and their overlap
-        raise ValueError(f"{records}: {exc}") from None
+        raise TactilecalError(f"{records}: {exc}") from None
     _check_cycles(tf, t_s[-1] - t_s[0], records)
     fit.excluded["static_factor"] = factor
     where = label(sensor, "sensor")
@@ -144,7 +145,7 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
         choice = _choose_model(tf, fit, model)
         fit.excluded["model_choice"] = choice["why"]
         if not choice["order"]:  # the model asked for could not be fitted
-            raise ValueError(f"{where}: {choice['why']}")
+            raise TactilecalError(f"{where}: {choice['why']}")
     design = {"band_hz": band_hz or (float(fit.f_hz.min()), float(fit.f_hz.max())),
               "outside": outside, "taper_hz": taper_hz, "n_taps": n_taps}
     refusals = []
@@ -158,9 +159,9 @@ def fit_filter(sensor, reference, *, model="log10", band_hz=None, method="h2",
                            sensor, reference)
         refusals.append(reason)
     if not force:
-        raise ValueError(f"{where}: {'; '.join(refusals)}; expected a model of the sensor "
-                         "(pass force=True, or --force, to write the filter anyway, marked "
-                         "forced)")
+        raise TactilecalError(f"{where}: {'; '.join(refusals)}; expected a model of the sensor "
+                              "(pass force=True, or --force, to write the filter anyway, marked "
+                              "forced)")
     return _traced(_build(choice["order"][0], fit, tf, choice, design, lag_s,
                           f"{where}: {refusals[0]}"), sensor, reference)
 
@@ -179,10 +180,11 @@ def _check_cycles(tf, duration_s, records):
     """Refuse a sweep shorter than ``MIN_CYCLES`` cycles of its lowest fitted frequency."""
     f_low = float(tf.f_hz[tf.used].min())
     if duration_s * f_low < MIN_CYCLES:
-        raise ValueError(f"{records}: {duration_s:.3g} s holds {duration_s * f_low:.2g} cycles "
-                         f"of the lowest fitted frequency {f_low:g} Hz; expected at least "
-                         f"{MIN_CYCLES} (a longer sweep, or --band from "
-                         f"{MIN_CYCLES / duration_s:.2g} Hz)")
+        raise TactilecalError(f"{records}: {duration_s:.3g} s holds {duration_s * f_low:.2g} "
+                              f"cycles "
+                              f"of the lowest fitted frequency {f_low:g} Hz; expected at least "
+                              f"{MIN_CYCLES} (a longer sweep, or --band from "
+                              f"{MIN_CYCLES / duration_s:.2g} Hz)")
 
 
 #: Models :func:`fit_filter` fits beside the thesis' log model, and ``auto``, that chooses.
@@ -448,9 +450,9 @@ def _per_bin_arrays(data, key):
                    for pair in (names[:3], names[3:])]
     if len(lengths) > 1 or not all(pairs_given):
         found = {k: len(v) for k, v in given.items()}
-        raise ValueError(f"{key('f_hz')}: per-frequency lists of lengths {found}; expected "
-                         "f_hz, error_before_pct, error_after_pct (and both phase errors) of "
-                         "one length")
+        raise TactilecalError(f"{key('f_hz')}: per-frequency lists of lengths {found}; expected "
+                              "f_hz, error_before_pct, error_after_pct (and both phase errors) of "
+                              "one length")
     arrays = {k: np.asarray(given[k], float) if k in given else None for k in names}
     for k in names[:3]:
         arrays[k] = np.empty(0) if arrays[k] is None else arrays[k]
@@ -550,7 +552,7 @@ def compare_filters(filters, sensor, reference, **kwargs):
 
     names = list(filters)
     if len(names) < 2:
-        raise ValueError(f"filters: {len(names)} given; expected at least 2 to compare")
+        raise TactilecalError(f"filters: {len(names)} given; expected at least 2 to compare")
     lag_s = kwargs.pop("lag_s", None)
     if lag_s is None:
         lag_s = estimate_lag(sensor, reference)

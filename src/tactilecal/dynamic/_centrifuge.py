@@ -9,6 +9,7 @@ scale with :func:`tactilecal.geotech.to_prototype`.
 import numpy as np
 import xarray as xr
 
+from tactilecal._errors import TactilecalError
 from tactilecal.geotech import hydrostatic_pressure_kPa
 
 __all__ = ["row_mean", "water_head_factor", "RHO_WATER_KG_M3"]
@@ -56,27 +57,22 @@ def row_mean(recording, row, *, working=None):
     rows = recording["row"].values if "row" in recording.coords else np.arange(
         recording.sizes["row"])
     if row not in rows:
-        raise ValueError(f"{where}: row {row} not found; expected one of "
-                         f"{rows.min()}..{rows.max()}")
+        raise TactilecalError(f"{where}: row {row} not found; expected one of "
+                              f"{rows.min()}..{rows.max()}")
     data = recording.sel(row=row) if "row" in recording.coords else recording.isel(row=row)
     if working is not None:
         mask = np.asarray(working, dtype=bool)
         if mask.shape != recording.shape[1:]:
-            raise ValueError(f"working mask has shape {mask.shape}; expected "
-                             f"{recording.shape[1:]} (rows, cols) of {where}")
+            raise TactilecalError(f"working mask has shape {mask.shape}; expected "
+                                  f"{recording.shape[1:]} (rows, cols) of {where}")
         data = data.where(xr.DataArray(mask[list(rows).index(row)], dims="col"))
     usable = int(data.notnull().any("frame").sum())
     if usable == 0:
-        raise ValueError(f"{where}: row {row} has no working, non-NaN sensel; expected at "
-                         "least one")
+        raise TactilecalError(f"{where}: row {row} has no working, non-NaN sensel; expected at "
+                              "least one")
     out = data.mean("col", skipna=True)
     out.attrs = {**recording.attrs, "row": int(row), "sensels_averaged": usable}
     return out
-
-
-def water_head_pressure_kPa(head_m, g_level, *, rho_kg_m3=RHO_WATER_KG_M3):
-    """Return the water-head pressure in kPa (deprecated: use geotech.hydrostatic_pressure_kPa)."""
-    return float(hydrostatic_pressure_kPa(head_m, g_level, density_kg_m3=rho_kg_m3))
 
 
 def water_head_factor(record, head_m, g_level, *, rho_kg_m3=RHO_WATER_KG_M3, window_s=None):
@@ -113,6 +109,6 @@ def water_head_factor(record, head_m, g_level, *, rho_kg_m3=RHO_WATER_KG_M3, win
         values = values[(time_s >= window_s[0]) & (time_s <= window_s[1])]
     mean = float(np.nanmean(values)) if values.size else np.nan
     if not np.isfinite(mean) or mean == 0:
-        raise ValueError(f"{record.attrs.get('source', 'record')}: mean reading {mean} over "
-                         f"window_s={window_s}; expected a loaded, non-empty stretch")
+        raise TactilecalError(f"{record.attrs.get('source', 'record')}: mean reading {mean} over "
+                              f"window_s={window_s}; expected a loaded, non-empty stretch")
     return float(hydrostatic_pressure_kPa(head_m, g_level, density_kg_m3=rho_kg_m3)) / mean

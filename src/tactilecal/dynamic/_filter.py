@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import fft, signal
 
+from tactilecal._errors import TactilecalError
 from tactilecal._result import SavedResult
 from tactilecal._validate import check_number, check_numbers, check_type, require_keys
 from tactilecal.dynamic import _plots
@@ -159,15 +160,15 @@ class CorrectionFilter(SavedResult):
         lo, hi = (float(v) for v in self.band_hz)
         self.band_hz = (lo, hi)
         if not 0 <= lo < hi:
-            raise ValueError(f"band_hz=({lo:g}, {hi:g}); expected 0 <= LO < HI")
+            raise TactilecalError(f"band_hz=({lo:g}, {hi:g}); expected 0 <= LO < HI")
         if hi > self.fs_hz / 2:
-            raise ValueError(f"band_hz=({lo:g}, {hi:g}) reaches beyond the Nyquist frequency "
-                             f"{self.fs_hz / 2:g} Hz (fs_hz={self.fs_hz:g}); expected "
-                             f"HI <= {self.fs_hz / 2:g}")
+            raise TactilecalError(f"band_hz=({lo:g}, {hi:g}) reaches beyond the Nyquist frequency "
+                                  f"{self.fs_hz / 2:g} Hz (fs_hz={self.fs_hz:g}); expected "
+                                  f"HI <= {self.fs_hz / 2:g}")
         if self.outside not in _OUTSIDE:
-            raise ValueError(f"outside={self.outside!r}; expected 'taper' or 'hold'")
+            raise TactilecalError(f"outside={self.outside!r}; expected 'taper' or 'hold'")
         if self.taper_hz <= 0:
-            raise ValueError(f"taper_hz={self.taper_hz}; expected > 0")
+            raise TactilecalError(f"taper_hz={self.taper_hz}; expected > 0")
         self.n_taps = _odd(self.n_taps)
 
     # -- construction -------------------------------------------------------------------
@@ -212,9 +213,9 @@ class CorrectionFilter(SavedResult):
             model, params = fit[0], dict(fit[1])
             fit = None
             if band_hz is None:
-                raise ValueError("band_hz is required when building from (model, params)")
+                raise TactilecalError("band_hz is required when building from (model, params)")
         if model not in MODELS:
-            raise ValueError(f"model={model!r}; expected one of {', '.join(MODELS)}")
+            raise TactilecalError(f"model={model!r}; expected one of {', '.join(MODELS)}")
         return cls.design(model, params, fs_hz=fs_hz, band_hz=band_hz, outside=outside,
                           taper_hz=taper_hz, n_taps=n_taps, fit=fit, lag_s=lag_s)
 
@@ -256,8 +257,8 @@ class CorrectionFilter(SavedResult):
         """
         f_hz, gain = np.asarray(f_hz, float), np.asarray(gain, float)
         if f_hz.size < 2 or f_hz.shape != gain.shape or np.any(np.diff(f_hz) <= 0):
-            raise ValueError(f"f_hz ({f_hz.size} values) and gain ({gain.size} values): "
-                             "expected equal lengths >= 2 and increasing frequencies")
+            raise TactilecalError(f"f_hz ({f_hz.size} values) and gain ({gain.size} values): "
+                                  "expected equal lengths >= 2 and increasing frequencies")
         if band_hz is None:
             band_hz = (float(f_hz[0]), float(f_hz[-1]))
         return cls.design("response", {}, fs_hz=fs_hz, band_hz=band_hz, outside=outside,
@@ -268,8 +269,8 @@ class CorrectionFilter(SavedResult):
     def sos(self):
         """Second-order sections of the causal inverse (``model="rational"`` only)."""
         if self.rational is None:
-            raise ValueError(f"a {self.model!r} filter has no causal (IIR) form; expected a "
-                             "rational model (tactilecal dynamic fit --model rational|auto)")
+            raise TactilecalError(f"a {self.model!r} filter has no causal (IIR) form; expected a "
+                                  "rational model (tactilecal dynamic fit --model rational|auto)")
         return self.rational.inverse_sos(self.fs_hz)
 
     @property
@@ -378,9 +379,9 @@ class CorrectionFilter(SavedResult):
         missing = [k for k in ("model", "fs_hz", "band_hz", "params", "outside", "taper_hz",
                                "n_taps") if k not in d]
         if d.get("format") != FORMAT or missing:
-            raise ValueError(f"{source}: not a tactilecal dynamic filter (format "
-                             f"{d.get('format')!r}, missing keys {missing}); expected "
-                             f"format {FORMAT!r} as written by 'tactilecal dynamic fit'")
+            raise TactilecalError(f"{source}: not a tactilecal dynamic filter (format "
+                                  f"{d.get('format')!r}, missing keys {missing}); expected "
+                                  f"format {FORMAT!r} as written by 'tactilecal dynamic fit'")
 
     @classmethod
     def _from_dict(cls, d, where):
@@ -425,14 +426,15 @@ def _check_filter_dict(d, where):
     band = check_type(d["band_hz"], list | tuple, key.format("band_hz"),
                       expected="[low, high] in Hz")
     if len(band) != 2:
-        raise ValueError(f"{key.format('band_hz')} has {len(band)} values; expected [low, high]")
+        raise TactilecalError(f"{key.format('band_hz')} has {len(band)} values; expected [low, "
+                              f"high]")
     low, high = (check_number(v, key.format("band_hz"), minimum=0.0, maximum=fs_hz / 2)
                  for v in band)
     if not low < high:
-        raise ValueError(f"{key.format('band_hz')} is {band}; expected low < high")
+        raise TactilecalError(f"{key.format('band_hz')} is {band}; expected low < high")
     if d["model"] not in (*MODELS, "response", *PHASE_MODELS):
-        raise ValueError(f"{key.format('model')} is {d['model']!r}; expected one of "
-                         f"{[*MODELS, 'response', *PHASE_MODELS]}")
+        raise TactilecalError(f"{key.format('model')} is {d['model']!r}; expected one of "
+                              f"{[*MODELS, 'response', *PHASE_MODELS]}")
     if d["model"] == "rational" or d.get("rational") is not None:
         rational = check_type(d.get("rational"), dict, key.format("rational"),
                               expected="the zeros, poles and gain of a rational model")
@@ -442,8 +444,8 @@ def _check_filter_dict(d, where):
             for pair in check_type(rational[name], list, key.format(f"rational.{name}"),
                                    expected="a list of [re, im] pairs"):
                 if not isinstance(pair, list) or len(pair) != 2:
-                    raise ValueError(f"{key.format(f'rational.{name}')} holds {pair!r}; "
-                                     "expected [re, im] pairs")
+                    raise TactilecalError(f"{key.format(f'rational.{name}')} holds {pair!r}; "
+                                          "expected [re, im] pairs")
                 check_number(pair[0], key.format(f"rational.{name}"), maximum=0.0,
                              max_inclusive=False)
                 check_number(pair[1], key.format(f"rational.{name}"))
@@ -456,8 +458,8 @@ def _check_filter_dict(d, where):
         require_keys(d["params"], MODELS[d["model"]][1], key.format("params"),
                      expected=f"the parameters of the {d['model']} model")
     if d["outside"] not in ("taper", "hold"):
-        raise ValueError(f"{key.format('outside')} is {d['outside']!r}; expected 'taper' or "
-                         "'hold'")
+        raise TactilecalError(f"{key.format('outside')} is {d['outside']!r}; expected 'taper' or "
+                              "'hold'")
     check_number(d["taper_hz"], key.format("taper_hz"), minimum=0.0, min_inclusive=False)
     if d.get("fit") is not None:
         require_keys(check_type(d["fit"], dict, key.format("fit"), expected="an object"),
@@ -469,8 +471,8 @@ def _check_filter_dict(d, where):
     response = d.get("response") or {}
     check_type(response, dict, key.format("response"), expected="an object")
     if d["model"] in ("response", "wiener") and not response:
-        raise ValueError(f"{key.format('response')} is missing; a {d['model']!r} filter "
-                         "needs its measured response")
+        raise TactilecalError(f"{key.format('response')} is missing; a {d['model']!r} filter "
+                              "needs its measured response")
     if response:
         require_keys(response, ("f_hz", "gain"), key.format("response"),
                      expected="a response")
@@ -480,11 +482,12 @@ def _check_filter_dict(d, where):
                 continue
             lengths.add(len(check_numbers(response[name], key.format(f"response.{name}"))))
         if len(lengths) > 1 or min(lengths) < 2:
-            raise ValueError(f"{key.format('response')} has lists of lengths {sorted(lengths)}; "
-                             "expected f_hz, gain (and phase_rad) of one length >= 2")
+            raise TactilecalError(f"{key.format('response')} has lists of lengths "
+                                  f"{sorted(lengths)}; "
+                                  "expected f_hz, gain (and phase_rad) of one length >= 2")
         if np.any(np.diff(response["f_hz"]) <= 0):
-            raise ValueError(f"{key.format('response.f_hz')} does not increase; expected "
-                             "increasing frequencies")
+            raise TactilecalError(f"{key.format('response.f_hz')} does not increase; expected "
+                                  "increasing frequencies")
 
 
 def _check_correction(filt, where):
@@ -495,8 +498,8 @@ def _check_correction(filt, where):
     bad = ~np.isfinite(target) | (np.abs(target) <= 0 if filt.has_phase else target <= 0)
     if bad.any():
         k = int(np.flatnonzero(bad)[0])
-        raise ValueError(f"{where}: the correction its parameters give is {target[k]:.3g} at "
-                         f"{grid[k]:.3g} Hz; expected a finite, positive gain in the band")
+        raise TactilecalError(f"{where}: the correction its parameters give is {target[k]:.3g} at "
+                              f"{grid[k]:.3g} Hz; expected a finite, positive gain in the band")
 
 
 def load_filter(path):

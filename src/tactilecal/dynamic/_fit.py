@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
+from tactilecal._errors import TactilecalError
+
 __all__ = ["MODELS", "TransferFit", "complex_r2", "fit_transfer", "model_gain"]
 
 #: name -> (log base, parameter names)
@@ -27,7 +29,7 @@ MODELS = {"log": ("e", ("A",)), "log10": ("10", ("A",)), "log-quadratic": ("e", 
 
 def _check_model(model):
     if model not in MODELS:
-        raise ValueError(f"model={model!r}; expected one of {', '.join(MODELS)}")
+        raise TactilecalError(f"model={model!r}; expected one of {', '.join(MODELS)}")
 
 
 def model_gain(model, params, f_hz):
@@ -172,10 +174,10 @@ def fit_transfer(tf, *, model="log10"):
     base, names = MODELS[model]
     f_hz, y = tf.f_hz[tf.used], tf.gain[tf.used]
     if f_hz.size < len(names) + 2:
-        raise ValueError(f"only {f_hz.size} frequency bins have coherence >= "
-                         f"{tf.min_coherence} inside the band; expected at least "
-                         f"{len(names) + 2} (check the records overlap and carry a sweep, "
-                         "or lower min_coherence)")
+        raise TactilecalError(f"only {f_hz.size} frequency bins have coherence >= "
+                              f"{tf.min_coherence} inside the band; expected at least "
+                              f"{len(names) + 2} (check the records overlap and carry a sweep, "
+                              "or lower min_coherence)")
 
     def curve(f, *p):
         return model_gain(model, dict(zip(names, p, strict=True)), f)

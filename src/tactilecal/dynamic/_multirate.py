@@ -49,6 +49,7 @@ import numba
 import numpy as np
 from scipy import fft, signal
 
+from tactilecal._errors import TactilecalError
 from tactilecal._numba import njit
 from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
 
@@ -450,7 +451,7 @@ def correct(lines, plan, n_out, *, workers=1, out=None):
     half = plan.correction.size // 2
     m, n_in = lines.shape
     if n_in < n_out + 2 * half:
-        raise ValueError(f"stage 2 needs {n_out + 2 * half} decimated rows; got {n_in}")
+        raise TactilecalError(f"stage 2 needs {n_out + 2 * half} decimated rows; got {n_in}")
     n_fft = fft_length(plan, n_out)
     step = n_fft - 2 * half
     gain = centred_spectrum(plan.correction, n_fft, phase=plan.phase)
@@ -529,10 +530,10 @@ def filter_block(before, rows, after, offset, plan, *, precision="single", worke
     layout = BlockLayout.of(plan, offset, rows.shape[0])
     need_before, need_after = layout.margins
     if (before is None) != (after is None):
-        raise ValueError("filter_block needs both before and after, or neither")
+        raise TactilecalError("filter_block needs both before and after, or neither")
     if before is not None and (before.shape[0] < need_before or after.shape[0] < need_after):
-        raise ValueError(f"filter_block needs {need_before} rows before and {need_after} "
-                         f"after; got {before.shape[0]} and {after.shape[0]}")
+        raise TactilecalError(f"filter_block needs {need_before} rows before and {need_after} "
+                              f"after; got {before.shape[0]} and {after.shape[0]}")
     clock = [time.perf_counter()]
 
     def lap(stage):

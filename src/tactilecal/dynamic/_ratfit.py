@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
+from tactilecal._errors import TactilecalError
 from tactilecal.dynamic._fit import complex_r2
 from tactilecal.dynamic._rational import RationalModel
 
@@ -190,8 +191,8 @@ def choose_rational(f_hz, correction, coherence, gain_error, *, orders=ORDERS, f
     gain_error = np.asarray(gain_error, dtype=float)
     need = max(4 * (max(orders) + 1), HELD_OUT_EVERY * HELD_OUT_BLOCK)
     if f_hz.size < need:
-        raise ValueError(f"{f_hz.size} coherent bins; a rational fit of order up to "
-                         f"{max(orders)} needs at least {need}")
+        raise TactilecalError(f"{f_hz.size} coherent bins; a rational fit of order up to "
+                              f"{max(orders)} needs at least {need}")
     held = held_out_bins(f_hz.size)
     scores = {}
     for order in orders:

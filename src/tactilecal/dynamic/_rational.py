@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
+
 __all__ = ["RationalModel"]
 
 
@@ -94,13 +96,14 @@ class RationalModel:
         from scipy import signal
 
         if not self.is_minimum_phase:
-            raise ValueError("the sensor response has zeros or poles in the right half-plane; "
-                             "expected a minimum-phase model (its inverse would be unstable)")
+            raise TactilecalError("the sensor response has zeros or poles in the right half-plane; "
+                                  "expected a minimum-phase model (its inverse would be unstable)")
         nyquist_rad_s = np.pi * fs_hz
         corners = [-complex(r).real for r in (*self.zeros_rad_s, *self.poles_rad_s)]
         if max(corners, default=0.0) >= nyquist_rad_s:
-            raise ValueError(f"a corner at {max(corners) / (2 * np.pi):.4g} Hz is at or above "
-                             f"the Nyquist frequency {fs_hz / 2:g} Hz; expected corners below it")
+            raise TactilecalError(f"a corner at {max(corners) / (2 * np.pi):.4g} Hz is at or above "
+                                  f"the Nyquist frequency {fs_hz / 2:g} Hz; expected corners "
+                                  f"below it")
 
         def warp(roots):
             return [-2 * fs_hz * np.tan(-complex(r).real / (2 * fs_hz)) for r in roots]

@@ -7,6 +7,8 @@ summed/averaged sensor recording (dim ``frame`` with a ``time`` coordinate).
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
+
 #: Largest deviation of one time step from the median step, as a fraction of it, for the
 #: FFT-based steps (transfer function, filtering), which treat samples as equally spaced.
 MAX_STEP_JITTER = 0.05
@@ -49,23 +51,23 @@ def time_and_values(record, name):
     """
     where = label(record, name)
     if getattr(record, "ndim", None) != 1:
-        raise ValueError(f"{where}: expected a 1-D record (one value per time step); "
-                         f"found dims {getattr(record, 'dims', type(record).__name__)}")
+        raise TactilecalError(f"{where}: expected a 1-D record (one value per time step); "
+                              f"found dims {getattr(record, 'dims', type(record).__name__)}")
     if "time" not in record.coords:
-        raise ValueError(f"{where}: no 'time' coordinate (s); expected one along "
-                         f"{record.dims[0]!r}")
+        raise TactilecalError(f"{where}: no 'time' coordinate (s); expected one along "
+                              f"{record.dims[0]!r}")
     time_s = np.asarray(record["time"].values, dtype=float)
     values = np.asarray(record.values, dtype=float)
     if values.size < 4:
-        raise ValueError(f"{where}: {values.size} samples; expected at least 4")
+        raise TactilecalError(f"{where}: {values.size} samples; expected at least 4")
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
-        raise ValueError(f"{where}: {bad.size} NaN/inf values (gap starting at t = "
-                         f"{time_s[bad[0]]:.6g} s); expected a complete record "
-                         "(fill or cut the gap first)")
+        raise TactilecalError(f"{where}: {bad.size} NaN/inf values (gap starting at t = "
+                              f"{time_s[bad[0]]:.6g} s); expected a complete record "
+                              "(fill or cut the gap first)")
     if not np.all(np.diff(time_s) > 0):
-        raise ValueError(f"{where}: time stamps do not increase strictly; expected a "
-                         "time column in seconds, increasing")
+        raise TactilecalError(f"{where}: time stamps do not increase strictly; expected a "
+                              "time column in seconds, increasing")
     return time_s, values
 
 
@@ -100,12 +102,12 @@ def sampling_rate_hz(time_s, where, *, max_jitter=MAX_STEP_JITTER):
     """
     time_s = np.asarray(time_s, dtype=float)
     if time_s.size < 2:
-        raise ValueError(f"{where}: {time_s.size} time stamps; cannot infer a sampling rate")
+        raise TactilecalError(f"{where}: {time_s.size} time stamps; cannot infer a sampling rate")
     steps = np.diff(time_s)
     median = np.median(steps)
     rounded = median > 0 and time_jitter_s(time_s) <= MAX_GRID_JITTER * median
     if median <= 0 or (np.max(np.abs(steps - median)) > max_jitter * median and not rounded):
-        raise ValueError(
+        raise TactilecalError(
             f"{where}: irregular time column, steps range from {steps.min():.6g} to "
             f"{steps.max():.6g} s (median {median:.6g} s); cannot infer a sampling rate, "
             "expected a constant sampling interval")

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
+from tactilecal._errors import TactilecalError
 from tactilecal.dynamic._records import label, sampling_rate_hz, time_and_values
 
 __all__ = ["TransferFunction", "transfer_function", "METHODS"]
@@ -74,11 +75,11 @@ def _check_band(band_hz, fs_hz, where):
         return None
     lo, hi = (float(v) for v in band_hz)
     if not 0 <= lo < hi:
-        raise ValueError(f"band_hz=({lo:g}, {hi:g}); expected 0 <= LO < HI")
+        raise TactilecalError(f"band_hz=({lo:g}, {hi:g}); expected 0 <= LO < HI")
     if hi > fs_hz / 2:
-        raise ValueError(f"band_hz=({lo:g}, {hi:g}) reaches beyond the Nyquist frequency "
-                         f"{fs_hz / 2:g} Hz of {where} (sampled at {fs_hz:g} Hz); expected "
-                         f"HI <= {fs_hz / 2:g}")
+        raise TactilecalError(f"band_hz=({lo:g}, {hi:g}) reaches beyond the Nyquist frequency "
+                              f"{fs_hz / 2:g} Hz of {where} (sampled at {fs_hz:g} Hz); expected "
+                              f"HI <= {fs_hz / 2:g}")
     return lo, hi
 
 
@@ -125,20 +126,20 @@ def transfer_function(sensor, reference, *, method="h2", nperseg=None, min_coher
     True
     """
     if method not in METHODS:
-        raise ValueError(f"method={method!r}; expected one of {', '.join(METHODS)}")
+        raise TactilecalError(f"method={method!r}; expected one of {', '.join(METHODS)}")
     t_s, x = time_and_values(sensor, "sensor")
     t_r, y = time_and_values(reference, "reference")
     where = label(sensor, "sensor")
     if t_s.size != t_r.size or not np.allclose(t_s, t_r, rtol=0, atol=1e-6 * (t_s[1] - t_s[0])):
-        raise ValueError(f"{where} and {label(reference, 'reference')} are not on the same "
-                         f"time stamps ({t_s.size} and {t_r.size} samples); expected aligned "
-                         "records (use tactilecal.dynamic.align)")
+        raise TactilecalError(f"{where} and {label(reference, 'reference')} are not on the same "
+                              f"time stamps ({t_s.size} and {t_r.size} samples); expected aligned "
+                              "records (use tactilecal.dynamic.align)")
     fs_hz = sampling_rate_hz(t_s, where)
     nperseg = int(round(fs_hz)) if nperseg is None else int(nperseg)
     if x.size < nperseg:
-        raise ValueError(f"{label(reference, 'reference')}: the overlap with {where} is "
-                         f"{x.size} samples ({x.size / fs_hz:.3g} s); expected at least "
-                         f"nperseg = {nperseg} samples (the filter's 1/resolution)")
+        raise TactilecalError(f"{label(reference, 'reference')}: the overlap with {where} is "
+                              f"{x.size} samples ({x.size / fs_hz:.3g} s); expected at least "
+                              f"nperseg = {nperseg} samples (the filter's 1/resolution)")
     band = _check_band(band_hz, fs_hz, where)
     f_hz, pxx = signal.welch(x, fs=fs_hz, nperseg=nperseg)
     _, pyy = signal.welch(y, fs=fs_hz, nperseg=nperseg)

@@ -6,6 +6,8 @@ A model at ``N`` g reproduces a prototype ``N`` times larger: time and length sc
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
+
 __all__ = ["to_prototype", "prototype_frequency_hz"]
 
 
@@ -45,7 +47,7 @@ def to_prototype(record, g_level):
     [0.0, 0.5]
     """
     if g_level <= 0:
-        raise ValueError(f"g_level={g_level}; expected > 0")
+        raise TactilecalError(f"g_level={g_level}; expected > 0")
     out = record.assign_coords(time=record["time"] * float(g_level))
     out.attrs = {**record.attrs, "g_level": float(g_level), "scale": "prototype"}
     return out

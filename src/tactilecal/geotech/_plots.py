@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal.geotech._soil import k0_jaky, vertical_stress_kPa
 
 __all__ = ["plot_earth_pressure_profile"]
@@ -55,13 +56,13 @@ def plot_earth_pressure_profile(profile_kPa, depth_m, *, g_level, phi_deg=(33.0,
     p = np.asarray(profile_kPa, dtype=float)
     z = np.asarray(depth_m, dtype=float)
     if p.ndim != 1 or p.shape != z.shape:
-        raise ValueError(f"profile_kPa has shape {p.shape} and depth_m {z.shape}; expected "
-                         "two 1-D arrays of the same length (one value per row)")
+        raise TactilecalError(f"profile_kPa has shape {p.shape} and depth_m {z.shape}; expected "
+                              "two 1-D arrays of the same length (one value per row)")
     phi = np.asarray(phi_deg, dtype=float)
     if phi.shape != (2,):
-        raise ValueError(f"phi_deg is {phi_deg!r}; expected two friction angles (min, max)")
+        raise TactilecalError(f"phi_deg is {phi_deg!r}; expected two friction angles (min, max)")
     if scale not in ("prototype", "model"):
-        raise ValueError(f"scale is {scale!r}; expected 'prototype' or 'model'")
+        raise TactilecalError(f"scale is {scale!r}; expected 'prototype' or 'model'")
     factor = g_level if scale == "prototype" else 1.0
     z_line = np.linspace(0.0, np.nanmax(z) * 1.05, 100)
     sigma_v = vertical_stress_kPa(z_line, g_level, **unit_weight)

@@ -8,6 +8,7 @@ same as at prototype depth ``N z`` under 1 g (Gillis 2013, section 5.4).
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal._units import G_STANDARD
 
 __all__ = ["k0_jaky", "void_ratio", "dry_unit_weight_kN_m3", "unit_weight_from_relative_density",
@@ -27,7 +28,7 @@ def _finite(name, value, *, low=None, high=None, open_low=False):
     if bad.any():
         rng = (f"{'>' if open_low else '>='} {low}" if low is not None else "") + (
             f" and <= {high}" if high is not None else "")
-        raise ValueError(f"{name} is {value!r}; expected finite values {rng}".rstrip())
+        raise TactilecalError(f"{name} is {value!r}; expected finite values {rng}".rstrip())
     return arr
 
 
@@ -61,7 +62,8 @@ def k0_jaky(phi_deg):
     """
     phi = _finite("phi_deg", phi_deg, low=0, high=90, open_low=True)
     if np.any(phi >= 90):
-        raise ValueError(f"phi_deg is {phi_deg!r}; expected friction angles in (0, 90) degrees")
+        raise TactilecalError(f"phi_deg is {phi_deg!r}; expected friction angles in (0, 90) "
+                              f"degrees")
     return 1.0 - np.sin(np.radians(phi))
 
 
@@ -101,8 +103,8 @@ def void_ratio(relative_density_pct, *, e_min, e_max):
     e_min = float(_finite("e_min", e_min, low=0, open_low=True))
     e_max = float(_finite("e_max", e_max, low=0, open_low=True))
     if e_min >= e_max:
-        raise ValueError(f"e_min is {e_min} and e_max is {e_max}; expected e_min < e_max "
-                         "(the loosest state, Dr = 0 %, has the larger void ratio e_max)")
+        raise TactilecalError(f"e_min is {e_min} and e_max is {e_max}; expected e_min < e_max "
+                              "(the loosest state, Dr = 0 %, has the larger void ratio e_max)")
     return e_max - dr / 100.0 * (e_max - e_min)
 
 
@@ -191,12 +193,12 @@ def vertical_stress_kPa(depth_m, g_level, *, unit_weight_kN_m3=None, relative_de
     """
     by_density = [relative_density_pct, e_min, e_max, specific_gravity]
     if (unit_weight_kN_m3 is None) == all(v is None for v in by_density):
-        raise ValueError("give unit_weight_kN_m3, or relative_density_pct with e_min, e_max "
-                         "and specific_gravity (exactly one of the two)")
+        raise TactilecalError("give unit_weight_kN_m3, or relative_density_pct with e_min, e_max "
+                              "and specific_gravity (exactly one of the two)")
     if unit_weight_kN_m3 is None:
         if any(v is None for v in by_density):
-            raise ValueError("relative_density_pct, e_min, e_max and specific_gravity are all "
-                             f"needed; got {by_density}")
+            raise TactilecalError("relative_density_pct, e_min, e_max and specific_gravity are all "
+                                  f"needed; got {by_density}")
         unit_weight_kN_m3 = unit_weight_from_relative_density(
             relative_density_pct, e_min=e_min, e_max=e_max, specific_gravity=specific_gravity)
     gamma = _finite("unit_weight_kN_m3", unit_weight_kN_m3, low=0, open_low=True)

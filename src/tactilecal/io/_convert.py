@@ -7,6 +7,7 @@ import tempfile
 from pathlib import Path
 
 from tactilecal._atomic import _running, _umask, dask_tasks_finished
+from tactilecal._errors import TactilecalError
 from tactilecal._provenance import provenance_attr, provenance_of
 from tactilecal._validate import float_type
 from tactilecal.io._netcdf import write_netcdf
@@ -89,8 +90,8 @@ def _check_suffix(target):
     target = Path(target)
     if target.suffix.lower() not in _SUFFIXES:
         what = f"ends in {target.suffix!r}" if target.suffix else "has no suffix"
-        raise ValueError(f"output {target} {what}; expected .zarr (Zarr store) or .nc "
-                         "(NetCDF)")
+        raise TactilecalError(f"output {target} {what}; expected .zarr (Zarr store) or .nc "
+                              "(NetCDF)")
     return target
 
 
@@ -124,8 +125,8 @@ def atomic_folder(path):
     if not path.parent.is_dir():
         raise FileNotFoundError(f"cannot write {path}: folder {path.parent} does not exist")
     if path.exists() and not is_zarr_store(path):
-        raise ValueError(f"output {path} exists and is no Zarr store; expected a new path or "
-                         "a Zarr store to replace")
+        raise TactilecalError(f"output {path} exists and is no Zarr store; expected a new path or "
+                              "a Zarr store to replace")
     _remove_stale(path)
     try:
         tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.tmp{os.getpid()}.",

@@ -6,6 +6,7 @@ The header is parsed into the attributes of ``docs/data-model.md``: every line v
 
 import re
 
+from tactilecal._errors import TactilecalError
 from tactilecal._units import (
     area_to_mm2,
     force_to_N,
@@ -62,12 +63,12 @@ def parse_header_lines(lines, name):
             continue
         match = _KEY.match(text)
         if match is None:
-            raise ValueError(f"line {number} of {name}: {text[:40]!r} is not a header line; "
-                             "expected 'KEY value' lines up to 'ASCII_DATA @@'")
+            raise TactilecalError(f"line {number} of {name}: {text[:40]!r} is not a header line; "
+                                  "expected 'KEY value' lines up to 'ASCII_DATA @@'")
         key, colon, value = match.groups()
         if key in header:
-            raise ValueError(f"line {number} of {name}: {key} appears twice in the header "
-                             f"(first on line {header[key][1]}); expected it once")
+            raise TactilecalError(f"line {number} of {name}: {key} appears twice in the header "
+                                  f"(first on line {header[key][1]}); expected it once")
         header[key] = ((value or "").strip(), number)
         in_text = key if colon else None
     return header
@@ -78,8 +79,8 @@ def number_with_unit(header, key, name):
     value, line = header[key]
     match = _NUMBER_UNIT.fullmatch(value)
     if match is None:
-        raise ValueError(f"line {line} of {name}: {key} is {value!r}; expected a number "
-                         "optionally followed by a unit")
+        raise TactilecalError(f"line {line} of {name}: {key} is {value!r}; expected a number "
+                              "optionally followed by a unit")
     unit = match.group(2)
     where = f"{key} on line {line} of {name}"
     return float(match.group(1)), (normalise_unit(unit, where=where) if unit else None)
@@ -91,19 +92,19 @@ def integer(header, key, name, *, minimum=None):
     try:
         result = int(value)
     except ValueError:
-        raise ValueError(f"line {line} of {name}: {key} is {value!r}; expected an integer"
-                         ) from None
+        raise TactilecalError(f"line {line} of {name}: {key} is {value!r}; expected an integer"
+                              ) from None
     if minimum is not None and result < minimum:
-        raise ValueError(f"line {line} of {name}: {key} is {result}; expected at least "
-                         f"{minimum}")
+        raise TactilecalError(f"line {line} of {name}: {key} is {result}; expected at least "
+                              f"{minimum}")
     return result
 
 
 def _length_mm(header, key, name):
     number, unit = number_with_unit(header, key, name)
     if unit is None:
-        raise ValueError(f"line {header[key][1]} of {name}: {key} has no unit; expected "
-                         "e.g. '0.127 centimeters' or '5.08 mm'")
+        raise TactilecalError(f"line {header[key][1]} of {name}: {key} has no unit; expected "
+                              "e.g. '0.127 centimeters' or '5.08 mm'")
     return _converted(length_to_mm, number, unit, header, key, name)
 
 
@@ -112,8 +113,8 @@ def _converted(convert, number, unit, header, key, name):
     try:
         return convert(number, unit)
     except ValueError as exc:
-        raise ValueError(f"line {header[key][1]} of {name}: {key} {header[key][0]!r}: "
-                         f"{exc}") from None
+        raise TactilecalError(f"line {header[key][1]} of {name}: {key} {header[key][0]!r}: "
+                              f"{exc}") from None
 
 
 def header_attrs(header, name):
@@ -143,8 +144,8 @@ def header_attrs(header, name):
     if "SENSEL_AREA" in header:
         number, unit = number_with_unit(header, "SENSEL_AREA", name)
         if unit is None:
-            raise ValueError(f"line {header['SENSEL_AREA'][1]} of {name}: SENSEL_AREA has "
-                             "no unit; expected e.g. '0.016129 cm2' or '25.8064 mm2'")
+            raise TactilecalError(f"line {header['SENSEL_AREA'][1]} of {name}: SENSEL_AREA has "
+                                  "no unit; expected e.g. '0.016129 cm2' or '25.8064 mm2'")
         attrs["sensel_area_mm2"] = _converted(area_to_mm2, number, unit, header,
                                               "SENSEL_AREA", name)
     elif "row_spacing_mm" in attrs and "col_spacing_mm" in attrs:
@@ -207,8 +208,9 @@ def _calibration_attrs(header, name):
 def _calibration_point(key, value, line, name):
     match = _CAL_POINT.match(value)
     if match is None:
-        raise ValueError(f"line {line} of {name}: {key} is {value!r}; expected "
-                         "'<load> (<unit>) <raw sum> (Raw Sum) [<n> (Number of Loaded Cells)]'")
+        raise TactilecalError(f"line {line} of {name}: {key} is {value!r}; expected "
+                              "'<load> (<unit>) <raw sum> (Raw Sum) [<n> (Number of Loaded "
+                              "Cells)]'")
     load, unit_text, raw_sum, cells = match.groups()
     unit = normalise_unit(unit_text, where=f"{key} on line {line} of {name}")
     prefix = f"calibration_point_{key.rsplit('_', 1)[1]}_"

@@ -13,6 +13,7 @@ from tactilecal._atomic import (
     dask_tasks_finished,
     distributed_client,
 )
+from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps
 
 __all__ = ["read_netcdf", "write_netcdf"]
@@ -73,10 +74,10 @@ def write_netcdf(data, path):
         except ValueError as exc:
             if engine != "scipy":
                 raise
-            raise ValueError(f"cannot write {path} as NetCDF3 (h5py is not installed, so "
-                             f"the scipy engine is used): {exc}; expected values NetCDF3 "
-                             "can hold (e.g. int64 within the int32 range): install h5py "
-                             "or convert to float64") from None
+            raise TactilecalError(f"cannot write {path} as NetCDF3 (h5py is not installed, so "
+                                  f"the scipy engine is used): {exc}; expected values NetCDF3 "
+                                  "can hold (e.g. int64 within the int32 range): install h5py "
+                                  "or convert to float64") from None
 
 
 def read_netcdf(path):
@@ -108,9 +109,9 @@ def read_netcdf(path):
     try:
         data = xr.load_dataarray(path, decode_times=False, decode_timedelta=False)
     except (ValueError, OSError) as exc:
-        raise ValueError(f"{path}: not a NetCDF file with one data variable "
-                         f"({str(exc).splitlines()[0][:200]}); expected a file written by "
-                         "write_netcdf or DataArray.to_netcdf") from None
+        raise TactilecalError(f"{path}: not a NetCDF file with one data variable "
+                              f"({str(exc).splitlines()[0][:200]}); expected a file written by "
+                              "write_netcdf or DataArray.to_netcdf") from None
     for name in _INT_COORDS:
         if name in data.coords and np.issubdtype(data[name].dtype, np.integer):
             data = data.assign_coords({name: data[name].astype(np.int64)})

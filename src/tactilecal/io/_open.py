@@ -7,6 +7,8 @@ Zarr store (written by :func:`tactilecal.io.convert`).
 
 from pathlib import Path
 
+from tactilecal._errors import TactilecalError
+
 __all__ = ["open_recording", "recording_format", "NETCDF_SUFFIXES", "FORMATS"]
 
 NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf")
@@ -119,8 +121,8 @@ def open_recording(path, *, chunks=None):
         return read_netcdf(path)
     if kind in ("netcdf", "zarr"):
         return _open_lazy(path, kind, chunks)
-    raise ValueError(f"{path}: not a recording: no 'ASCII_DATA' line in its first 64 KiB "
-                     "(Tekscan export), not NetCDF, not a Zarr store; expected one of these")
+    raise TactilecalError(f"{path}: not a recording: no 'ASCII_DATA' line in its first 64 KiB "
+                          "(Tekscan export), not NetCDF, not a Zarr store; expected one of these")
 
 
 def _open_lazy(path, kind, chunks):
@@ -132,8 +134,8 @@ def _open_lazy(path, kind, chunks):
         data = xr.open_dataarray(path, chunks={} if chunks is None else {"frame": chunks},
                                  decode_times=False, decode_timedelta=False, **options)
     except (ValueError, OSError) as exc:
-        raise ValueError(f"{path}: not a {kind} store with one data variable "
-                         f"({str(exc).splitlines()[0][:200]}); expected a file written by "
-                         "write_netcdf or convert") from None
+        raise TactilecalError(f"{path}: not a {kind} store with one data variable "
+                              f"({str(exc).splitlines()[0][:200]}); expected a file written by "
+                              "write_netcdf or convert") from None
     data.attrs.setdefault("source", str(path))
     return data

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal.io import _tekscan_kernels as kernels
 
 __all__ = ["Block", "blocks", "parse_block", "parse_into", "read_block", "check_stray_f",
@@ -102,9 +103,9 @@ def parse_into(path, block, out):
 def _check_unchanged(f, block):
     stat = os.fstat(f.fileno())
     if (stat.st_size, stat.st_mtime_ns) != block.stat:
-        raise ValueError(f"{block.name} changed since it was indexed (size or time "
-                         "stamp differ); expected the file unchanged while it is read: "
-                         "read it again")
+        raise TactilecalError(f"{block.name} changed since it was indexed (size or time "
+                              "stamp differ); expected the file unchanged while it is read: "
+                              "read it again")
 
 
 def parse_block(f, block, out, buf=None):
@@ -142,7 +143,7 @@ def parse_block(f, block, out, buf=None):
         first_slow_bad = _convert_slow(buf, slow[:n_slow], flat, sums, per_frame, block,
                                        first_slow_bad)
         if status == 1:
-            raise ValueError(_bad_value_message(buf, pos, k, block))
+            raise TactilecalError(_bad_value_message(buf, pos, k, block))
         if status == 3:
             raise _changed(block)
         if status == 0:
@@ -163,7 +164,7 @@ def _convert_slow(buf, slow, flat, sums, per_frame, block, first_bad):
     for k, start, stop in slow:
         value = float(bytes(buf[start:stop]))
         if not np.isfinite(value):
-            raise ValueError(_bad_value_message(buf, start, k, block))
+            raise TactilecalError(_bad_value_message(buf, start, k, block))
         flat[k] = value
         sums[k // per_frame] += value
         whole = 0 <= value <= 255 and value == int(value)
@@ -192,9 +193,9 @@ def _bad_value_message(buf, pos, k, block):
 
 
 def _changed(block):
-    return ValueError(f"{block.name} changed since it was indexed (its rows of values no "
-                      "longer match the frames found); expected the file unchanged while it "
-                      "is read: read it again")
+    return TactilecalError(f"{block.name} changed since it was indexed (its rows of values no "
+                           "longer match the frames found); expected the file unchanged while it "
+                           "is read: read it again")
 
 
 def check_stray_f(f, index):
@@ -216,7 +217,7 @@ def check_stray_f(f, index):
     block = Block(name=index.name, rows=index.rows, cols=index.cols, spaced=index.spaced,
                   raw=False, units=None, stat=(), k0=0, starts=np.zeros(2, np.int64),
                   lines=lines, numbers=lines, raw_sums=lines)
-    raise ValueError(_bad_value_message(buf, pos, k, block))
+    raise TactilecalError(_bad_value_message(buf, pos, k, block))
 
 
 def raise_range(bad, block):
@@ -225,8 +226,8 @@ def raise_range(bad, block):
     expected = ("a whole number 0..255 (UNITS raw)" if block.units else
                 "a whole number 0..255: the file has no UNITS line, so it is read as raw; "
                 "add e.g. 'UNITS kPa' before ASCII_DATA if its values are calibrated")
-    raise ValueError(f"line {line} of {block.name}, value {k % block.cols + 1}: "
-                     f"{value:.17g}; expected {expected}")
+    raise TactilecalError(f"line {line} of {block.name}, value {k % block.cols + 1}: "
+                          f"{value:.17g}; expected {expected}")
 
 
 def check_block_sums(block, sums):
@@ -237,6 +238,7 @@ def check_block_sums(block, sums):
     bad = np.flatnonzero(~np.isnan(raw_sums) & (np.abs(sums - raw_sums) > 0.5))
     if bad.size:
         k = bad[0]
-        raise ValueError(f"frame {block.numbers[k]} of {block.name} (line {block.lines[k]}): "
-                         f"Raw Sum in the frame line is {raw_sums[k]:g}; expected {sums[k]:g}, "
-                         "the sum of the frame's readings")
+        raise TactilecalError(f"frame {block.numbers[k]} of {block.name} (line {block.lines[k]}): "
+                              f"Raw Sum in the frame line is {raw_sums[k]:g}; expected "
+                              f"{sums[k]:g}, "
+                              "the sum of the frame's readings")

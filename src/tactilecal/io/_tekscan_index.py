@@ -14,6 +14,7 @@ import re
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal._validate import check_size
 from tactilecal.io import _tekscan_kernels as kernels
 from tactilecal.io._tekscan_layout import Index, line_text, read_header
@@ -103,13 +104,13 @@ def _python_frame_lines(buf, base, frames, numbers, values, name, errors):
         text = bytes(buf[start:end]).decode("utf-8", errors="replace")
         match = _FRAME.match(text)
         if match is None:
-            errors.append(ValueError(f"line {line} of {name}: {text[:60]!r}; expected "
-                                     "'Frame N' optionally followed by ', <time in s>, ...'"))
+            errors.append(TactilecalError(f"line {line} of {name}: {text[:60]!r}; expected "
+                                          "'Frame N' optionally followed by ', <time in s>, ...'"))
             continue
         number = int(match.group(1))
         if not -2**63 <= number < 2**63:
-            errors.append(ValueError(f"line {line} of {name}: frame number {number}; expected "
-                                     "at most 2**63 - 1"))
+            errors.append(TactilecalError(f"line {line} of {name}: frame number {number}; expected "
+                                          "at most 2**63 - 1"))
             continue
         numbers[k] = number
         if match.group(2):
@@ -126,7 +127,7 @@ def _float(text, where):
     try:
         return float(text)
     except ValueError:
-        raise ValueError(f"{where} is {text!r}; expected a number") from None
+        raise TactilecalError(f"{where} is {text!r}; expected a number") from None
 
 
 def _slot(info, key):
@@ -138,12 +139,12 @@ def _check_structure(f, scan, first_line, rows, header, name):
     """Terminator, lines after it, unknown lines and the frame lines; return the frames."""
     state, info = scan["state"], scan["info"]
     if not state[_STATE["stopped"]]:
-        raise ValueError(f"{name} ends at line {state[_STATE['line']] - 1} without the '@@' "
-                         "terminator; expected '@@' after the last frame (truncated file?)")
+        raise TactilecalError(f"{name} ends at line {state[_STATE['line']] - 1} without the '@@' "
+                              "terminator; expected '@@' after the last frame (truncated file?)")
     stop_line, stop_offset, length, exact = _slot(info, "terminator")
     if not exact:
-        raise ValueError(f"line {stop_line} of {name}: "
-                         f"{line_text(f, stop_offset, length)!r}; expected '@@' (end of data)")
+        raise TactilecalError(f"line {stop_line} of {name}: "
+                              f"{line_text(f, stop_offset, length)!r}; expected '@@' (end of data)")
     for key, message in (
             ("after", f" after the '@@' terminator on line {stop_line}; expected the end of "
                       "the file (one ASCII_DATA block per file)"),
@@ -151,8 +152,8 @@ def _check_structure(f, scan, first_line, rows, header, name):
         found = _slot(info, key)
         if found:
             line, offset, length, _ = found
-            raise ValueError(f"line {line} of {name}: "
-                             f"{line_text(f, offset, length)!r}{message}")
+            raise TactilecalError(f"line {line} of {name}: "
+                                  f"{line_text(f, offset, length)!r}{message}")
     return _frame_lines(scan, first_line, rows, header, name)
 
 
@@ -161,29 +162,29 @@ def _frame_lines(scan, first_line, rows, header, name):
     n_data = int(scan["state"][_STATE["n_data"]])
     if len(scan["lines"]) == 0:
         if n_data != rows:
-            raise ValueError(f"{name} has {n_data} rows of values and no 'Frame N' "
-                             f"line; expected {rows} rows (ROWS) for a single frame")
+            raise TactilecalError(f"{name} has {n_data} rows of values and no 'Frame N' "
+                                  f"line; expected {rows} rows (ROWS) for a single frame")
         number = int(header["START_FRAME"][0]) if "START_FRAME" in header else 1
         return (np.array([number], dtype=np.int64), np.full(1, np.nan), np.full(1, np.nan),
                 np.array([first_line]))
     first_data = _slot(scan["info"], "first_data")
     if first_data and first_data[0] < scan["lines"][0]:
-        raise ValueError(f"line {first_data[0]} of {name}: a row of values before "
-                         "the first 'Frame N' line; expected 'Frame N' first")
+        raise TactilecalError(f"line {first_data[0]} of {name}: a row of values before "
+                              "the first 'Frame N' line; expected 'Frame N' first")
     if scan["frame_errors"]:
         raise scan["frame_errors"][0]
     numbers, counts, lines = scan["numbers"], scan["counts"], scan["lines"]
     bad = np.flatnonzero(counts != rows)
     if bad.size:
         k = bad[0]
-        raise ValueError(f"frame {numbers[k]} of {name} (line {lines[k]}) "
-                         f"has {counts[k]} rows of values; expected {rows} (ROWS)"
-                         + (" (truncated file?)" if k == len(numbers) - 1 else ""))
+        raise TactilecalError(f"frame {numbers[k]} of {name} (line {lines[k]}) "
+                              f"has {counts[k]} rows of values; expected {rows} (ROWS)"
+                              + (" (truncated file?)" if k == len(numbers) - 1 else ""))
     order = np.flatnonzero(np.diff(numbers) <= 0)
     if order.size:
         k = order[0] + 1
-        raise ValueError(f"line {lines[k]} of {name}: frame {numbers[k]} "
-                         f"follows frame {numbers[k - 1]}; expected increasing frame numbers")
+        raise TactilecalError(f"line {lines[k]} of {name}: frame {numbers[k]} "
+                              f"follows frame {numbers[k - 1]}; expected increasing frame numbers")
     return numbers, scan["times"], scan["raw_sums"], lines
 
 
@@ -194,12 +195,12 @@ def _check_lines(f, scan, rows, cols, lines, name, whole):
     if found:
         line, offset, length, _ = found
         f.seek(offset)
-        raise ValueError(f"line {line} of {name}: {f.read(length)[:60]!r} has '_' inside a "
-                         "value; expected numbers or 'B' separated by commas")
+        raise TactilecalError(f"line {line} of {name}: {f.read(length)[:60]!r} has '_' inside a "
+                              "value; expected numbers or 'B' separated by commas")
     found = _slot(info, "lone_cr")
     if found:
-        raise ValueError(f"line {found[0]} of {name}: a carriage return (CR) inside the "
-                         "line; expected CR only before the line feed (CRLF line ends)")
+        raise TactilecalError(f"line {found[0]} of {name}: a carriage return (CR) inside the "
+                              "line; expected CR only before the line feed (CRLF line ends)")
     widest, n_data = int(state[_STATE["widest"]]), int(state[_STATE["n_data"]])
     row_length = _slot(info, "row_length")
     if row_length and cols > (widest + 1) // 2:
@@ -217,5 +218,5 @@ def _raise_row_length(found, rows, cols, lines, scan, name):
         frame_line = lines[np.searchsorted(lines, line) - 1]
         where = (f"row {k % rows} of the frame on line {frame_line} of {name} "
                  f"(line {line})")
-    raise ValueError(f"{where} has {n_values} values; expected {cols} (COLS)")
+    raise TactilecalError(f"{where} has {n_values} values; expected {cols} (COLS)")
 

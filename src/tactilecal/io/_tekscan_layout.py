@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal.io._header import header_attrs, integer, parse_header_lines
 
 __all__ = ["Header", "Index", "read_header", "line_text"]
@@ -75,9 +76,9 @@ def read_header(f, name):
     header_lines = raw.count(b"\n", 0, marker.start()) + 1
     for key in ("ROWS", "COLS"):
         if key not in header:
-            raise ValueError(f"{name} has no {key} line in its header (lines 1-"
-                             f"{header_lines}); expected "
-                             f"'{key} <number of sensel {key.lower()}>'")
+            raise TactilecalError(f"{name} has no {key} line in its header (lines 1-"
+                                  f"{header_lines}); expected "
+                                  f"'{key} <number of sensel {key.lower()}>'")
     rows = integer(header, "ROWS", name, minimum=1)
     cols = integer(header, "COLS", name, minimum=1)
     attrs = header_attrs(header, name)
@@ -105,10 +106,10 @@ def _read_header(f, name):
         if not chunk:
             break
     if not raw or raw.isspace():
-        raise ValueError(f"{name} is empty; expected a Tekscan ASCII export "
-                         "('KEY value' header, 'ASCII_DATA @@', frames, '@@')")
-    raise ValueError(f"{name} has no 'ASCII_DATA @@' line (after "
-                     f"{len(raw.splitlines())} lines); expected a Tekscan ASCII export")
+        raise TactilecalError(f"{name} is empty; expected a Tekscan ASCII export "
+                              "('KEY value' header, 'ASCII_DATA @@', frames, '@@')")
+    raise TactilecalError(f"{name} has no 'ASCII_DATA @@' line (after "
+                          f"{len(raw.splitlines())} lines); expected a Tekscan ASCII export")
 
 
 def line_text(f, offset, length):

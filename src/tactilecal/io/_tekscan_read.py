@@ -26,6 +26,7 @@ import os
 import numpy as np
 import xarray as xr
 
+from tactilecal._errors import TactilecalError
 from tactilecal._validate import check_size
 
 __all__ = ["read_tekscan"]
@@ -136,7 +137,7 @@ def _check_chunks(chunks):
     if isinstance(chunks, bool) or not isinstance(chunks, int | np.integer):
         raise TypeError(f"chunks is {chunks!r}; expected a whole number of frames per block")
     if chunks < 1:
-        raise ValueError(f"chunks is {chunks}; expected at least 1 frame per block")
+        raise TactilecalError(f"chunks is {chunks}; expected at least 1 frame per block")
     return int(chunks)
 
 
@@ -219,19 +220,19 @@ def _check_frames(numbers, times, lines, header, name):
     bad = given[~np.isfinite(times[given])]
     if bad.size:
         k = bad[0]
-        raise ValueError(f"frame {numbers[k]} of {name} (line {lines[k]}): time "
-                         f"{times[k]}; expected a finite time in s")
+        raise TactilecalError(f"frame {numbers[k]} of {name} (line {lines[k]}): time "
+                              f"{times[k]}; expected a finite time in s")
     steps = np.flatnonzero(np.diff(times[given]) <= 0)
     if steps.size:
         k = given[steps[0] + 1]
-        raise ValueError(f"frame {numbers[k]} of {name} (line {lines[k]}): time "
-                         f"{times[k]:g} s does not come after the previous frame's "
-                         f"{times[given[steps[0]]]:g} s; expected increasing frame times")
+        raise TactilecalError(f"frame {numbers[k]} of {name} (line {lines[k]}): time "
+                              f"{times[k]:g} s does not come after the previous frame's "
+                              f"{times[given[steps[0]]]:g} s; expected increasing frame times")
     for key, k in (("START_FRAME", 0), ("END_FRAME", -1)):
         if key in header and len(numbers) > 1:
             value, line = header[key]
             if value.strip() != str(numbers[k]):
-                raise ValueError(f"line {line} of {name}: {key} is {value!r} but the "
-                                 f"{'first' if k == 0 else 'last'} frame is {numbers[k]} "
-                                 "(frames missing, or the header edited?); expected them "
-                                 "to agree")
+                raise TactilecalError(f"line {line} of {name}: {key} is {value!r} but the "
+                                      f"{'first' if k == 0 else 'last'} frame is {numbers[k]} "
+                                      "(frames missing, or the header edited?); expected them "
+                                      "to agree")

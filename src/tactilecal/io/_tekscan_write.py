@@ -3,6 +3,7 @@
 import numpy as np
 
 from tactilecal._atomic import atomic_path
+from tactilecal._errors import TactilecalError
 from tactilecal._units import area_to_mm2, length_to_mm, normalise_unit
 from tactilecal.io._header import _UPPER_KEY, parse_header_lines
 
@@ -67,7 +68,7 @@ def write_tekscan(data, path, *, newline="\n"):
     True
     """
     if newline not in ("\n", "\r\n"):
-        raise ValueError(f"newline={newline!r}; expected '\\n' or '\\r\\n'")
+        raise TactilecalError(f"newline={newline!r}; expected '\\n' or '\\r\\n'")
     values, frames, times = _checked_arrays(data)
     header = "\n".join([*_header_lines(data, frames), "ASCII_DATA @@", ""]) + "\n"
     frame_lines = _frame_lines(data, values, frames, times)
@@ -87,22 +88,22 @@ def write_tekscan(data, path, *, newline="\n"):
 
 def _checked_arrays(data):
     if tuple(data.dims) != ("frame", "row", "col"):
-        raise ValueError(f"write_tekscan: data has dims {tuple(data.dims)}; expected "
-                         "('frame', 'row', 'col')")
+        raise TactilecalError(f"write_tekscan: data has dims {tuple(data.dims)}; expected "
+                              "('frame', 'row', 'col')")
     if "frame" not in data.coords:
-        raise ValueError("write_tekscan: data has no 'frame' coordinate; expected the "
-                         "frame numbers (docs/data-model.md)")
+        raise TactilecalError("write_tekscan: data has no 'frame' coordinate; expected the "
+                              "frame numbers (docs/data-model.md)")
     if data.sizes["frame"] == 0:
-        raise ValueError("write_tekscan: data has no frames; expected at least one")
+        raise TactilecalError("write_tekscan: data has no frames; expected at least one")
     values = np.ascontiguousarray(data.values, dtype=np.float64)
     if np.isinf(values).any():
         frame = data.frame.values[np.isinf(values).any(axis=(1, 2))][0]
-        raise ValueError(f"write_tekscan: frame {frame} holds infinite values; expected "
-                         "finite numbers or NaN (written as B)")
+        raise TactilecalError(f"write_tekscan: frame {frame} holds infinite values; expected "
+                              "finite numbers or NaN (written as B)")
     frames = np.asarray(data.frame.values)
     if not np.issubdtype(frames.dtype, np.integer) or (np.diff(frames) <= 0).any():
-        raise ValueError(f"write_tekscan: frame numbers {frames[:5].tolist()}...; expected "
-                         "increasing integers")
+        raise TactilecalError(f"write_tekscan: frame numbers {frames[:5].tolist()}...; expected "
+                              "increasing integers")
     times = (np.asarray(data.time.values, dtype=np.float64) if "time" in data.coords
              else np.full(frames.size, np.nan))
     return values, frames, times
@@ -204,9 +205,9 @@ def _render_header(header):
         if key == "COMMENTS" or "\n" in value:
             comment = value.splitlines()
             if key != "COMMENTS" or any(_UPPER_KEY.match(c.strip()) for c in comment):
-                raise ValueError(f"write_tekscan: header value {key}={value[:40]!r} would not "
-                                 "read back; expected a single line (COMMENTS: lines not "
-                                 "starting with an upper-case KEY)")
+                raise TactilecalError(f"write_tekscan: header value {key}={value[:40]!r} would not "
+                                      "read back; expected a single line (COMMENTS: lines not "
+                                      "starting with an upper-case KEY)")
             lines.append(f"{key}:")
             lines.extend(comment)
         else:

@@ -9,6 +9,7 @@ import pandas as pd
 import xarray as xr
 
 from tactilecal._atomic import write_text_atomic
+from tactilecal._errors import TactilecalError
 from tactilecal._units import (
     _HINT,
     force_to_N,
@@ -29,12 +30,12 @@ def _pick(columns, choice, default, role, name):
         choice = int(choice)  # "2" from a command line: an index unless a column is named so
     if isinstance(choice, int | np.integer) and not isinstance(choice, bool):
         if not -len(columns) <= choice < len(columns):
-            raise ValueError(f"{role}={choice} is out of range for {name}, which has "
-                             f"{len(columns)} columns {list(columns)}")
+            raise TactilecalError(f"{role}={choice} is out of range for {name}, which has "
+                                  f"{len(columns)} columns {list(columns)}")
         return columns[choice]
     if choice not in columns:
-        raise ValueError(f"{role}={choice!r} is not a column of {name}; expected one of "
-                         f"{list(columns)} or a column index")
+        raise TactilecalError(f"{role}={choice!r} is not a column of {name}; expected one of "
+                              f"{list(columns)} or a column index")
     return choice
 
 
@@ -48,8 +49,8 @@ def _first_bad_cell(text, column, name):
         line = table.index[bad[0]] + 2
         cell = raw.iloc[bad[0]]
         found = "an empty cell" if str(cell).strip() == "" else repr(cell)
-        raise ValueError(f"line {line} of {name}, column {column!r}: {found}; expected a "
-                         "finite number")
+        raise TactilecalError(f"line {line} of {name}, column {column!r}: {found}; expected a "
+                              "finite number")
 
 
 def _as_text(text, name):
@@ -108,8 +109,8 @@ def read_timeseries(path, time_col=None, value_col=None):
     v_name = _pick(columns, value_col, 1, "value_col", name)
     t_unit = unit_from_column(t_name, where=f"column {t_name!r} of {name}") or "s"
     if unit_kind(t_unit) != "time":
-        raise ValueError(f"time column {t_name!r} of {name} is in {t_unit!r}; expected a "
-                         "time unit (s, ms, us, min)")
+        raise TactilecalError(f"time column {t_name!r} of {name} is in {t_unit!r}; expected a "
+                              "time unit (s, ms, us, min)")
     raw_times, raw_values = _load_columns(text, columns, t_name, v_name, name)
     times = time_to_s(raw_times, t_unit)
     values, units = _convert_values(raw_values, v_name, name)
@@ -117,8 +118,8 @@ def read_timeseries(path, time_col=None, value_col=None):
     if steps.size:
         i = steps[0] + 1
         line = _line_numbers(text, name)[i] if len(times) else i + 2
-        raise ValueError(f"line {line} of {name}: time {times[i]:g} s follows "
-                         f"{times[i - 1]:g} s; expected strictly increasing times")
+        raise TactilecalError(f"line {line} of {name}: time {times[i]:g} s follows "
+                              f"{times[i - 1]:g} s; expected strictly increasing times")
     return xr.DataArray(values, dims="time", coords={"time": times}, name=str(v_name),
                         attrs={"units": units, "source": name, "column": str(v_name),
                                "time_column": str(t_name)})
@@ -126,7 +127,7 @@ def read_timeseries(path, time_col=None, value_col=None):
 
 def _columns(text, name):
     if not text.strip():
-        raise ValueError(f"{name} is empty; expected a header row and at least 2 rows")
+        raise TactilecalError(f"{name} is empty; expected a header row and at least 2 rows")
     header = _read_csv(text, name, nrows=0, skipinitialspace=True)
     return [str(c).strip() for c in header.columns]
 
@@ -137,8 +138,8 @@ def _read_csv(text, name, **kwargs):
         return pd.read_csv(io.StringIO(text), **kwargs)
     except pd.errors.ParserError as exc:
         detail = " ".join(str(exc).split()).replace("Error tokenizing data. C error: ", "")
-        raise ValueError(f"{name}: {detail}; expected the same number of comma-separated "
-                         "values on every line as in the header") from None
+        raise TactilecalError(f"{name}: {detail}; expected the same number of comma-separated "
+                              "values on every line as in the header") from None
 
 
 def _load_columns(text, columns, t_name, v_name, name):
@@ -158,10 +159,10 @@ def _load_columns(text, columns, t_name, v_name, name):
         _as_text(text, name)  # a row with too many values: named by pandas' line count
         _first_bad_cell(text, t_name, name)
         _first_bad_cell(text, v_name, name)
-        raise ValueError(f"{name}: columns {t_name!r}, {v_name!r} could not be read as "
-                         "numbers")  # pragma: no cover - the slow path names the cell
+        raise TactilecalError(f"{name}: columns {t_name!r}, {v_name!r} could not be read as "
+                              "numbers")  # pragma: no cover - the slow path names the cell
     if len(pair[0]) < 2:
-        raise ValueError(f"{name} has {len(pair[0])} data rows; expected at least 2")
+        raise TactilecalError(f"{name} has {len(pair[0])} data rows; expected at least 2")
     return pair
 
 
@@ -222,22 +223,22 @@ def write_timeseries(series, path):
     path = Path(path)
     name = str(series.attrs.get("source", series.name or "series"))
     if series.ndim != 1 or "time" not in series.coords:
-        raise ValueError(f"{name}: dims {tuple(series.dims)} without a 'time' coordinate; "
-                         f"expected a 1-D series with time in seconds (writing {path})")
+        raise TactilecalError(f"{name}: dims {tuple(series.dims)} without a 'time' coordinate; "
+                              f"expected a 1-D series with time in seconds (writing {path})")
     times = np.asarray(series["time"].values, dtype=np.float64)
     values = np.asarray(series.values, dtype=np.float64)
     if times.size < 2:
-        raise ValueError(f"{name}: {times.size} samples; expected at least 2 (writing {path})")
+        raise TactilecalError(f"{name}: {times.size} samples; expected at least 2 (writing {path})")
     for what, array in (("time", times), ("value", values)):
         bad = np.flatnonzero(~np.isfinite(array))
         if bad.size:
-            raise ValueError(f"{name}: {what} at position {bad[0]} is {array[bad[0]]}; "
-                             f"expected finite numbers (writing {path})")
+            raise TactilecalError(f"{name}: {what} at position {bad[0]} is {array[bad[0]]}; "
+                                  f"expected finite numbers (writing {path})")
     steps = np.flatnonzero(np.diff(times) <= 0)
     if steps.size:
-        raise ValueError(f"{name}: time {times[steps[0] + 1]:g} s at position "
-                         f"{steps[0] + 1} follows {times[steps[0]]:g} s; expected strictly "
-                         f"increasing times (writing {path})")
+        raise TactilecalError(f"{name}: time {times[steps[0] + 1]:g} s at position "
+                              f"{steps[0] + 1} follows {times[steps[0]]:g} s; expected strictly "
+                              f"increasing times (writing {path})")
     write_text_atomic(path, _header(series) + "".join(
         f"{t!r},{v!r}\n" for t, v in zip(times.tolist(), values.tolist(), strict=True)))
     return path

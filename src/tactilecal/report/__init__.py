@@ -4,13 +4,8 @@ One page, figures embedded as base64 PNG, with a provenance section (inputs with
 paths and SHA-256, package versions, date) so the numbers can be traced back.
 """
 
-from tactilecal._deprecated import moved_names
 from tactilecal.report._html import build_report, write_report
 from tactilecal.report._inputs import load_input
 
 __all__ = ["build_report", "load_input", "write_report"]
 
-__getattr__ = moved_names(__name__, {
-    "file_provenance": ("tactilecal._provenance", "file_provenance",
-                        "build_report() records provenance"),
-})

@@ -8,6 +8,7 @@ from importlib import metadata
 from pathlib import Path
 
 from tactilecal._atomic import write_text_atomic
+from tactilecal._errors import TactilecalError
 from tactilecal._progress import resolve
 from tactilecal._version import __version__
 from tactilecal.report._figures import note_html, table_html
@@ -65,8 +66,8 @@ def _given_calibration(calibration, loaded):
         return None
     kind, obj, _, label = loaded[0]
     if kind != "calibration":
-        raise ValueError(f"calibration= (--cal) {label} is a {kind}; expected a calibration "
-                         "JSON or CalibrationResult")
+        raise TactilecalError(f"calibration= (--cal) {label} is a {kind}; expected a calibration "
+                              "JSON or CalibrationResult")
     return obj
 
 
@@ -81,8 +82,8 @@ def _load_all(inputs, calibration, filter, progress):
             continue  # the same file given twice (as input and as --cal)
         loaded.append((kind, obj, prov, label))
     if not loaded:
-        raise ValueError("no report inputs; expected at least one calibration JSON, "
-                         "validation JSON, FILTER.json, blind-test JSON or recording")
+        raise TactilecalError("no report inputs; expected at least one calibration JSON, "
+                              "validation JSON, FILTER.json, blind-test JSON or recording")
     return loaded
 
 
@@ -94,7 +95,7 @@ def _section(kind, obj, label, context):
     if kind == "calibration":
         return calibration_blocks(obj, label)
     if kind == "validation":
-        return [table_html(sorted(obj["summary"].items()), header=("held-out check", "value"))]
+        return [table_html(sorted(obj.metrics.items()), header=("held-out check", "value"))]
     if kind == "filter":
         return filter_blocks(obj, label)
     if kind == "evaluation":

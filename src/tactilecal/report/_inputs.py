@@ -8,6 +8,7 @@ from pathlib import Path
 
 import xarray as xr
 
+from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import read_json_object
 from tactilecal._provenance import file_provenance
 
@@ -38,16 +39,16 @@ def _classify_dict(data, where):
     if cls is CalibrationResult:
         return "calibration", CalibrationResult.from_dict(data, source=where)
     if cls is ValidationResult:
-        return "validation", data
+        return "validation", ValidationResult.from_dict(data, source=where)
     if "format" not in data and all(k in data for k in _EVALUATION_KEYS):
         return "evaluation", data  # tactilecal dynamic evaluate's JSON (untagged)
     found = f"format {data['format']!r}" if "format" in data else \
         f"keys {sorted(data)[:8]}"
-    raise ValueError(f"{where}: JSON with {found} is neither a calibration (format "
-                     f"{CalibrationResult.format_tag()!r}), a validation (format "
-                     f"{ValidationResult.format_tag()!r}), a dynamic filter (format "
-                     f"{CorrectionFilter.format_tag()!r}, or keys {list(_FILTER_KEYS)}) nor "
-                     f"a blind test (keys {list(_EVALUATION_KEYS)})")
+    raise TactilecalError(f"{where}: JSON with {found} is neither a calibration (format "
+                          f"{CalibrationResult.format_tag()!r}), a validation (format "
+                          f"{ValidationResult.format_tag()!r}), a dynamic filter (format "
+                          f"{CorrectionFilter.format_tag()!r}, or keys {list(_FILTER_KEYS)}) nor "
+                          f"a blind test (keys {list(_EVALUATION_KEYS)})")
 
 
 def load_input(item, *, what="report input"):
@@ -64,7 +65,7 @@ def load_input(item, *, what="report input"):
     Returns
     -------
     kind : {"calibration", "validation", "filter", "evaluation", "recording"}
-    obj : CalibrationResult, dict (validation, FILTER.json or blind-test content) or
+    obj : CalibrationResult, ValidationResult, dict (FILTER.json or blind-test content) or
         xarray.DataArray
     provenance : dict
         For a file, :func:`file_provenance` plus ``input``; for an object, what it is.
@@ -91,8 +92,8 @@ def load_input(item, *, what="report input"):
     if hasattr(item, "to_dict") and hasattr(item, "fs_hz"):
         return "filter", item.to_dict(), {"input": "CorrectionFilter in memory"}
     if not isinstance(item, str | Path):
-        raise ValueError(f"{what} of type {type(item).__name__}; expected a file path, "
-                         "a CalibrationResult, a filter, a dict or a DataArray")
+        raise TactilecalError(f"{what} of type {type(item).__name__}; expected a file path, "
+                              "a CalibrationResult, a filter, a dict or a DataArray")
     from tactilecal.io import open_recording, recording_format
 
     path = Path(item)

@@ -45,7 +45,7 @@ def comparison_blocks(calibrations, validations):
     Parameters
     ----------
     calibrations : list of (label, CalibrationResult)
-    validations : list of (label, dict)
+    validations : list of (label, ValidationResult)
         Outputs of :func:`tactilecal.calibration.validate` (``tactilecal validate --json``);
         each is matched to the calibration of its ``calibration_method`` when exactly one
         calibration has that method.
@@ -55,9 +55,9 @@ def comparison_blocks(calibrations, validations):
         by_method.setdefault(result.method, []).append(position)
     held_out = {}
     for _, check in validations:
-        positions = by_method.get(check["summary"].get("calibration_method"), ())
+        positions = by_method.get(check.metrics.get("calibration_method"), ())
         if len(positions) == 1:
-            held_out[positions[0]] = check["summary"]
+            held_out[positions[0]] = check.metrics
     rows = []
     for position, (label, result) in enumerate(calibrations):
         params = ", ".join(f"{k} = {v:.5g}" for k, v in _scalar_params(result)) or "table"

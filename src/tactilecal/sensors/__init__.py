@@ -1,6 +1,5 @@
 """Sensor catalogue: Tekscan models (5051, 5101, 9500, 6900, 4010N, F-Scan) and custom matrices."""
 
-from tactilecal._deprecated import moved_names
 from tactilecal.sensors._catalogue import (
     CATALOGUE,
     SensorModel,
@@ -11,6 +10,3 @@ from tactilecal.sensors._catalogue import (
 
 __all__ = ["CATALOGUE", "SensorModel", "custom_sensor", "get_sensor", "match_sensor"]
 
-__getattr__ = moved_names(__name__, {
-    "SensorMatch": ("_catalogue", "SensorMatch", "match_sensor() returns it"),
-})

@@ -8,6 +8,7 @@ product of the two centre-to-centre spacings, which is how Tekscan's own exports
 from dataclasses import dataclass
 from typing import NamedTuple
 
+from tactilecal._errors import TactilecalError
 from tactilecal._units import PSI_TO_KPA
 
 __all__ = ["SensorModel", "CATALOGUE", "get_sensor", "custom_sensor", "match_sensor",
@@ -53,15 +54,15 @@ class SensorModel:
         for field in ("rows", "cols"):
             value = getattr(self, field)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise ValueError(f"sensor {self.name!r}: {field} must be a positive integer; "
-                                 f"got {value!r}")
+                raise TactilecalError(f"sensor {self.name!r}: {field} must be a positive integer; "
+                                      f"got {value!r}")
         for field in ("row_spacing_mm", "col_spacing_mm", "capacity_kPa", "max_rate_hz"):
             value = getattr(self, field)
             if field in ("capacity_kPa", "max_rate_hz") and value is None:
                 continue
             if isinstance(value, bool) or not isinstance(value, int | float) or not value > 0:
-                raise ValueError(f"sensor {self.name!r}: {field} must be a positive number; "
-                                 f"got {value!r}")
+                raise TactilecalError(f"sensor {self.name!r}: {field} must be a positive number; "
+                                      f"got {value!r}")
 
     @property
     def sensel_area_mm2(self):
@@ -231,8 +232,8 @@ def get_sensor(name):
     """
     key = str(name).strip().upper()
     if key not in CATALOGUE:
-        raise ValueError(f"unknown sensor {name!r}; expected one of {sorted(CATALOGUE)} "
-                         "or a custom_sensor(rows, cols, spacing_mm)")
+        raise TactilecalError(f"unknown sensor {name!r}; expected one of {sorted(CATALOGUE)} "
+                              "or a custom_sensor(rows, cols, spacing_mm)")
     return CATALOGUE[key]
 
 

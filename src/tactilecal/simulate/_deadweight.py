@@ -8,6 +8,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from tactilecal._atomic import make_folder, write_text_atomic
+from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import write_json
 from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.simulate._loads import (
@@ -262,10 +263,10 @@ def deadweight_session(sensor, *, n_patches=150, masses_kg=(2, 5, 10), pad_sides
         if not size or _hopeless(wanted, kept, drawn):
             break
     if size:
-        raise ValueError(f"saturated_share: {saturated_share} asks for {n_sat} saturated and "
-                         f"{n_patches - n_sat} unsaturated patches; {sum(drawn.values())} "
-                         f"draws gave only {len(kept[True])} and {len(kept[False])}: adjust "
-                         "masses_kg, pad_sides_cm or the sensor's A_N")
+        raise TactilecalError(f"saturated_share: {saturated_share} asks for {n_sat} saturated and "
+                              f"{n_patches - n_sat} unsaturated patches; {sum(drawn.values())} "
+                              f"draws gave only {len(kept[True])} and {len(kept[False])}: adjust "
+                              "masses_kg, pad_sides_cm or the sensor's A_N")
     patches = sorted(kept[True] + kept[False], key=lambda p: p["order"])
     return _assemble(sensor, patches, blank_frame_share, ramp_frames, plateau_frames, seed, rng)
 
@@ -289,21 +290,21 @@ def _check_args(sensor, n_patches, masses_kg, pad_sides_cm, saturated_share,
     if not isinstance(sensor, SimulatedSensor):
         raise TypeError(f"sensor: expected a SimulatedSensor; got {type(sensor).__name__}")
     if not (int(n_patches) == n_patches >= 1):
-        raise ValueError(f"n_patches: got {n_patches!r}; expected a positive integer")
+        raise TactilecalError(f"n_patches: got {n_patches!r}; expected a positive integer")
     masses = np.asarray(masses_kg, dtype=np.float64).reshape(-1)
     if masses.size == 0 or not np.all(np.isfinite(masses) & (masses > 0)):
-        raise ValueError(f"masses_kg: got {masses_kg!r}; expected one or more positive masses")
+        raise TactilecalError(f"masses_kg: got {masses_kg!r}; expected one or more positive masses")
     bad = [s for s in pad_sides_cm if s not in PAD_MASS_G]
     if bad or len(pad_sides_cm) == 0:
-        raise ValueError(f"pad_sides_cm: got {bad}; expected sides of Zvyagin's Table 1 "
-                         f"{sorted(PAD_MASS_G)} cm")
+        raise TactilecalError(f"pad_sides_cm: got {bad}; expected sides of Zvyagin's Table 1 "
+                              f"{sorted(PAD_MASS_G)} cm")
     for name, share in (("saturated_share", saturated_share),
                         ("blank_frame_share", blank_frame_share)):
         if not 0 <= share <= 1:
-            raise ValueError(f"{name}: got {share!r}; expected a share between 0 and 1")
+            raise TactilecalError(f"{name}: got {share!r}; expected a share between 0 and 1")
     if not (ramp_frames >= 0 and plateau_frames >= 1):
-        raise ValueError(f"ramp_frames/plateau_frames: got {ramp_frames}/{plateau_frames}; "
-                         "expected >= 0 and >= 1")
+        raise TactilecalError(f"ramp_frames/plateau_frames: got {ramp_frames}/{plateau_frames}; "
+                              "expected >= 0 and >= 1")
 
 
 def _fine_shape(sensor):
@@ -339,9 +340,9 @@ def _pad_forces(sensor, base, contact, side_mm, load_N, rng):
     ny, nx = int(round(side_mm / cell_r)), int(round(side_mm / cell_c))
     fy, fx = base.shape
     if ny > fy or nx > fx:
-        raise ValueError(f"pad_sides_cm: a {side_mm / 10:g} cm pad is larger than the sensor "
-                         f"({sensor.rows * sensor.row_spacing_mm:g} x "
-                         f"{sensor.cols * sensor.col_spacing_mm:g} mm)")
+        raise TactilecalError(f"pad_sides_cm: a {side_mm / 10:g} cm pad is larger than the sensor "
+                              f"({sensor.rows * sensor.row_spacing_mm:g} x "
+                              f"{sensor.cols * sensor.col_spacing_mm:g} mm)")
     n = len(load_N)
     r0 = rng.integers(0, fy - ny + 1, size=n)
     c0 = rng.integers(0, fx - nx + 1, size=n)

@@ -18,6 +18,7 @@ import pandas as pd
 import xarray as xr
 from scipy import fft
 
+from tactilecal._errors import TactilecalError
 from tactilecal._units import LBF_N
 
 __all__ = ["DynamicSession", "sine_sweep", "random_sine_sets", "sensel_matrix",
@@ -128,7 +129,7 @@ def _record(time_s, values, source):
 def _session(sets, offset_N, *, A, log_base, fs_sensor_hz, fs_reference_hz, lag_s,
              sensor_noise_N, reference_noise_N, rng, ramp_s=1.0):
     if log_base not in _BASES:
-        raise ValueError(f"log_base={log_base!r}; expected 'e' or '10'")
+        raise TactilecalError(f"log_base={log_base!r}; expected 'e' or '10'")
     end_s = sets["start_s"].iloc[-1] + sets["cycles"].iloc[-1] / sets["f_hz"].iloc[-1]
     total_s = end_s + 1.0 + ramp_s + 0.5
     t_sens = np.arange(0.0, total_s, 1.0 / fs_sensor_hz)

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
+from tactilecal._errors import TactilecalError
 from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.sensors import get_sensor
 
@@ -63,8 +64,8 @@ def sensor_geometry(model):
         rows, cols = int(model.rows), int(model.cols)
         dr, dc = float(model.row_spacing_mm), float(model.col_spacing_mm)
     except AttributeError:
-        raise ValueError(f"model: expected a sensor name, (rows, cols, spacing_mm) or a "
-                         f"sensor object; got {model!r}") from None
+        raise TactilecalError(f"model: expected a sensor name, (rows, cols, spacing_mm) or a "
+                              f"sensor object; got {model!r}") from None
     area = float(getattr(model, "sensel_area_mm2", dr * dc))
     return str(getattr(model, "name", "custom")), rows, cols, dr, dc, area
 
@@ -72,11 +73,11 @@ def sensor_geometry(model):
 def _custom_geometry(spec):
     """Validate a custom ``(rows, cols, spacing_mm)`` sensor; return the geometry tuple."""
     if len(spec) != 3:
-        raise ValueError(f"model: a custom sensor is (rows, cols, spacing_mm); got {spec!r}")
+        raise TactilecalError(f"model: a custom sensor is (rows, cols, spacing_mm); got {spec!r}")
     rows, cols, pitch = spec
     if not (int(rows) == rows >= 1 and int(cols) == cols >= 1 and float(pitch) > 0):
-        raise ValueError(f"model: a custom sensor needs positive integer rows, cols and a "
-                         f"positive spacing_mm; got {spec!r}")
+        raise TactilecalError(f"model: a custom sensor needs positive integer rows, cols and a "
+                              f"positive spacing_mm; got {spec!r}")
     pitch = float(pitch)
     return "custom", int(rows), int(cols), pitch, pitch, pitch * pitch
 
@@ -189,8 +190,8 @@ class SimulatedSensor:
         """
         force = np.asarray(force_N, dtype=np.float64)
         if force.shape[-2:] != self.shape:
-            raise ValueError(f"force_N: last two axes are {force.shape[-2:]}; expected "
-                             f"(rows, cols) = {self.shape}")
+            raise TactilecalError(f"force_N: last two axes are {force.shape[-2:]}; expected "
+                                  f"(rows, cols) = {self.shape}")
         raw = self.ideal_raw(force) * self.gain
         return self._digitise(raw, _as_rng(rng))
 
@@ -269,8 +270,8 @@ class SimulatedSensor:
         if values.ndim == 2:
             values = values[np.newaxis]
         if values.ndim != 3 or values.shape[1:] != self.shape:
-            raise ValueError(f"raw: shape {values.shape}; expected (frames, {self.rows}, "
-                             f"{self.cols})")
+            raise TactilecalError(f"raw: shape {values.shape}; expected (frames, {self.rows}, "
+                                  f"{self.cols})")
         n = values.shape[0]
         spf = None
         if time_s is None:
@@ -278,7 +279,7 @@ class SimulatedSensor:
         else:
             time = np.asarray(time_s, dtype=np.float64).reshape(-1)
             if time.size != n:
-                raise ValueError(f"time_s: {time.size} values; expected one per frame ({n})")
+                raise TactilecalError(f"time_s: {time.size} values; expected one per frame ({n})")
             spf = float(np.median(np.diff(time))) if n > 1 else None
         coords = {"frame": np.arange(1, n + 1, dtype=np.int64), "time": ("frame", time),
                   "row": np.arange(self.rows, dtype=np.int64),
@@ -346,7 +347,7 @@ def make_sensor(model="5051", *, A_N=None, b=1.16, gain_spread=0.05, read_noise=
     """
     name, rows, cols, dr, dc, area = sensor_geometry(model)
     if A_N is not None and A_kPa is not None:
-        raise ValueError(f"A_N = {A_N!r} and A_kPa = {A_kPa!r}; expected one of them")
+        raise TactilecalError(f"A_N = {A_N!r} and A_kPa = {A_kPa!r}; expected one of them")
     if A_kPa is not None:
         _check_positive(A_kPa=A_kPa)
         A_N = A_kPa * area * KPA_MM2_TO_N
@@ -355,7 +356,7 @@ def make_sensor(model="5051", *, A_N=None, b=1.16, gain_spread=0.05, read_noise=
     _check_non_negative(gain_spread=gain_spread, read_noise=read_noise,
                         noise_threshold=noise_threshold)
     if not (int(n_dead) == n_dead and 0 <= n_dead <= rows * cols):
-        raise ValueError(f"n_dead: got {n_dead!r}; expected an integer in 0..{rows * cols}")
+        raise TactilecalError(f"n_dead: got {n_dead!r}; expected an integer in 0..{rows * cols}")
     rng = np.random.default_rng(seed)
     gain = np.exp(rng.normal(0.0, gain_spread, size=(rows, cols))) if gain_spread else \
         np.ones((rows, cols))
@@ -368,10 +369,10 @@ def make_sensor(model="5051", *, A_N=None, b=1.16, gain_spread=0.05, read_noise=
 def _check_positive(**values):
     for name, value in values.items():
         if not (np.isfinite(value) and value > 0):
-            raise ValueError(f"{name}: got {value!r}; expected a positive number")
+            raise TactilecalError(f"{name}: got {value!r}; expected a positive number")
 
 
 def _check_non_negative(**values):
     for name, value in values.items():
         if not (np.isfinite(value) and value >= 0):
-            raise ValueError(f"{name}: got {value!r}; expected a non-negative number")
+            raise TactilecalError(f"{name}: got {value!r}; expected a non-negative number")

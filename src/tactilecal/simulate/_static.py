@@ -8,6 +8,7 @@ import numpy as np
 import xarray as xr
 
 from tactilecal._atomic import write_text_atomic
+from tactilecal._errors import TactilecalError
 from tactilecal._units import KPA_MM2_TO_N
 from tactilecal.simulate._loads import smooth_field
 from tactilecal.simulate._sensor import SimulatedSensor
@@ -72,11 +73,11 @@ def uniform_load(sensor, pressures_kPa, *, frames_per_level=5, seed=0):
     _check_sensor(sensor)
     levels = np.atleast_1d(np.asarray(pressures_kPa, dtype=np.float64))
     if levels.ndim != 1 or levels.size == 0 or not np.all(np.isfinite(levels) & (levels >= 0)):
-        raise ValueError(f"pressures_kPa: got {pressures_kPa!r}; expected one or more "
-                         "non-negative pressures in kPa")
+        raise TactilecalError(f"pressures_kPa: got {pressures_kPa!r}; expected one or more "
+                              "non-negative pressures in kPa")
     if not (int(frames_per_level) == frames_per_level >= 1):
-        raise ValueError(f"frames_per_level: got {frames_per_level!r}; expected a positive "
-                         "integer")
+        raise TactilecalError(f"frames_per_level: got {frames_per_level!r}; expected a positive "
+                              "integer")
     pressure = np.repeat(levels, int(frames_per_level))
     force = pressure * sensor.sensel_area_mm2 * KPA_MM2_TO_N
     raw = sensor.read(np.broadcast_to(force[:, None, None], (force.size, *sensor.shape)),
@@ -245,8 +246,8 @@ def ramp_hold(sensor, *, loads_N=(222.4, 444.8, 667.2, 889.6), hold_s=3.0, ramp_
     knots_t, knots_f = ramp_hold_profile(loads_N, hold_s=hold_s, ramp_s=ramp_s, lead_s=lead_s)
     n_frames = int(np.floor(knots_t[-1] * frame_rate_hz + 1e-9))
     if n_frames < 2:
-        raise ValueError(f"frame_rate_hz: {frame_rate_hz} Hz over the {knots_t[-1]:g} s "
-                         f"sequence gives {n_frames} frames; expected at least 2")
+        raise TactilecalError(f"frame_rate_hz: {frame_rate_hz} Hz over the {knots_t[-1]:g} s "
+                              f"sequence gives {n_frames} frames; expected at least 2")
     time = np.arange(n_frames) / frame_rate_hz
     load = np.interp(time, knots_t, knots_f)
     weights = _platen_weights(sensor, pad_fraction, platen_unevenness, rng)
@@ -269,17 +270,17 @@ def _check_ramp_args(loads_N, hold_s, ramp_s, lead_s, frame_rate_hz, loadcell_ra
                      offset_s, pad_fraction, noise_N, unevenness):
     loads = np.atleast_1d(np.asarray(loads_N, dtype=np.float64))
     if loads.ndim != 1 or loads.size == 0 or not np.all(np.isfinite(loads) & (loads >= 0)):
-        raise ValueError(f"loads_N: got {loads_N!r}; expected one or more non-negative loads")
+        raise TactilecalError(f"loads_N: got {loads_N!r}; expected one or more non-negative loads")
     for name, value in (("hold_s", hold_s), ("ramp_s", ramp_s),
                         ("frame_rate_hz", frame_rate_hz), ("loadcell_rate_hz", loadcell_rate_hz)):
         if not (np.isfinite(value) and value > 0):
-            raise ValueError(f"{name}: got {value!r}; expected a positive number")
+            raise TactilecalError(f"{name}: got {value!r}; expected a positive number")
     for name, value in (("lead_s", lead_s), ("loadcell_start_offset_s", offset_s),
                         ("loadcell_noise_N", noise_N), ("platen_unevenness", unevenness)):
         if not (np.isfinite(value) and value >= 0):
-            raise ValueError(f"{name}: got {value!r}; expected a non-negative number")
+            raise TactilecalError(f"{name}: got {value!r}; expected a non-negative number")
     if not 0 < pad_fraction <= 1:
-        raise ValueError(f"pad_fraction: got {pad_fraction!r}; expected a share in (0, 1]")
+        raise TactilecalError(f"pad_fraction: got {pad_fraction!r}; expected a share in (0, 1]")
 
 
 def _platen_weights(sensor, pad_fraction, unevenness, rng):
@@ -314,8 +315,8 @@ def _loadcell(knots_t, knots_f, end_s, rate_hz, offset_s, noise_N, rng):
     """Return the load-cell DataArray (own clock from 0) and its noise-free values."""
     n = int(np.floor((end_s - offset_s) * rate_hz + 1e-9)) + 1
     if n < 2:
-        raise ValueError(f"loadcell_start_offset_s: {offset_s} s leaves no load-cell record "
-                         f"before the sensor recording ends at {end_s} s")
+        raise TactilecalError(f"loadcell_start_offset_s: {offset_s} s leaves no load-cell record "
+                              f"before the sensor recording ends at {end_s} s")
     t_own = np.arange(n) / rate_hz
     true = np.interp(t_own + offset_s, knots_t, knots_f)
     noisy = true + rng.normal(0.0, noise_N, size=n) if noise_N > 0 else true.copy()

@@ -8,6 +8,8 @@ fall in the first class, like 3..I1-1.
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
+
 __all__ = [
     "CLASS_VALUES",
     "check_histograms",
@@ -34,18 +36,18 @@ def check_histograms(histograms):
     """Return ``histograms`` as an int64 array of shape (n, 256), or raise ValueError."""
     h = np.asarray(histograms)
     if h.ndim != 2 or h.shape[1] != 256:
-        raise ValueError(f"histograms has shape {h.shape}; expected (n_patches, 256) counts "
-                         "of raw values 0..255")
+        raise TactilecalError(f"histograms has shape {h.shape}; expected (n_patches, 256) counts "
+                              "of raw values 0..255")
     if h.dtype.kind == "f":
         if not np.all(np.isfinite(h)) or np.any(h != np.round(h)):
-            raise ValueError("histograms holds non-integer or non-finite counts; expected "
-                             "whole numbers of sensels per raw value")
+            raise TactilecalError("histograms holds non-integer or non-finite counts; expected "
+                                  "whole numbers of sensels per raw value")
     elif h.dtype.kind not in "iub":
         raise TypeError(f"histograms has dtype {h.dtype}; expected integer counts")
     if np.any(h < 0):
         bad = np.unique(np.nonzero(h < 0)[0])
-        raise ValueError(f"histograms of patches {bad.tolist()} hold negative counts; "
-                         "expected counts >= 0")
+        raise TactilecalError(f"histograms of patches {bad.tolist()} hold negative counts; "
+                              "expected counts >= 0")
     return h.astype(np.int64)
 
 
@@ -108,11 +110,11 @@ def patch_discrepancy(histograms, separation):
 def _check_separation(separation):
     edges = [int(v) for v in np.asarray(separation).ravel()]
     if len(edges) != 4:
-        raise ValueError(f"separation has {len(edges)} values; expected 4 (I1, I2, I3, I4)")
+        raise TactilecalError(f"separation has {len(edges)} values; expected 4 (I1, I2, I3, I4)")
     lows, highs = (3, 9, 27, 81), (9, 27, 81, 243)
     for m, (v, lo, hi) in enumerate(zip(edges, lows, highs, strict=True), start=1):
         if not lo < v <= hi:
-            raise ValueError(f"separation I{m} = {v}; expected {lo} < I{m} <= {hi} (eq. 10)")
+            raise TactilecalError(f"separation I{m} = {v}; expected {lo} < I{m} <= {hi} (eq. 10)")
     return edges
 
 
@@ -137,7 +139,7 @@ def separation_domain(domain="strict"):
     [5, 17, 53, 161]
     """
     if domain not in _DOMAINS:
-        raise ValueError(f"domain = {domain!r}; expected one of {_DOMAINS}")
+        raise TactilecalError(f"domain = {domain!r}; expected one of {_DOMAINS}")
     extra = 1 if domain == "closed" else 0
     return tuple(np.arange(lo + 1, hi + extra)
                  for lo, hi in ((3, 9), (9, 27), (27, 81), (81, 243)))
@@ -183,8 +185,8 @@ def search_separation(histograms, *, domain="strict"):
     cells = loaded_cells(h)
     if np.any(cells == 0):
         empty = np.nonzero(cells == 0)[0].tolist()
-        raise ValueError(f"patches {empty} have no loaded sensel; expected at least one "
-                         "raw reading > 0 per patch")
+        raise TactilecalError(f"patches {empty} have no loaded sensel; expected at least one "
+                              "raw reading > 0 per patch")
     r1, r2, r3, r4 = separation_domain(domain)
     cum = _cumulative_below(h).astype(np.float64)
     inv_c = 1.0 / cells

@@ -4,6 +4,7 @@ import warnings
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal._units import G_STANDARD
 from tactilecal.sensors import get_sensor
 from tactilecal.zvyagin._approx import (
@@ -60,26 +61,26 @@ _CHOICES = {"root_choice": ("smallest", "best-fit"), "outliers": ("none", "trim"
 
 def _resolve_options(mode, options):
     if mode not in MODES:
-        raise ValueError(f"mode = {mode!r}; expected one of {tuple(MODES)}")
+        raise TactilecalError(f"mode = {mode!r}; expected one of {tuple(MODES)}")
     resolved = dict(MODES[mode])
     for key, value in options.items():
         if value is not None:
             resolved[key] = value
     for key, allowed in _CHOICES.items():
         if resolved[key] not in allowed:
-            raise ValueError(f"{key} = {resolved[key]!r}; expected one of {allowed}")
+            raise TactilecalError(f"{key} = {resolved[key]!r}; expected one of {allowed}")
     b_range = resolved["b_range"]
     if isinstance(b_range, str):
         if b_range not in ("pairs", "inliers"):
-            raise ValueError(f"b_range = {b_range!r}; expected 'pairs', 'inliers' or "
-                             "(b_min, b_max)")
+            raise TactilecalError(f"b_range = {b_range!r}; expected 'pairs', 'inliers' or "
+                                  "(b_min, b_max)")
     else:
         lo, hi = (float(v) for v in b_range)
         if not 0 < lo < hi:
-            raise ValueError(f"b_range = {b_range!r}; expected 0 < b_min < b_max")
+            raise TactilecalError(f"b_range = {b_range!r}; expected 0 < b_min < b_max")
         resolved["b_range"] = (lo, hi)
     if not 0 < float(resolved["pair_b_min"]) < 4:
-        raise ValueError(f"pair_b_min = {resolved['pair_b_min']!r}; expected 0 < b < 4")
+        raise TactilecalError(f"pair_b_min = {resolved['pair_b_min']!r}; expected 0 < b < 4")
     return resolved
 
 
@@ -92,11 +93,11 @@ def _describe(labels, idx, limit=8):
 def _check_loads(load_N, n, labels):
     f = np.asarray(load_N, dtype=np.float64).ravel()
     if f.shape != (n,):
-        raise ValueError(f"load_N has {f.size} values; expected one per patch ({n})")
+        raise TactilecalError(f"load_N has {f.size} values; expected one per patch ({n})")
     bad = np.nonzero(~np.isfinite(f) | (f <= 0))[0]
     if bad.size:
-        raise ValueError(f"load_N of patches {_describe(labels, bad)} is "
-                         f"{f[bad[:8]].tolist()}; expected finite loads > 0 N")
+        raise TactilecalError(f"load_N of patches {_describe(labels, bad)} is "
+                              f"{f[bad[:8]].tolist()}; expected finite loads > 0 N")
     return f
 
 
@@ -128,9 +129,9 @@ def _check_pair_patches(in_pairs, usable, labels):
     if in_pairs.sum() >= 2 or usable.sum() < 2:
         return
     sat = [labels[k] for k in np.nonzero(usable & ~in_pairs)[0]]
-    raise ValueError(f"{int(in_pairs.sum())} patch(es) without a saturated sensel; the pair "
-                     f"equations need at least 2 (saturated: {', '.join(sat[:8])}"
-                     f"{' ...' if len(sat) > 8 else ''})")
+    raise TactilecalError(f"{int(in_pairs.sum())} patch(es) without a saturated sensel; the pair "
+                          f"equations need at least 2 (saturated: {', '.join(sat[:8])}"
+                          f"{' ...' if len(sat) > 8 else ''})")
 
 
 def _pair_share_table(group, names, pairs, usable):
@@ -251,7 +252,7 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
     n = h.shape[0]
     labels = [f"patch {k}" for k in range(n)] if labels is None else [str(s) for s in labels]
     if len(labels) != n:
-        raise ValueError(f"labels has {len(labels)} names; expected one per patch ({n})")
+        raise TactilecalError(f"labels has {len(labels)} names; expected one per patch ({n})")
     f = _check_loads(load_N, n, labels)
     mode = DEFAULT_MODE if mode is None else mode
     opts = _resolve_options(mode, {"root_choice": root_choice, "outliers": outliers,
@@ -276,8 +277,8 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
     _check_pair_patches(in_pairs, usable, labels)
     if usable.sum() < 2:
         why = "; ".join(f"{labels[k]}: {r}" for k, r in excluded.items()) or "none excluded"
-        raise ValueError(f"{int(usable.sum())} usable patch(es) of {n}; expected at least 2 "
-                         f"(left out: {why})")
+        raise TactilecalError(f"{int(usable.sum())} usable patch(es) of {n}; expected at least 2 "
+                              f"(left out: {why})")
     group, group_names = load_groups(f, tolerance=group_tolerance)
     if np.unique(group[usable]).size == 1:
         warnings.warn(f"all {int(usable.sum())} usable patches carry one load "
@@ -296,15 +297,15 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
                         b_min=opts["pair_b_min"])
     cat = pairs["category"]
     if not np.any(pairs["n_roots"][cat != "X"] > 0):
-        raise ValueError(f"no pair of the {int(in_pairs.sum())} usable patches has a root "
-                         f"Y > {3.0 ** opts['pair_b_min']:.4g} of eq. (12); expected at least "
-                         "one (are the loads and readings of the patches consistent?)")
+        raise TactilecalError(f"no pair of the {int(in_pairs.sum())} usable patches has a root "
+                              f"Y > {3.0 ** opts['pair_b_min']:.4g} of eq. (12); expected at least "
+                              "one (are the loads and readings of the patches consistent?)")
     valid = np.nonzero(cat == "V")[0]
     if valid.size < 3:
         n_rej = int(np.sum(cat == "R"))
-        raise ValueError(f"{valid.size} valid pair(s) (A, b); expected at least 3 to fit the "
-                         f"power law ({n_rej} pairs with a root > 3 rejected by the "
-                         f"{max_relerr:.0%} raw-sum rule)")
+        raise TactilecalError(f"{valid.size} valid pair(s) (A, b); expected at least 3 to fit the "
+                              f"power law ({n_rej} pairs with a root > 3 rejected by the "
+                              f"{max_relerr:.0%} raw-sum rule)")
     fit = fit_power_law(pairs["A"][valid], pairs["b"][valid], outliers=opts["outliers"],
                         trim=trim)
     outlier = valid[~fit["inlier"]]

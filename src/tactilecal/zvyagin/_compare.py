@@ -2,10 +2,11 @@
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal._result import ShortRepr
 from tactilecal._units import N_PER_MM2_TO_KPA
 
-__all__ = ["Comparison", "compare_calibrations", "compare_table", "format_compare_table",
+__all__ = ["Comparison", "compare_calibrations", "format_compare_table",
            "plot_compare"]
 
 COLUMNS = ("name", "method", "points", "I1", "I2", "I3", "I4", "d", "A0", "b0", "p_s_MPa")
@@ -82,18 +83,13 @@ def compare_calibrations(calibrations, names=None):
     """
     calibrations = list(calibrations)
     if not calibrations:
-        raise ValueError("no calibration to compare; expected at least one CAL.json")
+        raise TactilecalError("no calibration to compare; expected at least one CAL.json")
     names = [f"cal {k}" for k in range(len(calibrations))] if names is None else list(names)
     if len(names) != len(calibrations):
-        raise ValueError(f"{len(names)} names for {len(calibrations)} calibrations; expected "
-                         "one name each")
+        raise TactilecalError(f"{len(names)} names for {len(calibrations)} calibrations; expected "
+                              "one name each")
     rows = [_row(n, c) for n, c in zip(names, calibrations, strict=True)]
     return Comparison(calibrations, names, rows)
-
-
-def compare_table(calibrations, names=None):
-    """Return ``compare_calibrations(calibrations, names).rows`` (the deprecated name)."""
-    return compare_calibrations(calibrations, names).rows
 
 
 def _fmt(value, spec):

@@ -3,6 +3,7 @@
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from tactilecal._errors import TactilecalError
 from tactilecal._powerfit import fit_power, fit_power_censored
 
 __all__ = ["fit_power_law", "patch_power_sums", "energy", "minimise_energy",
@@ -62,11 +63,11 @@ def fit_power_law(a_N, b, *, outliers="none", trim=0.05, clip=3.5, max_iter=50):
     a_N = np.asarray(a_N, dtype=np.float64)
     b = np.asarray(b, dtype=np.float64)
     if outliers not in ("none", "trim", "mad"):
-        raise ValueError(f"outliers = {outliers!r}; expected 'none', 'trim' or 'mad'")
+        raise TactilecalError(f"outliers = {outliers!r}; expected 'none', 'trim' or 'mad'")
     inlier = np.ones(b.shape, dtype=bool)
     if outliers == "trim":
         if not 0 <= trim < 0.5:
-            raise ValueError(f"trim = {trim}; expected 0 <= trim < 0.5")
+            raise TactilecalError(f"trim = {trim}; expected 0 <= trim < 0.5")
         lo, hi = np.quantile(b, [trim, 1 - trim])
         inlier = (b >= lo) & (b <= hi)
     coef, _ = _lstsq_loglog(a_N[inlier], b[inlier])

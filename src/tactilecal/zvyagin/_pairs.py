@@ -15,6 +15,8 @@ patches (``tests/test_zvyagin_fast.py`` holds every result to 1e-9).
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
+
 __all__ = ["pair_indices", "quartic_coefficients", "polynomial_roots", "roots_above",
            "solve_pairs"]
 
@@ -170,7 +172,7 @@ def solve_pairs(counts, load_N, raw_relerr, *, histograms=None, root_choice="sma
         ``"X"`` a patch excluded from pairing).
     """
     if root_choice not in _ROOT_CHOICES:
-        raise ValueError(f"root_choice = {root_choice!r}; expected one of {_ROOT_CHOICES}")
+        raise TactilecalError(f"root_choice = {root_choice!r}; expected one of {_ROOT_CHOICES}")
     n = counts.shape[0]
     i, j = pair_indices(n)
     cand, n_roots = _pair_candidates(counts, load_N, i, j, 3.0 ** b_min)
@@ -217,7 +219,7 @@ def _pair_candidates(counts, load_N, i, j, threshold):
 def _best_fit_roots(cand, histograms, load_N, counts, i, j):
     """Pick, per row of ``cand``, the root Y whose (A, b) best fits patches i and j."""
     if histograms is None:
-        raise ValueError("root_choice='best-fit' needs the histograms of the patches")
+        raise TactilecalError("root_choice='best-fit' needs the histograms of the patches")
     f = np.asarray(load_N, dtype=np.float64)
     score = np.full(cand.shape, np.inf)
     for k in range(cand.shape[1]):

@@ -7,6 +7,7 @@ matplotlib is imported inside the functions; figures are built with
 import numpy as np
 
 from tactilecal._atomic import atomic_path
+from tactilecal._errors import TactilecalError
 from tactilecal._units import N_PER_MM2_TO_KPA
 
 __all__ = ["as_zvyagin_result", "plot_d_map", "plot_pair_chart", "plot_ab_scatter",
@@ -37,8 +38,8 @@ def as_zvyagin_result(obj):
     details = getattr(obj, "details", obj)
     if not isinstance(details, dict) or details.get("method") != "zvyagin":
         method = getattr(obj, "method", type(obj).__name__)
-        raise ValueError(f"calibration method {method!r} has no Zvyagin details; expected a "
-                         "calibration made with method='zvyagin'")
+        raise TactilecalError(f"calibration method {method!r} has no Zvyagin details; expected a "
+                              "calibration made with method='zvyagin'")
     return ZvyaginResult.from_details(details)
 
 
