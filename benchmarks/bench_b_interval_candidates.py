@@ -39,7 +39,7 @@ import time
 import numpy as np
 from scipy import optimize
 
-from tactilecal._powerfit import LEVELS, fit_power
+from tactilecal.calibration._powerfit import LEVELS, fit_power
 from tactilecal.simulate import FAMILY, family_sessions, make_sensor
 
 Z = 1.959964

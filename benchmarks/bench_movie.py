@@ -46,13 +46,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-import tactilecal._powerfit as powerfit
 import tactilecal.calibration._movie as movie
+import tactilecal.calibration._powerfit as powerfit
 import tactilecal.dynamic  # noqa: F401  (import time is not part of the calibration)
-from tactilecal._powerfit import COMPILED_MIN_POINTS
 from tactilecal.calibration import calibrate_movie, frame_histograms
 from tactilecal.calibration._histogram import COMPILED_MIN_VALUES
 from tactilecal.calibration._points import _frame_histograms
+from tactilecal.calibration._powerfit import COMPILED_MIN_POINTS
 from tactilecal.simulate import make_sensor, ramp_hold
 from tactilecal.simulate._static import ramp_hold_profile
 

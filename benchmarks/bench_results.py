@@ -3,9 +3,8 @@
 Also prints the length of each result's ``repr`` in this tree and in the baseline (the
 issue's goal: every repr under 1,000 characters).
 
-Since issue 14, ``tactilecal.calibration`` imports ``tactilecal.zvyagin`` at module level
-(the adapter for ``method="zvyagin"`` lives on the calibration side, so the import runs one
-way), and ``load_calibration`` of a Zvyagin calibration rebuilds its ``ZvyaginResult``
+``tactilecal.calibration`` imports its Zvyagin method at module level, and loading a
+Zvyagin calibration rebuilds its ``ZvyaginResult``
 (``cal.method_result``) from ``details``. This script measures both against a baseline
 source tree (default ``/work/main/src``, the version before), each in a fresh interpreter,
 interleaved, and prints the median ratio (this tree / baseline).
@@ -28,7 +27,7 @@ HERE = Path(__file__).resolve().parents[1] / "src"
 IMPORT = ("import time; t = time.perf_counter(); import tactilecal.calibration; "
           "print(time.perf_counter() - t)")
 LOAD = ("import time, sys; from tactilecal.calibration import load_calibration; "
-        "t = time.perf_counter(); load_calibration(sys.argv[1]); "
+        "t = time.perf_counter(); CalibrationResult.from_json(sys.argv[1]); "
         "print(time.perf_counter() - t)")
 
 
@@ -37,7 +36,7 @@ import numpy as np
 from tactilecal.calibration import calibrate, equilibrate, points_from_frames, validate
 from tactilecal.dynamic import CorrectionFilter
 from tactilecal.simulate import deadweight_session, make_sensor
-from tactilecal.zvyagin._plots import as_zvyagin_result
+from tactilecal.calibration.methods.zvyagin._plots import as_zvyagin_result
 s = deadweight_session(make_sensor("5051", seed=1), n_patches=150, seed=2)
 pts = points_from_frames(s.raw, s.load_N)
 z = calibrate(pts, method="zvyagin")
@@ -97,7 +96,7 @@ def main(argv=None):
     print(f"Zvyagin calibration of {args.patches} patches ({n_pairs} pairs stored), "
           f"{args.repeat} interleaved runs, fresh interpreter each; median seconds")
     for what, label in (("import", "import tactilecal.calibration"),
-                        ("load", "load_calibration(zvyagin.json)")):
+                        ("load", "CalibrationResult.from_json(zvyagin.json)")):
         new, base = np.median(times[what, "new"]), np.median(times[what, "base"])
         print(f"  {label:<34} this tree {new:.3f} s  baseline {base:.3f} s  "
               f"ratio {new / base:.2f}")

@@ -29,9 +29,9 @@ import warnings
 import numpy as np
 
 from tactilecal import calibrate
-from tactilecal._powerfit import _censored_median
 from tactilecal.calibration import equilibrate, points_from_frames
 from tactilecal.calibration._points import points_to_arrays
+from tactilecal.calibration._powerfit import _censored_median
 from tactilecal.simulate import FAMILY, family_sessions, true_force_table_N, uniform_load
 from tactilecal.simulate._deadweight import deadweight_session
 

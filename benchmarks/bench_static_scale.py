@@ -25,9 +25,9 @@ import time
 import numpy as np
 from bench_static_draw import held_out_blocks
 
-from tactilecal._powerfit import LEVELS, _censored_median
 from tactilecal.calibration import points_from_frames
 from tactilecal.calibration._points import points_to_arrays
+from tactilecal.calibration._powerfit import LEVELS, _censored_median
 from tactilecal.simulate import FAMILY, family_sessions, true_force_table_N
 from tactilecal.simulate._deadweight import deadweight_session
 

@@ -31,9 +31,9 @@ import warnings
 
 import numpy as np
 
-from tactilecal._powerfit import LEVELS, _censored_median, fit_power
 from tactilecal.calibration import points_from_frames
 from tactilecal.calibration._points import points_to_arrays
+from tactilecal.calibration._powerfit import LEVELS, _censored_median, fit_power
 from tactilecal.simulate import FAMILY, family_sessions, true_force_table_N
 
 

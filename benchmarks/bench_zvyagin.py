@@ -20,9 +20,9 @@ import numpy as np
 
 from tactilecal.calibration import calibrate, points_from_frames, validate
 from tactilecal.calibration._points import points_to_arrays
+from tactilecal.calibration.methods.zvyagin import zvyagin_fit
+from tactilecal.calibration.methods.zvyagin._approx import patch_discrepancy, separation_domain
 from tactilecal.simulate import deadweight_session, make_sensor
-from tactilecal.zvyagin import zvyagin_fit
-from tactilecal.zvyagin._approx import patch_discrepancy, separation_domain
 
 QUICK = "--quick" in sys.argv
 N_SENSORS = 2 if QUICK else 4

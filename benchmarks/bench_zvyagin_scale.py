@@ -32,8 +32,8 @@ import numpy as np
 
 from tactilecal.calibration import calibrate, points_from_frames
 from tactilecal.calibration._points import points_to_arrays
+from tactilecal.calibration.methods.zvyagin import zvyagin_fit
 from tactilecal.simulate import deadweight_session, make_sensor
-from tactilecal.zvyagin import zvyagin_fit
 
 
 def session(n_patches):
@@ -83,7 +83,7 @@ import numpy as np
 data = np.load(sys.argv[1])
 start = time.perf_counter()
 {setup}
-from tactilecal.zvyagin import zvyagin_fit
+from tactilecal.calibration.methods.zvyagin import zvyagin_fit
 fit = {fit}
 fit(data["h"], data["f"])
 first = time.perf_counter() - start

@@ -37,10 +37,10 @@ from pathlib import Path
 import numpy as np
 
 from tactilecal.calibration import (
+    CalibrationResult,
     Equilibration,
     calibrate,
     equilibrate,
-    load_calibration,
     load_points,
     points_from_frames,
 )
@@ -314,7 +314,7 @@ READERS = {
     "recording": (read_tekscan, _check_recording),
     "manifest": (load_points, _check_points),
     "timeseries": (read_timeseries, _check_series),
-    "calibration": (load_calibration, _check_calibration),
+    "calibration": (CalibrationResult.from_json, _check_calibration),
     "equilibration": (Equilibration.from_json, _check_equilibration),
     "filter": (CorrectionFilter.from_json, _check_filter),
     "evaluation": (Evaluation.from_json, _check_evaluation),

@@ -33,10 +33,13 @@ def test_describe_inverts_the_header_power_law():
     scale, exponent = 0.9, 1.164  # p = scale * raw ** exponent (kPa)
     p = np.zeros((2, 2, 2))
     p[1, 0, 0] = scale * 200.0 ** exponent
-    d = _rec(p, units="kPa", scale_factor=scale, exponent=exponent).tactile.describe()
-    assert d["max_raw"] == pytest.approx(200.0, rel=1e-12)
-    assert d["max_raw_source"] == "inverted SCALE_FACTOR x raw^EXPONENT"
+    d = _rec(p, units="kPa", scale_factor=scale, exponent=exponent,
+             sensel_area_mm2=1.6129).tactile.describe()
+    assert d["max_raw"] == 200  # a whole reading, through the header's own calibration
+    assert d["max_raw_source"] == "inverted header calibration (header-power-2pt)"
     assert d["calibration"] == {"scale_factor": scale, "exponent": exponent}
+    no_area = _rec(p, units="kPa", scale_factor=scale, exponent=exponent).tactile.describe()
+    assert no_area["max_raw"] is None  # a header without SENSEL_AREA states no law per sensel
     assert d["saturated_frames"] is None  # no saturation pressure: unknown
 
 

@@ -5,10 +5,12 @@ import pytest
 from scipy import optimize
 
 from tactilecal import calibrate
-from tactilecal._powerfit import _censored_median
 from tactilecal.calibration import points_from_frames
-from tactilecal.calibration._methods import fit_censored
+from tactilecal.calibration._fit import Fit, FitData
 from tactilecal.calibration._models import LEVELS
+from tactilecal.calibration._powerfit import _censored_median
+from tactilecal.calibration.methods import MODULES
+from tactilecal.calibration.methods._censored import refit_censored
 from tactilecal.simulate import family_sessions, true_force_table_N
 
 
@@ -42,7 +44,8 @@ def test_linear_censored_fit_is_the_minimum_of_the_one_sided_cost(method):
     load = np.asarray(train.load_N, dtype=float)
     censored = hist[:, 255] > 0
     assert censored.sum() >= 5
-    fit = fit_censored(method, hist, load, censored)
+    module = MODULES[method]
+    fit = module.fit(FitData(hist, load, censored=censored), module.Options())
 
     design = {"linear": lambda: (hist @ LEVELS)[:, None],
               "polynomial": lambda: hist @ (LEVELS[:, None] ** np.arange(1, 4)),
@@ -88,20 +91,16 @@ def test_censored_fits_predict_held_out_patches_as_well_as_the_truth(method):
     assert censored >= 0.95 * truth  # measured 1.00 of 1.00 for each method
 
 
-def test_a_censored_refit_that_never_settles_says_so(monkeypatch):
+def test_a_censored_refit_that_never_settles_says_so():
     """A law that over-predicts the saturated patch exactly when it is left out cycles."""
-    from tactilecal.calibration import _methods
-
     hist = np.zeros((3, 256))
     hist[:, 10] = 1
     hist[2, 255] = 1
     load = np.array([1.0, 1.0, 5.0])
 
-    def flip_flop(hist, load_N, **_):  # in the set: predicts 4 < 5; out of it: 6 > 5
-        A = 4.0 / 265 if len(load_N) == 3 else 6.0 / 265
-        return _methods.Fit("power", {"A": A, "b": 1.0}, {"A": None, "b": None}, {})
+    def flip_flop(data):  # in the set: predicts 4 < 5; out of it: 6 > 5
+        return Fit("power", {"A": 4.0 / 265 if len(data.load_N) == 3 else 6.0 / 265, "b": 1.0})
 
-    monkeypatch.setitem(_methods.FITTERS, "flip-flop", flip_flop)
-    with pytest.raises(ValueError, match=r"censored flip-flop fit: the set of over-predicted "
-                                         r"saturated patches did not settle in 50 refits"):
-        fit_censored("flip-flop", hist, load, np.array([False, False, True]))
+    with pytest.raises(ValueError, match=r"the set of over-predicted saturated patches did not "
+                                         r"settle in 50 refits"):
+        refit_censored(flip_flop, FitData(hist, load, censored=np.array([False, False, True])))

@@ -7,12 +7,13 @@ import pytest
 import xarray as xr
 
 from tactilecal.calibration import (
+    METHODS,
     CalibrationPoint,
+    CalibrationResult,
     calibrate,
     calibrate_movie,
     frame_histograms,
     header_calibration,
-    load_calibration,
     points_from_frames,
     validate,
 )
@@ -39,7 +40,7 @@ def test_method_option_errors():
     one = _points(1)
     with pytest.raises(ValueError, match="power-2pt needs 2 usable points; found 1"):
         calibrate(one, method="power-2pt")
-    with pytest.raises(ValueError, match=r"pair=\(0, 0\) is invalid; expected two different"):
+    with pytest.raises(ValueError, match=r"pair=\[0, 0\] is invalid; expected two different"):
         calibrate(pts, method="power-2pt", pair=(0, 0))
     with pytest.raises(ValueError, match="best exponent b = 1.000 is at the edge of b_bounds"):
         calibrate(pts, method="power", b_bounds=(0.5, 1.0))
@@ -49,11 +50,19 @@ def test_method_option_errors():
         calibrate(pts, method="piecewise", knots=(1, 1))
     with pytest.raises(ValueError, match=r"knots=\[0.0, 100.0\] must increase from 0 to 255"):
         calibrate(pts, method="lut", knots=(0, 100))
-    with pytest.raises(ValueError, match="objective='l1' is not available for linear-offset"):
+    with pytest.raises(ValueError, match="objective='l1' is not an option of linear-offset"):
         calibrate(pts, method="linear-offset", objective="l1")
     with pytest.raises(ValueError, match=r"only [01] out-of-bag errors from 1 resamples "
                                          r"\([01] could not be fitted\); expected at least 20"):
-        calibrate(_points(2), method="power-2pt", n_interval_resamples=1)
+        calibrate(_points(3), method="power-2pt", n_interval_resamples=1)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_points_of_two_sensel_areas_are_refused_by_every_method(method):
+    mixed = _points(12, area=1.6129) + _points(12, seed=1, area=25.8064)
+    with pytest.raises(ValueError, match=r"points have different sensel areas \[1.6129, "
+                                         r"25.8064\] mm2; expected one sensor model"):
+        calibrate(mixed, method=method)
 
 
 def test_area_and_validate_errors(tmp_path):
@@ -76,7 +85,7 @@ def test_area_and_validate_errors(tmp_path):
     path = tmp_path / "list.json"
     path.write_text(json.dumps([1, 2]))
     with pytest.raises(ValueError, match="list.json: JSON list; expected an object"):
-        load_calibration(path)
+        CalibrationResult.from_json(path)
 
 
 def test_movie_and_header_errors():

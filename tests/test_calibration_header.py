@@ -55,7 +55,7 @@ def test_power_law_header_reaches_its_saturation_pressure_at_255(tmp_path):
 
 def test_power_law_header_has_no_points_to_score_and_says_so(tmp_path):
     cal = header_calibration(read_tekscan(_write(tmp_path)))
-    assert cal.metrics["n_used"] == 0 and np.isnan(cal.metrics["r2"])
+    assert cal.metrics["n"] == 0 and np.isnan(cal.metrics["r2"])
 
 
 def test_power_law_header_without_a_pressure_unit_is_an_error(tmp_path):

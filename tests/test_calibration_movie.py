@@ -24,7 +24,7 @@ def session():
 
 def test_movie_recovers_law_and_lag(session):
     res = calibrate_movie(session.raw, session.loadcell)
-    movie = res.details["movie"]
+    movie = res.diagnostics["movie"]
     # lag within one frame (10 ms) of the simulated load-cell start offset
     assert movie["lag_s"] == pytest.approx(session.loadcell_start_offset_s, abs=0.01)
     assert res.params["b"] == pytest.approx(1.16, abs=0.005)
@@ -41,7 +41,7 @@ def test_movie_one_load_per_frame(session, tmp_path, assert_names_by_bytes):
     loads = read_movie_loads(path)
     assert isinstance(loads, np.ndarray) and len(loads) == session.raw.sizes["frame"]
     res = calibrate_movie(session.raw, path)
-    assert res.details["movie"]["lag_s"] is None
+    assert res.diagnostics["movie"]["lag_s"] is None
     assert res.params["b"] == pytest.approx(1.16, abs=0.005)
     assert_names_by_bytes(res.provenance, [path])  # the movie was made in memory
     path.write_text("Load (N)\n" + "\n".join(f"{v:.6f}" for v in session.load_N[:-1]) + "\n")
@@ -64,7 +64,7 @@ def test_movie_saturated_frames_trimmed(session):
     sat = table["saturated_cells"] > 0
     assert sat.sum() == 10 and not table.loc[sat, "used"].any()
     assert table.loc[sat, "reason"].str.startswith("saturated").all()
-    assert res.details["movie"]["lag_s"] == session.loadcell_start_offset_s
+    assert res.diagnostics["movie"]["lag_s"] == session.loadcell_start_offset_s
 
 
 def test_movie_dask_recording_gives_same_fit(session):
@@ -139,7 +139,7 @@ def test_movie_equals_reference_calibration_one_load_per_frame(session, shaped, 
     ref = _reference_calibration(np.asarray(raw), session.load_N, objective="l2",
                                  area=raw.attrs["sensel_area_mm2"])
     _assert_same_calibration(res, ref)
-    assert res.details["movie"]["n_saturated_frames"] == (0 if storage == "uint8" else 10)
+    assert res.diagnostics["movie"]["n_saturated_frames"] == (0 if storage == "uint8" else 10)
 
 
 def test_movie_with_mask_and_equilibration_equals_reference(session, shaped, counting):
@@ -173,8 +173,8 @@ def test_aligned_movie_equals_movie_on_reference_histograms(session, shaped, mon
     monkeypatch.setattr(movie_module, "_frame_histograms", reference)
     ref = calibrate_movie(shaped, session.loadcell)
     assert sum(calls) == shaped.sizes["frame"]
-    assert new.details["movie"]["lag_s"] == ref.details["movie"]["lag_s"]
-    assert new.details["movie"]["lag_s_raw_sum"] == ref.details["movie"]["lag_s_raw_sum"]
+    assert new.diagnostics["movie"]["lag_s"] == ref.diagnostics["movie"]["lag_s"]
+    assert new.diagnostics["movie"]["lag_s_raw_sum"] == ref.diagnostics["movie"]["lag_s_raw_sum"]
     _assert_same_calibration(new, ref)
 
 

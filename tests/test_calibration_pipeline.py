@@ -13,7 +13,6 @@ import pytest
 from tactilecal.calibration import (
     METHODS,
     Equilibration,
-    NonWorkingSensels,
     calibrate,
     equilibrate,
     find_dead_sensels,
@@ -70,7 +69,7 @@ def test_cli_and_python_give_the_same_numbers(session, method, capsys):
                        mask="detect")
     _assert_same_params(cli_cal["params"], result.params)
     for key in ("equilibration", "non_working_sensels"):
-        assert cli_cal["details"][key] == json.loads(json.dumps(result.details[key])), key
+        assert cli_cal[key] == json.loads(json.dumps(result.to_dict()[key])), key
     applied = result.apply(read_tekscan(session["recording"]))
     assert cli_out.attrs["units"] == applied.attrs["units"] == "kPa"
     # the recording has loaded sensels: the comparison is not of NaN and zeros only
@@ -87,12 +86,9 @@ def test_preprocessing_is_recorded_and_applied(session):
     by_hand = calibrate(load_points(session["manifest"], equilibration=eq, mask=dead.mask),
                         method="power")
     _assert_same_params(by_path.params, by_hand.params)
-    assert by_path.details["non_working_sensels"]["sensels"] == dead.sensels
-    # the line the CLI prints, from the recorded details
-    assert NonWorkingSensels.report_dict(by_path.details["non_working_sensels"]) == \
-        dead.report()
-    np.testing.assert_array_equal(np.array(by_path.details["equilibration"]["gain"],
-                                           dtype=float), eq.gain)
+    assert by_path.non_working.sensels == dead.sensels
+    assert dead.report() in by_path.summary()  # the line the CLI prints
+    np.testing.assert_array_equal(by_path.equilibration.gain, eq.gain)
     # apply: gains first, then the dead sensels become NaN, then the law
     raw = read_tekscan(session["recording"])
     expected = by_hand.predict_sensel_force(eq.apply(raw.values))
@@ -108,10 +104,9 @@ def test_mask_kinds_agree(session):
                for mask in ("detect", dead, dead.mask)]
     for other in results[1:]:
         _assert_same_params(results[0].params, other.params)
-        assert other.details["non_working_sensels"]["sensels"] == dead.sensels
+        assert other.non_working.sensels == dead.sensels
     plain = calibrate(session["manifest"], method="power")
-    assert "equilibration" not in plain.details
-    assert "non_working_sensels" not in plain.details
+    assert plain.equilibration is None and plain.non_working is None
 
 
 def test_pipeline_errors(session):
@@ -165,7 +160,7 @@ def test_movie_takes_the_equilibration_as_a_path_too(tmp_path):
     by_path = calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=tmp_path / "eq.json")
     by_object = calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=eq)
     _assert_same_params(by_path.params, by_object.params)
-    assert by_path.details["equilibration"] == by_object.details["equilibration"]
+    assert by_path.equilibration == by_object.equilibration
     with pytest.raises(TypeError, match="equilibration is a list; expected an Equilibration"):
         calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=[1.0])
 

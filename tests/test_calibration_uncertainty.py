@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 
 from tactilecal import calibrate
-from tactilecal.calibration import points_from_frames, validate
-from tactilecal.calibration._uncertainty import prediction_interval
+from tactilecal.calibration import CalibrationResult, points_from_frames, validate
 from tactilecal.simulate import family_sessions
 
 
@@ -21,9 +20,9 @@ def test_95pct_prediction_interval_holds_90_to_99pct_of_held_out_patches():
     inside = []
     for seed in range(50):
         train, test = family_sessions("9500-b1.4", seed=seed)
-        interval = prediction_interval(_points(train), "power", n_resamples=60, seed=seed)
+        cal = calibrate(_points(train), "power", n_interval_resamples=60, seed=seed)
+        interval = cal.prediction_interval
         held_out = _points(test)
-        cal = calibrate(_points(train))
         hist = np.array([p.histogram for p in held_out], dtype=float)
         load = np.array([p.load_N for p in held_out])
         clean = hist[:, 255] == 0
@@ -35,60 +34,31 @@ def test_95pct_prediction_interval_holds_90_to_99pct_of_held_out_patches():
     assert 0.90 <= coverage <= 0.99, coverage
 
 
-def test_no_parameter_interval_is_reported_and_the_json_says_why(tmp_path):
-    """Issue 12's rule: the bootstrap interval of b held the truth in only 0.38-0.82 of 50
-    sessions on two family members (benchmarks/bench_static_family.py --coverage 50), so
-    no method reports one; the keys stay, as null, with the reason."""
-    from tactilecal.calibration import load_calibration
-    from tactilecal.report import write_report
-
+def test_no_parameter_interval_is_offered(tmp_path):
+    """The bootstrap interval of b held the truth in only 0.38-0.82 of 50 sessions on two
+    family members, so no method reports one, and no option asks for one."""
     train, _ = family_sessions("5051-sensor2", seed=0)
     for method in ("power", "zvyagin"):
-        cal = calibrate(_points(train), method=method, n_bootstrap=20, seed=1)
-        assert cal.params_stderr == {"A": None, "b": None}
-        assert cal.details["params_interval"] is None and cal.options["n_bootstrap"] == 20
-        assert cal.details["stderr_method"].startswith("none: no parameter interval held")
-        assert "parameter intervals: none: no parameter interval held" in cal.summary()
-        assert "interval" not in cal.summary().split("b = ")[1].splitlines()[0]
-        cal.to_json(tmp_path / f"{method}.json")
-        loaded = load_calibration(tmp_path / f"{method}.json")
-        assert loaded.details["params_interval"] is None and \
-            loaded.params_stderr == {"A": None, "b": None}
-        assert loaded.details["stderr_method"] == cal.details["stderr_method"]
-    single = calibrate(_points(train))  # without n_bootstrap: the same keys, no summary line
-    assert single.details["params_interval"] is None and not single.options["n_bootstrap"]
-    assert "parameter intervals" not in single.summary()
-    html = write_report([tmp_path / "zvyagin.json"], tmp_path / "r.html").read_text()
-    assert "none (no interval of b held 90-99 % in simulation)" in html
-
-
-def test_a_calibration_saved_with_an_interval_still_shows_it(tmp_path):
-    from tactilecal.calibration import load_calibration
-
-    train, _ = family_sessions("5051-sensor2", seed=0)
-    cal = calibrate(_points(train))
-    cal.details["params_interval"] = {"level": 0.95, "method": "normal bootstrap over patches "
-                                      "(20 refits, 0 failed)", "A": [0.002, 0.003],
-                                      "b": [1.1, 1.3]}
-    cal.to_json(tmp_path / "old.json")
-    summary = load_calibration(tmp_path / "old.json").summary()
-    assert "(95% interval 1.1 .. 1.3)" in summary
-    assert "parameter intervals: normal bootstrap over patches (20 refits" in summary
-    cal.details["params_interval"] = {"level": 0.95, "method": "m", "unbounded": "3 of 40 failed"}
-    assert "parameter intervals: unbounded (3 of 40 failed)" in cal.summary()
+        with pytest.raises(TypeError, match=r"does not take the option\(s\) \['n_bootstrap'\]"):
+            calibrate(_points(train), method=method, n_bootstrap=20)
+        cal = calibrate(_points(train), method=method)
+        assert cal.prediction_interval is None
+        assert "interval" not in cal.summary()
+        assert set(cal.to_dict()) >= {"prediction_interval"} and \
+            "params_stderr" not in cal.to_dict()
 
 
 def test_interval_reaches_json_summary_and_validate(tmp_path):
     train, test = family_sessions("5051-sensor2", seed=0)
     cal = calibrate(_points(train), method="power", n_interval_resamples=50)
-    stored = cal.details["prediction_interval"]
-    assert stored["rel_low"] < 0 < stored["rel_high"] and stored["level"] == 0.95
-    assert "95% prediction interval of a new patch's load" in cal.summary()
+    stored = cal.prediction_interval
+    assert stored.rel_low < 0 < stored.rel_high and stored.level == 0.95
+    assert "95.0 % prediction interval of a new patch's load" in cal.summary()
     path = tmp_path / "cal.json"
     cal.to_json(path)
-    from tactilecal.calibration import load_calibration
-
-    report = validate(load_calibration(path), _points(test))
+    back = CalibrationResult.from_json(path)
+    assert back.prediction_interval == stored and back == cal
+    report = validate(back, _points(test))
     assert 0.0 <= report.metrics["interval_coverage"] <= 1.0
     saturated = [r for r in report.points if r["saturated"]]
     assert saturated and all(r["predicted_is_lower_bound"] and r["predicted_high_N"] == np.inf
@@ -98,8 +68,7 @@ def test_interval_reaches_json_summary_and_validate(tmp_path):
 def test_interval_needs_patches_and_a_level():
     train, _ = family_sessions("9500-b1.4", seed=0)
     with pytest.raises(ValueError, match="2 patches; a prediction interval needs at least 3"):
-        prediction_interval(_points(train)[:2])
-    with pytest.raises(ValueError, match=r"level=1.5; expected a probability in \(0, 1\)"):
-        prediction_interval(_points(train), level=1.5)
-    with pytest.raises(ValueError, match=r"n_bootstrap=-1; expected a whole number >= 0"):
-        calibrate(_points(train), n_bootstrap=-1)
+        calibrate(_points(train)[:2], n_interval_resamples=10)
+    with pytest.raises(ValueError, match=r"n_interval_resamples=-1; expected a whole number "
+                                         r">= 0"):
+        calibrate(_points(train), n_interval_resamples=-1)

@@ -9,8 +9,9 @@ from tactilecal.cli import main
 from tactilecal.io import read_netcdf, write_tekscan
 from tactilecal.simulate import deadweight_session, make_sensor, ramp_hold, uniform_load
 
-CAL_KEYS = {"method", "model", "params", "sensel_area_mm2", "saturation_pressure_kPa",
-            "points", "metrics", "params_stderr", "details"}
+CAL_KEYS = {"format", "method", "model", "params", "sensel_area_mm2",
+            "saturation_pressure_kPa", "points", "metrics", "options", "equilibration",
+            "non_working_sensels", "prediction_interval", "diagnostics"}
 
 
 @pytest.fixture(scope="module")
@@ -62,10 +63,15 @@ def test_calibrate_point_and_pair(sessions, capsys):
     assert main(["-q", "calibrate", str(sessions["cal"]), "--method", "linear", "--point", "2",
                  "--json"]) == 0
     res = json.loads(capsys.readouterr().out)
-    assert sum(p["used"] for p in res["points"]) == 1 and res["details"]["point"] == 2
+    # the index counts the usable (unsaturated) points
+    usable = [k for k, p in enumerate(res["points"]) if not p["reason"].startswith("saturated")]
+    assert [k for k, p in enumerate(res["points"]) if p["used"]] == [usable[2]]
+    assert res["options"]["point"] == 2
     assert main(["-q", "calibrate", str(sessions["cal"]), "--method", "power-2pt", "--pair",
                  "0,3", "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["details"]["pair"] == [0, 3]
+    res = json.loads(capsys.readouterr().out)
+    assert [k for k, p in enumerate(res["points"]) if p["used"]] == [usable[0], usable[3]]
+    assert res["options"]["pair"] == [0, 3]
 
 
 def test_calibrate_every_method_and_zvyagin_path(sessions, capsys):
@@ -84,9 +90,10 @@ def test_calibrate_errors(sessions, capsys):
     assert main(["calibrate", "--movie", "x.csv"]) == 1
     assert "--movie needs --loads" in capsys.readouterr().err
     assert main(["calibrate", str(sessions["cal"]), "--knots", "1,a"]) == 1
-    assert "--knots '1,a': expected comma-separated numbers" in capsys.readouterr().err
+    assert "argument --knots: '1,a'; expected comma-separated numbers" in \
+        capsys.readouterr().err
     assert main(["calibrate", str(sessions["cal"]), "--method", "power-2pt", "--pair", "x"]) == 1
-    assert "--pair 'x': expected two integers 'I,J'" in capsys.readouterr().err
+    assert "argument --pair: 'x'; expected comma-separated numbers" in capsys.readouterr().err
 
 
 def test_equilibrate_then_calibrate(sessions, capsys, tmp_path):
@@ -101,9 +108,10 @@ def test_equilibrate_then_calibrate(sessions, capsys, tmp_path):
     cal = tmp_path / "cal.json"
     assert main(["calibrate", str(sessions["cal"]), "--equilibration", str(eq),
                  "--mask-dead", "--out", str(cal)]) == 0
-    assert "non-working sensels:" in capsys.readouterr().err
-    details = json.loads(cal.read_text())["details"]
-    assert "equilibration" in details and "non_working_sensels" in details
+    assert "non-working sensels:" in capsys.readouterr().out  # in the summary
+    stored = json.loads(cal.read_text())
+    assert stored["equilibration"]["format"] == "tactilecal-equilibration/1"
+    assert stored["non_working_sensels"]["format"] == "tactilecal-non-working-sensels/1"
     assert main(["validate", str(cal), str(sessions["val"]), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["summary"]["within_5pct"] >= 0.9
 
@@ -114,20 +122,15 @@ def test_movie_cli(tmp_path, capsys):
     assert main(["calibrate", "--movie", str(paths["recording"]), "--loads",
                  str(paths["loadcell"]), "--json"]) == 0
     res = json.loads(capsys.readouterr().out)
-    assert res["details"]["movie"]["lag_s"] == pytest.approx(0.37, abs=0.01)
+    assert res["diagnostics"]["movie"]["lag_s"] == pytest.approx(0.37, abs=0.01)
     # the default l1 objective: b's spread is ~1.7x that of least squares on Gaussian
     # noise (measured 1.148 here, relative 1.157), the price of its better worst case
     assert res["params"]["b"] == pytest.approx(1.16, abs=0.02)
 
 
-def test_calibrate_n_bootstrap_gives_no_parameter_interval(sessions, capsys):
-    """--n-bootstrap still parses; the JSON keeps the keys as null and says why (issue 12)."""
-    out = sessions["root"] / "boot.json"
-    assert main(["calibrate", str(sessions["cal"]), "--method", "power", "--n-bootstrap", "20",
-                 "--out", str(out), "--json"]) == 0
-    capsys.readouterr()
-    stored = json.loads(out.read_text())
-    assert stored["params_stderr"] == {"A": None, "b": None}
-    assert stored["details"]["params_interval"] is None
-    assert stored["details"]["stderr_method"].startswith("none: no parameter interval held")
-    assert stored["options"]["n_bootstrap"] == 20
+def test_calibrate_offers_no_parameter_interval_flag(sessions, capsys):
+    """No parameter interval held 90-99 % in simulation: the flag that did nothing is gone."""
+    with pytest.raises(SystemExit) as stop:
+        main(["calibrate", str(sessions["cal"]), "--n-bootstrap", "20"])
+    assert stop.value.code == 2
+    assert "unrecognized arguments: --n-bootstrap" in capsys.readouterr().err

@@ -75,3 +75,13 @@ def test_the_console_script_prints_no_traceback_for_bad_input(tmp_path):
                          capture_output=True, text=True)
     assert run.returncode == 1
     assert "Traceback" not in run.stderr and "m.csv" in run.stderr, run.stderr
+
+
+def test_building_the_parser_imports_no_library_subpackage():
+    """``tactilecal info`` must not pay for the calibration's option classes."""
+    code = ("import sys; from tactilecal.cli import build_parser; build_parser(); "
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in "
+            "('pandas', 'xarray', 'scipy') or m.startswith('tactilecal.calibration')))")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert run.stdout.strip() == "[]"

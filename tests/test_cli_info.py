@@ -98,12 +98,12 @@ def test_calibrated_power_law_file(capsys, tmp_path):
                         coords={"frame": np.arange(1, 7), "time": ("frame", np.arange(6) * 0.1)},
                         attrs={"units": "kPa", "scale_factor": scale, "exponent": exponent,
                                "saturation_pressure": scale * 255**exponent,
-                               "saturation_pressure_unit": "kPa"})
+                               "saturation_pressure_unit": "kPa", "sensel_area_mm2": 1.6129})
     path = tmp_path / "cal.csv"
     write_tekscan(data, path)
     out = _info_json(capsys, path)
-    assert out["max_raw"] == pytest.approx(255.0, rel=1e-9)
-    assert out["max_raw_source"] == "inverted SCALE_FACTOR x raw^EXPONENT"
+    assert out["max_raw"] == 255
+    assert out["max_raw_source"] == "inverted header calibration (header-power-2pt)"
     assert out["saturated_frame_numbers"] == [3]
     assert out["calibration"]["exponent"] == exponent
 

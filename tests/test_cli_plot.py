@@ -4,11 +4,14 @@ import json
 
 import pytest
 
-from tactilecal.calibration import calibrate, load_calibration, points_from_frames
+from tactilecal.calibration import (
+    CalibrationResult,
+    calibrate,
+    compare_calibrations,
+    points_from_frames,
+)
 from tactilecal.cli import main
 from tactilecal.simulate import deadweight_session, make_sensor
-from tactilecal.zvyagin import compare_calibrations
-from tactilecal.zvyagin._plots import as_zvyagin_result
 
 
 @pytest.fixture(scope="module")
@@ -17,7 +20,7 @@ def cal_files(tmp_path_factory):
     s = deadweight_session(make_sensor("5051", seed=1), n_patches=40, seed=2)
     points = points_from_frames(s.raw, s.load_N)
     paths = {}
-    for name, kw in (("faithful", {"method": "zvyagin"}),
+    for name, kw in (("faithful", {"method": "zvyagin", "mode": "faithful"}),
                      ("robust", {"method": "zvyagin", "mode": "robust"}),
                      ("power", {"method": "power"})):
         paths[name] = folder / f"{name}.json"
@@ -50,8 +53,7 @@ def test_plot_bad_arguments(cal_files, tmp_path, capsys):
     assert "is a file; expected a folder" in capsys.readouterr().err
     assert main(["plot", str(cal_files["power"]), "--out", str(tmp_path), "--dpi", "0"]) == 1
     assert "argument --dpi: '0'; expected a finite number > 0" in capsys.readouterr().err
-    with pytest.raises(ValueError, match=r"method 'power' has no Zvyagin details"):
-        as_zvyagin_result(load_calibration(cal_files["power"]))
+    assert CalibrationResult.from_json(cal_files["power"]).method_result is None
 
 
 def test_compare_table_and_curves(cal_files, tmp_path, capsys):
@@ -60,10 +62,10 @@ def test_compare_table_and_curves(cal_files, tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     rows = {r["name"]: r for r in out["rows"]}
     assert list(rows) == ["faithful", "robust", "power"]
-    z = load_calibration(cal_files["faithful"])
-    assert rows["faithful"]["I1"] == z.details["separation"][0]
+    z = CalibrationResult.from_json(cal_files["faithful"])
+    assert rows["faithful"]["I1"] == z.diagnostics["separation"][0]
     assert rows["faithful"]["A0"] == pytest.approx(z.params["A"])
-    assert rows["faithful"]["p_s_MPa"] == pytest.approx(z.details["p_s_MPa"])
+    assert rows["faithful"]["p_s_MPa"] == pytest.approx(z.diagnostics["p_s_MPa"])
     assert rows["power"]["I1"] is None and rows["power"]["d"] is None
     assert (tmp_path / "compare_curves.png").stat().st_size > 1000
     assert main(["compare", *files]) == 0
@@ -73,7 +75,7 @@ def test_compare_table_and_curves(cal_files, tmp_path, capsys):
 
 def test_compare_calibrations_is_what_the_command_prints(cal_files, capsys):
     files = [str(cal_files[k]) for k in ("faithful", "power")]
-    comparison = compare_calibrations([load_calibration(f) for f in files],
+    comparison = compare_calibrations([CalibrationResult.from_json(f) for f in files],
                                       names=["faithful", "power"])
     assert main(["-q", "compare", *files, "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["rows"] == comparison.rows
@@ -86,12 +88,12 @@ def test_compare_calibrations_is_what_the_command_prints(cal_files, capsys):
 def test_compare_bad_input(cal_files):
     with pytest.raises(ValueError, match=r"no calibration to compare"):
         compare_calibrations([])
-    cal = load_calibration(cal_files["power"])
+    cal = CalibrationResult.from_json(cal_files["power"])
     with pytest.raises(ValueError, match=r"1 names for 2 calibrations"):
         compare_calibrations([cal, cal], names=["a"])
 
 
 def test_result_rebuilt_from_json_alone(cal_files):
-    res = as_zvyagin_result(load_calibration(cal_files["faithful"]))
+    res = CalibrationResult.from_json(cal_files["faithful"]).method_result
     assert res.d_summary["n_vectors"] == 725_305
     assert len(res.pair_matrix) == 40

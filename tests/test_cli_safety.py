@@ -193,5 +193,5 @@ def test_cli_errors_name_the_flags_the_user_typed(tmp_path, capsys):
     manifest = str(folder / "manifest.csv")
     assert main(["-q", "calibrate", manifest, "--method", "power-2pt", "--pair", "1,1"]) == 1
     err = capsys.readouterr().err
-    assert "--pair (1, 1) is invalid; expected two different indices" in err
+    assert "--pair [1, 1] is invalid; expected two different indices" in err
     assert "pair=" not in err

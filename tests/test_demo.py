@@ -7,6 +7,7 @@ import re
 import numpy as np
 import pytest
 
+from tactilecal._text import number
 from tactilecal.cli import main
 from tactilecal.demo import bundle_path
 from tactilecal.demo._bundle import BUNDLE, make_bundle
@@ -71,7 +72,7 @@ def test_demo_runs_end_to_end_and_recovers_the_truth(tmp_path, capsys):
     for method in by_method:
         row = re.search(rf"<tr><td>{method}.json</td><td>{method}</td>.*?</tr>", comparison)
         held_out = by_method[method]["median_abs_error_pct"]
-        assert row and f"<td>{held_out:.6g}</td>" in row.group(0), method
+        assert row and f"<td>{number(held_out)}</td>" in row.group(0), method
     assert "Blind test of a dynamic filter: blind-test.json" in html
     for method in by_method:
         assert (out / "calibrations" / f"{method}.json").is_file()

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from tactilecal.calibration import (
+    CalibrationResult,
     Equilibration,
     calibrate,
     equilibrate,
-    load_calibration,
     points_from_frames,
 )
 from tactilecal.dynamic import CorrectionFilter
@@ -38,7 +38,7 @@ def _edit(path, change):
 
 
 def test_untouched_calibration_reads(tmp_path):
-    cal = load_calibration(_power_json(tmp_path))
+    cal = CalibrationResult.from_json(_power_json(tmp_path))
     assert cal.params["b"] == pytest.approx(1.2, rel=1e-6)
 
 
@@ -52,14 +52,14 @@ def test_untouched_calibration_reads(tmp_path):
 def test_impossible_power_law_is_an_error_naming_the_key(tmp_path, key, value, error, match):
     path = _edit(_power_json(tmp_path), lambda d: d["params"].update({key: value}))
     with pytest.raises(error, match=match):
-        load_calibration(path)
+        CalibrationResult.from_json(path)
 
 
 def test_calibration_with_nan_a_is_an_error(tmp_path):
     """JSON has no NaN, but Python's json module writes and reads one: it must not mean 0."""
     path = _edit(_power_json(tmp_path), lambda d: d["params"].update(A=float("nan")))
     with pytest.raises(ValueError, match=r"key 'params.A' of .*cal.json is nan"):
-        load_calibration(path)
+        CalibrationResult.from_json(path)
 
 
 @pytest.mark.parametrize(("key", "value", "error", "match"), [
@@ -73,13 +73,13 @@ def test_calibration_with_nan_a_is_an_error(tmp_path):
 def test_mistyped_calibration_key_is_an_error_naming_it(tmp_path, key, value, error, match):
     path = _edit(_power_json(tmp_path), lambda d: d.update({key: value}))
     with pytest.raises(error, match=match):
-        load_calibration(path)
+        CalibrationResult.from_json(path)
 
 
 def test_calibration_json_in_utf16_reads(tmp_path):
     path = _power_json(tmp_path)
     path.write_bytes(path.read_text().encode("utf-16"))
-    assert load_calibration(path).model == "power"
+    assert CalibrationResult.from_json(path).model == "power"
 
 
 def _equilibration_json(tmp_path):

@@ -33,7 +33,6 @@ LAYERS = (
     ("sensors", "geotech"),
     ("io",),
     ("simulate", "dynamic"),
-    ("zvyagin",),
     ("calibration",),
     ("analysis",),
     ("report",),
@@ -191,6 +190,29 @@ def test_no_cycles_between_subpackages():
     assert not cycles, "\n".join(cycles)
 
 
+def module_edges(root):
+    """The module import graph ``{module: {imported module: "file:line"}}`` of a package.
+
+    Every import counts, those inside functions too; ``from a.b import c`` is an edge to
+    the module ``a.b.c`` when it exists, else to ``a.b``.
+    """
+    modules = {module_name(p, root): p for p in root.rglob("*.py")}
+    edges = {}
+    for name, path in modules.items():
+        for line, target, _ in imports_of(path, root):
+            while target and target not in modules:
+                target = target.rpartition(".")[0]
+            if target and target != name:
+                edges.setdefault(name, {}).setdefault(target, f"{path.name}:{line}")
+    return edges
+
+
+def test_no_cycles_between_modules():
+    """Not even between two modules of one package (imports inside functions included)."""
+    cycles = find_cycles(module_edges(ROOT))
+    assert not cycles, "\n".join(cycles)
+
+
 def test_benchmarks_do_not_import_the_cli():
     # benchmarks measure the library; the fuzzer runs the CLI as a user does (a process)
     folder = ROOT.parents[1] / "benchmarks"
@@ -265,6 +287,14 @@ def test_the_test_catches_each_kind_of_offender(fake):
     assert any(c.startswith("high -> mid -> low -> high") or "low -> high -> mid -> low" in c
                or "mid -> low -> high -> mid" in c for c in cycles), cycles
     assert any("mid -> side -> mid" in c or "side -> mid -> side" in c for c in cycles), cycles
+
+
+def test_the_module_cycle_check_sees_a_circle_inside_one_package(fake):
+    (fake / "low" / "_a.py").write_text("def f():\n    from pkg.low._b import g\n")
+    (fake / "low" / "_b.py").write_text("from pkg.low import _a\n")
+    cycles = find_cycles(module_edges(fake))
+    assert any("pkg.low._a -> pkg.low._b -> pkg.low._a" in c
+               or "pkg.low._b -> pkg.low._a -> pkg.low._b" in c for c in cycles), cycles
 
 
 def test_cli_imported_from_below_is_named(fake):

@@ -10,7 +10,7 @@ grids and sorts. Both minimise the same cost to 1e-10 in b, so they must agree t
 import numpy as np
 import pytest
 
-import tactilecal._powerfit as powerfit
+import tactilecal.calibration._powerfit as powerfit
 from tactilecal.calibration import calibrate_movie, find_dead_sensels, frame_histograms
 from tactilecal.simulate import make_sensor, ramp_hold
 
@@ -98,7 +98,7 @@ def test_chebyshev_sums_equal_direct_sums(movie):
 @pytest.mark.parametrize("window", [(-np.inf, np.inf), (0.9, 1.1), (5.0, 6.0)])
 def test_selected_median_equals_sorted_median(window):
     """With integer weights every sum is exact, so the two must be equal, ties included."""
-    from tactilecal._powerfit_kernels import l1_costs
+    from tactilecal.calibration._powerfit_kernels import l1_costs
 
     rng = np.random.default_rng(3)
     for n in (1, 2, 7, 30, 1000, 5001):
@@ -128,7 +128,7 @@ def test_dead_sensels_of_a_dask_movie_are_found_block_by_block(movie):
     a = calibrate_movie(raw, session.loadcell, mask_dead=True, lag_s=0.37)
     b = calibrate_movie(lazy, session.loadcell, mask_dead=True, lag_s=0.37)
     assert a.params == b.params
-    assert a.details["non_working_sensels"] == b.details["non_working_sensels"]
+    assert a.non_working == b.non_working
 
 
 @pytest.mark.parametrize("storage", ["float64", "float32", "uint8", "dask"])
@@ -145,12 +145,12 @@ def test_movie_calibration_is_the_same_on_either_path(movie, storage, monkeypatc
     many = calibrate_movie(raw, session.loadcell, **options)
     monkeypatch.setattr(powerfit, "COMPILED_MIN_POINTS", 2 ** 62)
     direct = calibrate_movie(raw, session.loadcell, **options)
-    assert many.details["movie"]["lag_s"] == pytest.approx(direct.details["movie"]["lag_s"],
+    assert many.diagnostics["movie"]["lag_s"] == pytest.approx(direct.diagnostics["movie"]["lag_s"],
                                                            rel=1e-9)
     for key in ("A", "b"):
         assert many.params[key] == pytest.approx(direct.params[key], rel=1e-9, abs=0)
     if options:  # refits equal to 1e-9 give relative bounds (~1e-2 wide) equal to ~1e-6
-        ours, theirs = (r.details["prediction_interval"] for r in (many, direct))
+        ours, theirs = (r.prediction_interval.to_dict() for r in (many, direct))
         assert ours.keys() == theirs.keys() and ours["n_failed"] == theirs["n_failed"] == 0
         for key in ("rel_low", "rel_high"):
             assert ours[key] == pytest.approx(theirs[key], rel=1e-6)
@@ -175,7 +175,7 @@ def test_hist_products_equal_the_dense_product(n, dtype, columns):
     np.testing.assert_allclose(powerfit.hist_products(hist, matrix[:, 0]), dense.T[:1],
                                rtol=1e-13)
     if n >= 2 * powerfit.PRODUCT_ROWS_PER_THREAD:  # blocks of rows on the cores, each row as alone
-        from tactilecal._powerfit_kernels import hist_dot
+        from tactilecal.calibration._powerfit_kernels import hist_dot
 
         whole = hist_dot(hist, matrix, np.empty((columns, n)))
         np.testing.assert_array_equal(powerfit.hist_products(hist, matrix), whole)

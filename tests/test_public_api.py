@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-SUBPACKAGES = ("io", "sensors", "simulate", "calibration", "zvyagin", "dynamic", "analysis",
-               "geotech", "report", "demo")
+SUBPACKAGES = ("io", "sensors", "simulate", "calibration", "dynamic", "analysis", "geotech",
+               "report", "demo")
 API_PAGE = Path(__file__).resolve().parents[1] / "docs" / "api.md"
 
 

@@ -1,8 +1,6 @@
 """One result base for every saved thing: tags, tactilecal.load, legacy files, reprs."""
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pandas as pd
@@ -17,13 +15,12 @@ from tactilecal.calibration import (
     calibrate,
     equilibrate,
     find_dead_sensels,
-    load_calibration,
     points_from_frames,
     validate,
 )
+from tactilecal.calibration.methods.zvyagin import ZvyaginResult
 from tactilecal.dynamic import CorrectionFilter, Evaluation
 from tactilecal.simulate import deadweight_session, make_sensor
-from tactilecal.zvyagin import ZvyaginResult
 
 PLAIN = (float, int, bool, str, type(None))
 
@@ -206,7 +203,7 @@ def test_a_file_of_another_kind_is_refused_naming_both_tags(calibrations, tmp_pa
     with pytest.raises(ValueError, match=r"key 'format' of .*eq.json is "
                                          r"'tactilecal-equilibration/1'; expected "
                                          r"'tactilecal-calibration/1'"):
-        load_calibration(path)
+        CalibrationResult.from_json(path)
     calibrations["power"].to_json(tmp_path / "cal.json")
     with pytest.raises(ValueError, match=r"key 'format' of .*cal.json is "
                                          r"'tactilecal-calibration/1'; expected "
@@ -218,10 +215,10 @@ def test_a_file_of_another_kind_is_refused_naming_both_tags(calibrations, tmp_pa
 
 def test_zvyagin_details_that_cannot_be_read_name_the_key(calibrations, tmp_path):
     data = calibrations["zvyagin"].to_dict()
-    del data["details"]["patches"]
-    with pytest.raises(ValueError, match=r"key 'details' of .*z.json: the Zvyagin "
+    del data["diagnostics"]["patches"]
+    with pytest.raises(ValueError, match=r"key 'diagnostics' of .*z.json: the Zvyagin "
                                          r"intermediates cannot be read \(KeyError"):
-        load_calibration(_json(tmp_path, data, "z.json"))
+        CalibrationResult.from_json(_json(tmp_path, data, "z.json"))
 
 
 # ---------------------------------------------------------------- Zvyagin on the result
@@ -234,28 +231,15 @@ def test_zvyagin_result_is_the_calibrations_method_result(calibrations, tmp_path
     assert res.p_s_kPa == pytest.approx(cal.saturation_pressure_kPa, rel=1e-12)
     assert res.p_s_MPa == pytest.approx(res.p_s_kPa / 1000.0, rel=1e-12)
     cal.to_json(tmp_path / "z.json")
-    back = load_calibration(tmp_path / "z.json").method_result
+    back = CalibrationResult.from_json(tmp_path / "z.json").method_result
     assert back.summary() == res.summary()
     np.testing.assert_array_equal(back.usable, res.usable)
     assert calibrations["power"].method_result is None
 
 
-def test_zvyagin_details_keep_their_keys(calibrations):
-    """The JSON format is kept: details hold to_details(), the two stderr keys, and (issue
-    12) every calibration's null params_interval with the stderr_method saying why."""
+def test_zvyagin_diagnostics_are_its_intermediates(calibrations):
     cal = calibrations["zvyagin"]
-    expected = set(cal.method_result.to_details()) | {"conditional_stderr", "stderr_note",
-                                                      "params_interval", "stderr_method"}
-    assert set(cal.details) == expected
-
-
-def test_zvyagin_does_not_import_calibration():
-    """The circle is broken: zvyagin sits below calibration."""
-    code = ("import sys, tactilecal.zvyagin; "
-            "print(any(m.startswith('tactilecal.calibration') for m in sys.modules))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True)
-    assert out.stdout.strip() == "False"
+    assert set(cal.diagnostics) == set(cal.method_result.to_details())
 
 
 # ---------------------------------------------------------------- text and reprs
@@ -315,3 +299,21 @@ def test_report_tells_inputs_apart_by_their_tag(calibrations, tmp_path):
                                          r"calibration .* a dynamic filter .* nor a blind "
                                          r"test"):
         load_input(tmp_path / "eq.json")
+
+
+def test_every_saved_kind_compares_by_value_and_ignores_the_creation_time(calibrations,
+                                                                         points):
+    """``==`` of two equal results is True, never an error about arrays or DataFrames."""
+    from tactilecal._result import _KINDS
+
+    made = {"calibration": calibrations["zvyagin"], "equilibration": _equilibration(),
+            "validation": validate(calibrations["power"], points)}
+    for kind, result in made.items():
+        twin = type(result).from_dict(result.to_dict())
+        twin.created = "another time" if hasattr(twin, "created") else None
+        assert twin == result and not (twin != result), kind
+    other = calibrate(points[:30], method="power")
+    assert other != calibrations["power"]
+    assert calibrations["power"] != "a calibration"
+    for cls in _KINDS.values():  # every kind: the base's equality, not a dataclass's
+        assert cls.__eq__ is _KINDS["calibration"].__eq__, cls

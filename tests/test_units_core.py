@@ -29,11 +29,9 @@ def test_public_names_are_the_core_values():
     from tactilecal._units import G_STANDARD
     from tactilecal.sensors import get_sensor
     from tactilecal.simulate._dynamic import LBF_N
-    from tactilecal.zvyagin._calibrate import SENSEL_AREA_5051_MM2
 
     assert G_STANDARD is _units.G_STANDARD
     assert LBF_N is _units.LBF_N
-    assert SENSEL_AREA_5051_MM2 == get_sensor("5051").sensel_area_mm2
     assert get_sensor("5051-350").capacity_kPa == pytest.approx(350 * _units.PSI_TO_KPA)
 
 
@@ -64,3 +62,52 @@ def test_no_module_redefines_a_core_constant():
                  for line, value in _module_constants(path) if value in DEFINED_ONCE]
     assert not offenders, "defined again (import it from tactilecal._units or the " \
         "sensor catalogue):\n" + "\n".join(offenders)
+
+
+UNIT_SCALE = {1000, 1e-3, 1e6, 1e-6}
+"""Decimal prefixes: a unit factor when they multiply or divide a quantity with a unit."""
+UNIT_NAMES = ("kpa", "mpa", "psi", "mm2", "_n", "newton", "pressure", "force", "load", "area",
+              "mass", "pad", "rho", "density", "_g")
+
+
+def _literal_factors(path):
+    """Yield ``(line, value, expression)`` of unit-factor literals anywhere in ``path``.
+
+    Every numeric constant of the code (not of docstrings) equal to a constant of
+    ``DEFINED_ONCE``, and every decimal prefix (1000, 1e-3...) that multiplies or divides an
+    expression naming a quantity with a unit (``pressure_kPa * 1e3``, ``pad_g / 1000.0``).
+    """
+    source = path.read_text(encoding="utf-8")
+    lines = source.splitlines()
+    tree = ast.parse(source)
+    for node in ast.walk(tree):
+        if hasattr(node, "lineno") and "not a unit factor" in lines[node.lineno - 1]:
+            continue
+        if isinstance(node, ast.Constant) and isinstance(node.value, float) \
+                and node.value in DEFINED_ONCE:
+            yield node.lineno, node.value, DEFINED_ONCE[node.value]
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mult | ast.Div):
+            for this, other in ((node.left, node.right), (node.right, node.left)):
+                if isinstance(this, ast.Constant) and isinstance(this.value, int | float) \
+                        and not isinstance(this.value, bool) and this.value in UNIT_SCALE:
+                    text = ast.get_source_segment(source, other).lower()
+                    if any(name in text for name in UNIT_NAMES):
+                        yield node.lineno, this.value, ast.get_source_segment(source, node)
+
+
+def test_no_unit_factor_is_written_as_a_literal():
+    offenders = [f"{path.relative_to(SRC.parent)}:{line}: {value!r} in {text}"
+                 for path in sorted(SRC.rglob("*.py"))
+                 if not (path.name == "_units.py" and path.parent == SRC)
+                 and path.name != "_catalogue.py"
+                 for line, value, text in _literal_factors(path)]
+    assert not offenders, "unit factors belong to tactilecal._units:\n" + "\n".join(offenders)
+
+
+def test_the_literal_guard_finds_what_it_looks_for(tmp_path):
+    bad = tmp_path / "bad.py"
+    bad.write_text("def f(pressure_kPa, pad_g, x):\n"
+                   "    a = pressure_kPa * 1e3\n    b = pad_g / 1000.0\n    c = 9.80665 * x\n"
+                   "    d = x * 1000\n    return a, b, c, d\n")
+    found = [(line, value) for line, value, _ in _literal_factors(bad)]
+    assert found == [(2, 1e3), (3, 1000.0), (4, 9.80665)]  # x * 1000 has no unit: not flagged

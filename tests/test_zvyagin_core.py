@@ -5,17 +5,21 @@ import itertools
 import numpy as np
 import pytest
 
-from tactilecal.simulate import patch_histograms
-from tactilecal.zvyagin import fit_power_law, minimise_energy, search_separation, solve_pairs
-from tactilecal.zvyagin._approx import (
+from tactilecal.calibration.methods.zvyagin._approx import (
     CLASS_VALUES,
     approximate_raw_sums,
     class_counts,
     patch_discrepancy,
+    search_separation,
     separation_domain,
 )
-from tactilecal.zvyagin._fit import energy
-from tactilecal.zvyagin._pairs import polynomial_roots, quartic_coefficients
+from tactilecal.calibration.methods.zvyagin._fit import energy, fit_power_law, minimise_energy
+from tactilecal.calibration.methods.zvyagin._pairs import (
+    polynomial_roots,
+    quartic_coefficients,
+    solve_pairs,
+)
+from tactilecal.simulate import patch_histograms
 
 
 def _hist(values_per_patch):
@@ -149,7 +153,7 @@ def test_exact_powers_of_three_give_the_true_A_b_for_every_pair():
     np.testing.assert_allclose(res["b"][one], b_true, rtol=1e-9)
     np.testing.assert_allclose(res["A"][one], a_true, rtol=1e-9)
     # pairs with several roots: 3**b_true is one of them (exact readings cannot tell which)
-    from tactilecal.zvyagin._pairs import roots_above
+    from tactilecal.calibration.methods.zvyagin._pairs import roots_above
     multi = np.nonzero(res["n_roots"] > 1)[0]
     cand = roots_above(polynomial_roots(quartic_coefficients(counts, load, res["i"][multi],
                                                      res["j"][multi])))

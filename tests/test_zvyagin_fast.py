@@ -18,12 +18,17 @@ import pytest
 
 from tactilecal.calibration import points_from_frames
 from tactilecal.calibration._points import points_to_arrays
+from tactilecal.calibration.methods.zvyagin import Options, _calibrate
+from tactilecal.calibration.methods.zvyagin._approx import class_counts
+from tactilecal.calibration.methods.zvyagin._approx import search_separation as new_search
+from tactilecal.calibration.methods.zvyagin._kernels import pair_roots
+from tactilecal.calibration.methods.zvyagin._pairs import (
+    polynomial_roots,
+    quartic_coefficients,
+    roots_above,
+    solve_pairs,
+)
 from tactilecal.simulate import deadweight_session, make_sensor
-from tactilecal.zvyagin import _calibrate, solve_pairs
-from tactilecal.zvyagin import search_separation as new_search
-from tactilecal.zvyagin._approx import class_counts
-from tactilecal.zvyagin._kernels import pair_roots
-from tactilecal.zvyagin._pairs import polynomial_roots, quartic_coefficients, roots_above
 
 _SPEC = importlib.util.spec_from_file_location(
     "zvyagin_reference", Path(__file__).with_name("zvyagin_reference.py"))
@@ -47,12 +52,17 @@ def _session(model, a_n, b, masses_kg, pad_sides_cm, n_patches, saturated_share,
     return points_to_arrays(points_from_frames(s.raw, s.load_N))
 
 
-def _fit(monkeypatch, h, f, reference, **options):
+def _fit(monkeypatch, h, f, reference, *, mode, saturated):
+    """Zvyagin's procedure as ``calibrate`` runs it for each saturation treatment."""
+    if saturated == "drop":  # calibrate leaves the saturated patches out
+        h, f = h[h[:, 255] == 0], f[h[:, 255] == 0]
+    censored = h[:, 255] > 0 if saturated == "censored" else None
     with monkeypatch.context() as m:
         if reference:
             m.setattr(_calibrate, "search_separation", ref.search_separation)
             m.setattr(_calibrate, "solve_pairs", ref.solve_pairs)
-        return _calibrate.zvyagin_fit(h, f, **options)
+        return _calibrate.zvyagin_fit(h, f, Options(mode=mode), censored=censored,
+                                      sensel_area_mm2=1.6129)
 
 
 def _assert_same(new, old):

@@ -7,11 +7,28 @@ import numpy as np
 import pytest
 
 import tactilecal
-from tactilecal.calibration import load_calibration, points_from_frames
+from tactilecal.calibration import CalibrationPoint, CalibrationResult, points_from_frames
+from tactilecal.calibration.methods.zvyagin import Options, ZvyaginResult
+from tactilecal.calibration.methods.zvyagin._calibrate import load_groups
+from tactilecal.calibration.methods.zvyagin._calibrate import zvyagin_fit as _zvyagin_fit
+from tactilecal.calibration.methods.zvyagin._fit import patch_power_sums, saturation_pressure_MPa
+from tactilecal.sensors import get_sensor
 from tactilecal.simulate import patch_histograms
-from tactilecal.zvyagin import ZvyaginResult, zvyagin_fit
-from tactilecal.zvyagin._calibrate import SENSEL_AREA_5051_MM2, load_groups
-from tactilecal.zvyagin._fit import patch_power_sums, saturation_pressure_MPa
+
+SENSEL_AREA_5051_MM2 = get_sensor("5051").sensel_area_mm2
+
+
+def zvyagin_fit(h, load, *, labels=None, sensel_area_mm2=SENSEL_AREA_5051_MM2, censored=None,
+                **options):
+    """Zvyagin's procedure on histograms, its options as keywords (the tests' shorthand)."""
+    return _zvyagin_fit(h, load, Options(**options), labels=labels,
+                        sensel_area_mm2=sensel_area_mm2, censored=censored)
+
+
+def _points(h, load, area=1.6129):
+    return [CalibrationPoint(histogram=hh, load_N=f, raw_sum=float(hh @ np.arange(256)),
+                             loaded_cells=int(hh[1:].sum()), saturated_cells=int(hh[255]),
+                             sensel_area_mm2=area) for hh, f in zip(h, load, strict=True)]
 
 # Table 2 of Zvyagin (2022) as printed in the source: A0 (as printed), b0, p_s (MPa).
 TABLE2 = [
@@ -88,31 +105,25 @@ def test_calibrate_entry_point_and_json_round_trip(tmp_path):
     points = points_from_frames(s.raw, s.load_N)
     cal = tactilecal.calibrate(points, method="zvyagin", mode="robust")
     assert cal.method == "zvyagin" and cal.model == "power"
-    assert cal.params["A"] == pytest.approx(cal.details["final"]["A0"])
-    assert cal.saturation_pressure_kPa == pytest.approx(1000 * cal.details["p_s_MPa"])
-    # the curvature error ignores alpha and beta (~100x too small, issue 12): not quoted
-    assert cal.params_stderr == {"A": None, "b": None}
-    assert cal.details["conditional_stderr"]["b"] > 0
+    assert cal.params["A"] == pytest.approx(cal.diagnostics["final"]["A0"])
+    assert cal.saturation_pressure_kPa == pytest.approx(1000 * cal.diagnostics["p_s_MPa"])
     path = tmp_path / "cal.json"
     cal.to_json(path)
-    back = load_calibration(path)
-    res = ZvyaginResult.from_details(back.details)
-    direct = ZvyaginResult.from_details(json.loads(json.dumps(cal.details)))
-    assert res.summary() == direct.summary()
-    assert res.separation == tuple(cal.details["separation"])
+    back = CalibrationResult.from_json(path)
+    assert back == cal
+    res = back.method_result
+    direct = ZvyaginResult.from_details(json.loads(json.dumps(cal.diagnostics)))
+    assert res.summary() == direct.summary() == cal.method_result.summary()
+    assert res.separation == tuple(cal.diagnostics["separation"])
     assert res.d_summary["n_vectors"] == 725_305
 
 
-def test_keep_saturated_alias_and_unknown_option():
+def test_saturation_is_calibrates_and_an_unknown_option_is_a_type_error():
     h, load, _ = _synthetic(n=10, seed=7)
-    from tactilecal.calibration import CalibrationPoint
-
-    pts = [CalibrationPoint(histogram=hh, load_N=f, raw_sum=float(hh @ np.arange(256)),
-                            loaded_cells=int(hh[1:].sum()), saturated_cells=int(hh[255]),
-                            sensel_area_mm2=1.6129) for hh, f in zip(h, load, strict=True)]
-    assert tactilecal.calibrate(pts, method="zvyagin", keep_saturated=False) \
-        .options["saturated"] == "drop"
-    with pytest.raises(ValueError, match=r"unknown options \['extra'\]"):
+    pts = _points(h, load)
+    assert tactilecal.calibrate(pts, method="zvyagin").options["saturated"] == "drop"
+    with pytest.raises(TypeError, match=r"method='zvyagin' does not take the option\(s\) "
+                                        r"\['extra'\]; expected some of \['mode', "):
         tactilecal.calibrate(pts, method="zvyagin", extra=10)
     for p in pts:
         p.sensel_area_mm2 = float("nan")
@@ -140,13 +151,16 @@ def test_empty_frames_are_left_out_with_a_warning():
     assert (res.pair_matrix[4, np.arange(30) != 4] == "X").all()
 
 
-def test_saturated_patches_dropped_on_request():
+def test_saturated_patches_are_dropped_by_default():
     h, load, _ = _synthetic(n=30, seed=10, pad_sides_cm=(1, 2))
     sat = np.nonzero(h[:, 255] > 0)[0]
     assert sat.size > 0
-    res = zvyagin_fit(h, load, saturated="drop")
-    assert set(res.excluded) == set(sat.tolist())
-    assert "saturated sensels" in res.excluded[int(sat[0])]
+    cal = tactilecal.calibrate(_points(h, load), method="zvyagin")
+    assert np.flatnonzero(~cal.points["used"].to_numpy()).tolist() == sat.tolist()
+    assert cal.points["reason"][sat[0]].startswith("saturated")
+    kept = np.setdiff1d(np.arange(30), sat)
+    direct = zvyagin_fit(h[kept], load[kept], labels=[f"frame {k + 1}" for k in kept])
+    assert (cal.params["A"], cal.params["b"]) == (direct.A0, direct.b0)
 
 
 def test_one_load_warns():
@@ -182,13 +196,14 @@ def test_bad_loads_labels_and_options():
         zvyagin_fit(h, load[:4])
     with pytest.raises(ValueError, match=r"labels has 2 names; expected one per patch \(5\)"):
         zvyagin_fit(h, load, labels=["a", "b"])
-    with pytest.raises(ValueError, match=r"mode = 'paper'; expected one of"):
+    with pytest.raises(ValueError, match=r"mode='paper' is not an option of zvyagin; "
+                                         r"expected one of \('faithful', 'robust'\)"):
         zvyagin_fit(h, load, mode="paper")
-    with pytest.raises(ValueError, match=r"saturated = 'clip'; expected one of"):
-        zvyagin_fit(h, load, saturated="clip")
+    with pytest.raises(ValueError, match=r"saturated='clip' is not an option of every method"):
+        tactilecal.calibrate(_points(h, load), method="zvyagin", saturated="clip")
     with pytest.raises(ValueError, match=r"b_range = \(1.5, 1.2\); expected 0 < b_min < b_max"):
         zvyagin_fit(h, load, b_range=(1.5, 1.2))
-    with pytest.raises(ValueError, match=r"b_range = 'all'; expected"):
+    with pytest.raises(ValueError, match=r"b_range='all'; expected"):
         zvyagin_fit(h, load, b_range="all")
 
 

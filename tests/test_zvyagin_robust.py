@@ -7,9 +7,10 @@ import pytest
 
 from tactilecal import calibrate
 from tactilecal.calibration import points_from_frames
+from tactilecal.calibration.methods.zvyagin import Options
+from tactilecal.calibration.methods.zvyagin._calibrate import zvyagin_fit
+from tactilecal.calibration.methods.zvyagin._fit import energy
 from tactilecal.simulate import family_sessions
-from tactilecal.zvyagin._calibrate import zvyagin_fit
-from tactilecal.zvyagin._fit import energy
 
 
 def _calibrate(member, seed, **options):
@@ -28,7 +29,7 @@ def test_robust_recovers_a_linear_sensor_whose_pairs_the_paper_cuts(seed):
     assert train.sensor.b == 1.0
     assert faithful.params["b"] > 1.1  # measured 1.15-1.19 on seeds 0-3
     assert robust.params["b"] == pytest.approx(1.0, abs=0.03)  # measured 0.98-0.99
-    final = robust.details["final"]
+    final = robust.diagnostics["final"]
     # the constrained optimum stays on record next to the free one
     assert final["free"] and final["curve_b0"] != pytest.approx(final["b0"], abs=1e-3)
 
@@ -38,8 +39,8 @@ def test_robust_takes_roots_below_three_and_faithful_does_not():
     robust, _ = _calibrate("5101-b1.0", 0, mode="robust")
 
     def pair_b(cal):
-        valid = np.array(list(cal.details["pairs"]["category"])) == "V"
-        return np.array(cal.details["pairs"]["b"], dtype=float)[valid]
+        valid = np.array(list(cal.diagnostics["pairs"]["category"])) == "V"
+        return np.array(cal.diagnostics["pairs"]["b"], dtype=float)[valid]
 
     assert pair_b(faithful).min() > 1.0
     assert pair_b(robust).min() < 1.0 < np.median(pair_b(robust)) + 0.05
@@ -62,7 +63,7 @@ def test_pair_b_min_outside_its_range_is_refused(value):
     h = np.zeros((3, 256), dtype=np.int64)
     h[:, 50] = 10
     with pytest.raises(ValueError, match=rf"pair_b_min = {value!r}; expected 0 < b < 4"):
-        zvyagin_fit(h, np.array([1.0, 2.0, 3.0]), pair_b_min=value)
+        Options(pair_b_min=value)
 
 
 def test_censored_zvyagin_needs_two_unsaturated_patches_and_names_the_others():
@@ -71,16 +72,16 @@ def test_censored_zvyagin_needs_two_unsaturated_patches_and_names_the_others():
     h[1:, 255] = 1
     with pytest.raises(ValueError, match=r"1 patch\(es\) without a saturated sensel; the pair "
                                          r"equations need at least 2 \(saturated: b, c, d\)"):
-        zvyagin_fit(h, np.array([1.0, 2.0, 3.0, 4.0]), saturated="censored",
-                    labels=["a", "b", "c", "d"])
+        zvyagin_fit(h, np.array([1.0, 2.0, 3.0, 4.0]), Options(),
+                    censored=h[:, 255] > 0, labels=["a", "b", "c", "d"])
 
 
 def test_robust_free_step_is_the_power_fit_with_the_cross_validated_objective():
     """Robust's (A0, b0) is the power method's law with the objective its 5-fold CV chose."""
-    from tactilecal.calibration._methods import fit_power
+    from tactilecal.calibration._powerfit import fit_power
 
     cal, train = _calibrate("4010N-noisy", 0)
-    final = cal.details["final"]
+    final = cal.diagnostics["final"]
     scores = final["objective_cv"]
     assert set(scores) == {"l1", "relative"} and final["objective"] in scores
     best = max(scores, key=lambda o: (scores[o][0], -round(scores[o][1], 6)))
@@ -96,8 +97,8 @@ def test_robust_free_step_is_the_power_fit_with_the_cross_validated_objective():
 
 def test_choose_objective_on_exact_power_law_patches_ties_and_keeps_l1():
     """Noise-free patches: both objectives predict every held-out patch; l1 wins the tie."""
+    from tactilecal.calibration.methods.zvyagin._fit import choose_objective
     from tactilecal.simulate import patch_histograms
-    from tactilecal.zvyagin._fit import choose_objective
 
     hist, load, _ = patch_histograms(30, A_N=0.0035, b=1.16, seed=3)
     sums = np.asarray(hist, dtype=float) @ np.arange(256.0) ** 1.16
@@ -108,8 +109,8 @@ def test_choose_objective_on_exact_power_law_patches_ties_and_keeps_l1():
 
 
 def test_choose_objective_skips_an_objective_whose_fit_fails(monkeypatch):
+    from tactilecal.calibration.methods.zvyagin import _fit
     from tactilecal.simulate import patch_histograms
-    from tactilecal.zvyagin import _fit
 
     real = _fit._fit_free
 

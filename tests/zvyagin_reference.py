@@ -11,7 +11,7 @@ import itertools
 
 import numpy as np
 
-from tactilecal.zvyagin._approx import separation_domain
+from tactilecal.calibration.methods.zvyagin._approx import separation_domain
 
 CLASS_VALUES = 3.0 ** np.arange(1, 6)
 """A sensel of class m (between I_{m-1} and I_m) reads as 3**m (eq. 6)."""

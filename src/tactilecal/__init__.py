@@ -13,9 +13,8 @@ Subpackages, one per idea:
 ``tactilecal.simulate``
     Synthetic recordings with their known truth.
 ``tactilecal.calibration``
-    Static calibration: I-Scan methods, literature alternatives, validation.
-``tactilecal.zvyagin``
-    Zvyagin (2022) multi-patch high-pressure-zone calibration.
+    Static calibration: I-Scan methods, literature alternatives, Zvyagin (2022),
+    validation.
 ``tactilecal.dynamic``
     Dynamic calibration (Gillis 2013): transfer function and inverse filter.
 ``tactilecal.analysis``
@@ -51,14 +50,12 @@ _LAZY = {
     "read_netcdf": "tactilecal.io",
     "load_points": "tactilecal.calibration",
     "calibrate": "tactilecal.calibration",
-    "load_calibration": "tactilecal.calibration",
     "validate": "tactilecal.calibration",
     "sensors": "tactilecal.sensors",
     "simulate": "tactilecal.simulate",
     "analysis": "tactilecal.analysis",
     "geotech": "tactilecal.geotech",
     "dynamic": "tactilecal.dynamic",
-    "zvyagin": "tactilecal.zvyagin",
     "report": "tactilecal.report",
     "io": "tactilecal.io",
     "calibration": "tactilecal.calibration",

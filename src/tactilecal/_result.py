@@ -127,8 +127,8 @@ class SavedResult(ShortRepr):
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
-        if cls.__dict__.get("FORMAT_KIND"):
-            _KINDS[cls.FORMAT_KIND] = cls
+        if cls.__dict__.get("FORMAT_KIND"):  # the first definition stays (a doctest run
+            _KINDS.setdefault(cls.FORMAT_KIND, cls)  # may execute a module a second time)
 
     # ---------------------------------------------------------------- the tag
     @classmethod
@@ -159,6 +159,15 @@ class SavedResult(ShortRepr):
             raise TactilecalError(f"key 'format' of {source} is {data['format']!r}, newer than "
                                   f"this "
                                   f"tactilecal reads; expected version <= {cls.FORMAT_VERSION}")
+
+    # ---------------------------------------------------------------- equality
+    def __eq__(self, other):
+        """Equal when of one kind and equal in everything saved but the creation time."""
+        if type(other) is not type(self):
+            return NotImplemented
+        return _without_created(self.to_dict()) == _without_created(other.to_dict())
+
+    __hash__ = None  # mutable results
 
     # ---------------------------------------------------------------- dict and JSON
     def to_dict(self):
@@ -212,6 +221,11 @@ class SavedResult(ShortRepr):
     def summary(self):
         """Human-readable description (str)."""
         raise NotImplementedError
+
+
+def _without_created(data):
+    """Return the saved dict without its creation time (NaN is null: equal when unknown)."""
+    return {k: v for k, v in data.items() if k != "created"}
 
 
 def result_class(data, source):

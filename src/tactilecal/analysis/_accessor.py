@@ -90,7 +90,7 @@ class TactileAccessor:
         Parameters
         ----------
         calibration : CalibrationResult, str or os.PathLike
-            The calibration, or the path of its JSON (:func:`load_calibration`).
+            The calibration, or the path of its JSON (:meth:`CalibrationResult.from_json`).
         units : str
             Output unit, a pressure (kPa, MPa, psi...) or a force per sensel (N, lbf...).
 
@@ -99,9 +99,9 @@ class TactileAccessor:
         xarray.DataArray
         """
         if not hasattr(calibration, "apply"):
-            from tactilecal.calibration import load_calibration
+            from tactilecal.calibration import CalibrationResult
 
-            calibration = load_calibration(calibration)
+            calibration = CalibrationResult.from_json(calibration)
         return calibration.apply(self._rec, units=units)
 
     force = _method(total_force, "force")

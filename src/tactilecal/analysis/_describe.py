@@ -8,6 +8,8 @@ plain data (a JSON-ready dict or a DataFrame); the command line only formats it.
 import numpy as np
 import xarray as xr
 
+from tactilecal._errors import TactilecalError
+from tactilecal._units import N_PER_MM2_TO_KPA, pressure_to_kPa, unit_kind
 from tactilecal.analysis._maps import summary
 from tactilecal.analysis._units import saturated_sensels
 
@@ -92,26 +94,27 @@ def describe(recording):
 
 
 def _max_raw(max_value, attrs):
-    """Return the largest value in raw units and how it was found (see :func:`describe`)."""
+    """Return the largest value as a raw reading and how it was found (see :func:`describe`).
+
+    A calibrated export is inverted through the calibration its header states
+    (:func:`tactilecal.calibration.header_calibration`), and the reading rounded to the
+    whole number the sensor gave.
+    """
     units = attrs.get("units")
     if max_value is None or units == "raw":
         return {"max_raw": max_value, "max_raw_source": "file" if max_value is not None else None}
-    if units not in ("kPa", "MPa", "Pa", "psi"):
+    if units is None or unit_kind(units) != "pressure":
         return {"max_raw": None, "max_raw_source": None}
-    from tactilecal._units import pressure_to_kPa
+    from tactilecal.calibration import header_calibration
 
-    p_kPa = pressure_to_kPa(max_value, units)
-    if "scale_factor" in attrs and "exponent" in attrs:
-        raw = (p_kPa / pressure_to_kPa(attrs["scale_factor"], units)) ** (1 / attrs["exponent"])
-        return {"max_raw": float(raw), "max_raw_source": "inverted SCALE_FACTOR x raw^EXPONENT"}
-    points = {k for k in attrs if k.startswith("calibration_point_") and k.endswith("_raw_sum")}
-    if points == {"calibration_point_1_raw_sum"} and "calibration_point_1_load_N" in attrs \
-            and "sensel_area_mm2" in attrs:
-        kPa_per_raw = (attrs["calibration_point_1_load_N"] * 1000.0
-                       / (attrs["calibration_point_1_raw_sum"] * attrs["sensel_area_mm2"]))
-        return {"max_raw": p_kPa / kPa_per_raw,
-                "max_raw_source": "inverted 1-point linear calibration (CALIBRATION_POINT_1)"}
-    return {"max_raw": None, "max_raw_source": None}
+    try:
+        cal = header_calibration(attrs)
+    except TactilecalError:  # no calibration in the header: no raw reading to give
+        return {"max_raw": None, "max_raw_source": None}
+    force_N = pressure_to_kPa(max_value, units) * cal.sensel_area_mm2 / N_PER_MM2_TO_KPA
+    raw = (force_N / cal.params["A"]) ** (1.0 / cal.params["b"])
+    return {"max_raw": int(np.rint(raw)),
+            "max_raw_source": f"inverted header calibration ({cal.method})"}
 
 
 def frame_table(recording, *, calibration=None, threshold_kPa=0.0):

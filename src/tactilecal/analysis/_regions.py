@@ -6,7 +6,7 @@ import xarray as xr
 
 from tactilecal._errors import TactilecalError
 from tactilecal._model import check_recording, recording_name
-from tactilecal._units import KPA_MM2_TO_N
+from tactilecal._units import KPA_MM2_TO_N, N_PER_MM2_TO_KPA
 from tactilecal.analysis._units import (
     force_map_N,
     pressure_map_kPa,
@@ -225,7 +225,7 @@ def max_window_load(recording, *, window=None, area_mm2=None, calibration=None):
     col = where["wcol"] + first_col
     ds = xr.Dataset({
         "force_N": best,
-        "mean_kPa": best / area * 1e3,
+        "mean_kPa": best / area * N_PER_MM2_TO_KPA,
         "row": row,
         "col": col,
         "centre_row_mm": (row + (h - 1) / 2) * row_mm,
@@ -341,7 +341,7 @@ def high_pressure_zones(recording, level_kPa, *, connectivity=1, min_sensels=1,
         "frame": labels["frame"].values[frame_pos],
         "n_sensels": n, "area_mm2": n * area, "force_N": force,
         "peak_kPa": ndimage.maximum(pressure, lab, index),
-        "mean_kPa": force / (n * area) * 1e3,
+        "mean_kPa": force / (n * area) * N_PER_MM2_TO_KPA,
         "cof_row_mm": (centre[:, 1] + labels["row"].values[0]) * row_mm,
         "cof_col_mm": (centre[:, 2] + labels["col"].values[0]) * col_mm,
     })

@@ -76,9 +76,9 @@ def _calibrated(recording, calibration, units):
         raise TactilecalError(f"{recording_name(recording)}: units are 'raw'; give a calibration "
                               "(calibration=... or --cal CAL.json) to get pressure or force")
     if not hasattr(calibration, "apply"):
-        from tactilecal.calibration import load_calibration
+        from tactilecal.calibration import CalibrationResult
 
-        calibration = load_calibration(calibration)
+        calibration = CalibrationResult.from_json(calibration)
     return calibration.apply(recording, units=units)
 
 

@@ -5,7 +5,8 @@ import numpy as np
 from tactilecal._errors import TactilecalError
 from tactilecal._units import N_PER_MM2_TO_KPA, pressure_to_kPa, unit_kind
 from tactilecal._validate import check_number
-from tactilecal.calibration._calibrate import result_from_arrays
+from tactilecal.calibration._calibrate import CommonOptions, law_result
+from tactilecal.calibration._fit import Fit
 
 __all__ = ["header_calibration"]
 
@@ -31,7 +32,7 @@ def header_calibration(recording):
 
     Raises
     ------
-    ValueError
+    TactilecalError
         If the header has neither, or no sensel area.
 
     Examples
@@ -97,8 +98,7 @@ def _result(params, method, area, hist, load, point):
             "note": np.array([""] * len(load), dtype=object),
             "sensel_area_mm2": np.full(len(load), area),
             "working_cells": np.zeros(len(load), int), "total_cells": np.zeros(len(load), int)}
-    return result_from_arrays(hist, load, meta, method=method, model="power", params=params,
-                              params_stderr={"A": None, "b": None},
-                              used=np.ones(len(load), bool), reasons=[""] * len(load),
-                              details={"source": "Tekscan file header"},
-                              sensel_area_mm2=area)
+    return law_result(hist, load, meta, method,
+                      Fit("power", params, {"source": "Tekscan file header"}),
+                      np.ones(len(load), bool), np.full(len(load), "", dtype=object), area,
+                      CommonOptions(sensel_area_mm2=area))

@@ -105,7 +105,7 @@ def _number(text, column, where, **limits):
 
 def _row_load_N(row, where):
     """Load of one manifest row: ``load_N``, else (mass_kg + pad_mass_g / 1000) * g."""
-    from tactilecal._units import G_STANDARD
+    from tactilecal._units import mass_to_N
 
     positive = {"minimum": 0.0, "min_inclusive": False, "maximum": _MAX_LOAD_N}
     if row.get("load_N", ""):
@@ -114,7 +114,7 @@ def _row_load_N(row, where):
         pad = (_number(row["pad_mass_g"], "pad_mass_g", where, minimum=0.0,
                        maximum=_MAX_LOAD_N) if row.get("pad_mass_g") else 0.0)
         mass = _number(row["mass_kg"], "mass_kg", where, minimum=0.0, maximum=_MAX_LOAD_N)
-        return check_number((mass + pad / 1000.0) * G_STANDARD, f"{where}: the load in N",
+        return check_number(mass_to_N(mass, "kg") + mass_to_N(pad, "g"), f"{where}: the load in N",
                             **positive)
     raise TactilecalError(f"{where}: load_N and mass_kg are both blank; expected a load")
 
@@ -241,7 +241,8 @@ def load_points(manifest_path, *, mask=None, equilibration=None, progress=None):
         points.extend(_points_from_histograms(
             frame_histograms(frame), [load], source=row["file"], labels=[row.get("label", "")],
             frames=[number], sensel_area_mm2=float(attrs.get("sensel_area_mm2", np.nan)),
-            total_cells=total, notes=[note], sensor=sensor_of(attrs)))
+            total_cells=total, notes=[note], sensor=sensor_of(attrs),
+            manifest=manifest_path))
     return points
 
 

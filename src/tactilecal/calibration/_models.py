@@ -9,7 +9,7 @@ import numpy as np
 
 from tactilecal._errors import TactilecalError
 
-__all__ = ["MODELS", "sensel_force", "force_table"]
+__all__ = ["MODELS", "check_law", "sensel_force", "force_table"]
 
 LEVELS = np.arange(256, dtype=float)
 
@@ -22,8 +22,12 @@ def _power(raw, params):
 
 
 def _linear_offset(raw, params):
-    """Paikowsky & Hajduk (1997) f = K * (raw - offset) on loaded sensels (thesis sec. 3.5)."""
-    return np.where(raw > 0, params["K"] * (raw - params["offset"]), 0.0)
+    """Paikowsky & Hajduk (1997) f = K * (raw - offset) on loaded sensels (thesis sec. 3.5).
+
+    Clipped at 0: a reading at or below the offset carries no force (the published formula
+    would give it a negative one).
+    """
+    return np.where(raw > 0, params["K"] * np.maximum(raw - params["offset"], 0.0), 0.0)
 
 
 def _piecewise_power(raw, params):
@@ -106,3 +110,44 @@ def sensel_force(model, params, raw):
 def force_table(model, params):
     """Return the force per sensel at raw = 0..255 (float64[256])."""
     return sensel_force(model, params, LEVELS)
+
+
+def check_law(model, params, where):
+    """Refuse a law that is not a force per sensel: non-finite, negative or decreasing.
+
+    A calibrated law must give finite forces on raw 0..255 that never decrease (a higher
+    reading never means a smaller force), are never negative, and are positive at 255 (so
+    the saturation pressure is positive).
+
+    Raises
+    ------
+    TactilecalError
+        Naming ``where`` (e.g. ``"key 'params' of cal.json"``), the model and what is wrong.
+
+    Examples
+    --------
+    >>> check_law("polynomial", {"coefficients": [0.01, -1e-4]}, "the fit")
+    Traceback (most recent call last):
+    ...
+    tactilecal.TactilecalError: the fit: the polynomial law decreases from raw 50 ...
+    """
+    with np.errstate(all="ignore"):  # overflow shows as a non-finite force below
+        table = force_table(model, params)
+    if not np.all(np.isfinite(table)):
+        bad = int(np.flatnonzero(~np.isfinite(table))[0])
+        raise TactilecalError(f"{where}: the {model} law gives a non-finite force at raw {bad}; "
+                              "expected finite forces on raw 0..255")
+    drops = np.flatnonzero(np.diff(table) < -1e-12 * max(float(table.max()), 1e-300))
+    if drops.size:
+        raise TactilecalError(f"{where}: the {model} law decreases from raw {drops[0]} "
+                              f"({table[drops[0]]:.4g} N) to {drops[0] + 1} "
+                              f"({table[drops[0] + 1]:.4g} N); expected a force that never "
+                              "decreases as the reading grows (choose a method that "
+                              "keeps it monotone, such as lut, or a lower degree)")
+    if table.min() < 0:
+        bad = int(np.argmin(table))
+        raise TactilecalError(f"{where}: the {model} law gives {table[bad]:.4g} N at raw {bad}; "
+                              "expected forces >= 0 on raw 0..255")
+    if not table[255] > 0:
+        raise TactilecalError(f"{where}: the {model} law gives {table[255]:.4g} N at raw 255; "
+                              "expected a positive force (and saturation pressure)")

@@ -17,12 +17,10 @@ import pandas as pd
 import xarray as xr
 
 from tactilecal._errors import TactilecalError
-from tactilecal._powerfit import COMPILED_MIN_POINTS, hist_products
 from tactilecal._progress import resolve
 from tactilecal._provenance import provenance_of
-from tactilecal._saturation import resolve_saturated
-from tactilecal.calibration._calibrate import calibrate, calibrate_arrays
-from tactilecal.calibration._methods import FITTERS
+from tactilecal.calibration._calibrate import DEFAULT_METHOD, fit_arrays, method_options
+from tactilecal.calibration._fit import FitData
 from tactilecal.calibration._models import force_table
 from tactilecal.calibration._pipeline import as_equilibration
 from tactilecal.calibration._points import (
@@ -30,7 +28,9 @@ from tactilecal.calibration._points import (
     _points_from_histograms,
     keep_rows_in_place,
 )
+from tactilecal.calibration._powerfit import COMPILED_MIN_POINTS, hist_products
 from tactilecal.calibration._sensels import find_dead_sensels
+from tactilecal.calibration.methods import MODULES
 
 __all__ = ["read_movie_loads", "movie_points", "calibrate_movie"]
 
@@ -103,7 +103,7 @@ def _histograms(values, mask, equilibration, progress, numba_loaded=False):
 
     uint16 rather than float64 (as until session 8): 51 rather than 205 MB of fresh pages per
     100,000 frames, and a quarter of the bytes for every later product
-    (:func:`tactilecal._powerfit.hist_products`). In memory, the compiled kernels (which
+    (:func:`tactilecal.calibration._powerfit.hist_products`). In memory, the compiled kernels (which
     release the GIL) count blocks of ``_CHUNK`` frames on every core, in threads.
 
     ``values`` may be a dask array (a recording larger than memory, perhaps on a cluster):
@@ -394,8 +394,8 @@ def _points_from_movie(recording, hist, loads, **kwargs):
     return points, report
 
 
-def _first_pass(recording, hist, raw_sum, loads, method, options, min_load_fraction,
-                max_lag_s, max_points=_FIRST_PASS_POINTS):
+def _first_pass(recording, hist, raw_sum, loads, setup, min_load_fraction, max_lag_s,
+                max_points=_FIRST_PASS_POINTS):
     """Align on the raw sum and fit the table that shapes the second alignment's signal.
 
     Neither needs the frame rate: the lag is estimated on the raw sum block-averaged to no
@@ -420,65 +420,108 @@ def _first_pass(recording, hist, raw_sum, loads, method, options, min_load_fract
     load = _loads_at(loads, times[::step], lag_s)
     rate_hz = _rate_hz(times)
     near = (lag_s, NEAR_BLOCKS * (n // len(total)) / rate_hz) if rate_hz > 0 else None
-    return (*_first_pass_table(hist[::step], load, method, options, min_load_fraction),
+    return (*_first_pass_table(hist[::step], load, setup, min_load_fraction),
             {"lag_s": lag_s, "near": near})
 
 
-def _first_pass_table(hist, load, method, options, min_load_fraction):
+def _first_pass_table(hist, load, setup, min_load_fraction):
     """Fit on arrays to get a force table for the second alignment.
 
     It only has to make the alignment signal proportional to the load; ``hist`` and
     ``load`` are those of a few thousand frames (:func:`_first_pass`).
     """
-    if method != "power" or len(hist) < COMPILED_MIN_POINTS:  # power: products of counts
+    module, common, options = setup
+    if module.NAME == "zvyagin":  # its pairs over thousands of frames: power shapes as well
+        module, options = MODULES["power"], MODULES["power"].Options()
+    if module.NAME != "power" or len(hist) < COMPILED_MIN_POINTS:  # power: products of counts
         hist = hist.astype(float)
     keep = np.isfinite(load)
     keep[keep] = load[keep] >= min_load_fraction * load[keep].max()
     keep &= hist[:, 1:].any(axis=1)
-    if resolve_saturated(options.get("saturated"), options.get("keep_saturated")) == "drop":
+    if common.saturated == "drop":
         keep &= hist[:, 255] == 0
-    generic = {"saturated", "keep_saturated", "scale_by_working", "n_bootstrap", "seed",
-               "sensel_area_mm2"}
-    fit = FITTERS[method](hist[keep], load[keep],
-                          **{k: v for k, v in options.items() if k not in generic})
+    fit = module.fit(FitData(hist[keep], load[keep]), options)
     return force_table(fit.model, fit.params), fit
 
 
-def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col=None,
+def _load_record(loads, time_col, load_col):
+    """Return a load record given as a DataFrame of (time, load) as a DataArray in N.
+
+    The units come from the column names (``Time (ms)``, ``Load (lbf)``); a column without
+    a unit is taken as seconds or newtons. Other inputs are returned unchanged.
+    """
+    if not isinstance(loads, pd.DataFrame):
+        return loads
+    from tactilecal._units import force_to_N, mass_to_N, time_to_s, unit_from_column, unit_kind
+
+    columns = [str(c) for c in loads.columns]
+    if len(columns) != 2 and (time_col is None or load_col is None):
+        raise TactilecalError(f"loads is a DataFrame with columns {columns}; expected two "
+                              "columns (time, load) or time_col= and load_col=")
+    t_name = columns[0] if time_col is None else str(time_col)
+    v_name = columns[1] if load_col is None else str(load_col)
+    for name in (t_name, v_name):
+        if name not in columns:
+            raise TactilecalError(f"column {name!r} is not in the loads DataFrame; expected "
+                                  f"one of {columns}")
+    t_unit = unit_from_column(t_name, where=f"column {t_name!r} of the loads") or "s"
+    v_unit = unit_from_column(v_name, where=f"column {v_name!r} of the loads") or "N"
+    times = time_to_s(pd.to_numeric(loads[t_name]).to_numpy(float), t_unit)
+    values = pd.to_numeric(loads[v_name]).to_numpy(float)
+    kind = unit_kind(v_unit)
+    if kind not in ("force", "mass"):
+        raise TactilecalError(f"column {v_name!r} of the loads is in {v_unit!r}; expected a "
+                              "force or mass unit")
+    values = force_to_N(values, v_unit) if kind == "force" else mass_to_N(values, v_unit)
+    return xr.DataArray(values, dims="time", coords={"time": times}, name=v_name,
+                        attrs={"units": "N", "source": "DataFrame"})
+
+
+def calibrate_movie(recording, loads, *, method=DEFAULT_METHOD, time_col=None, load_col=None,
                     lag_s=None, max_lag_s=None, mask_dead=False, equilibration=None,
                     min_load_fraction=0.02, progress=None, **options):
     """Movie calibration: align, resample, trim saturated frames, fit every frame.
-
-    ``equilibration`` may also be the path of an equilibration JSON.
 
     Parameters
     ----------
     recording : str, os.PathLike or xarray.DataArray
         Raw movie (a path is read with :func:`tactilecal.io.open_recording`).
-    loads : str, os.PathLike, xarray.DataArray or array_like
-        Load-cell record (a path is read with :func:`read_movie_loads`).
+    loads : str, os.PathLike, xarray.DataArray, pandas.DataFrame or array_like
+        Load-cell record: a CSV path (read with :func:`read_movie_loads`), a time series
+        (DataArray along ``time`` in N, or a DataFrame of time and load columns, units in
+        their names), or one load per frame in N (I-Scan's movie calibration).
     method : str
         Calibration method (see :func:`calibrate`).
     time_col, load_col : str or int, optional
-        Columns of the load-cell CSV.
-    lag_s, max_lag_s, equilibration, min_load_fraction, progress
+        Columns of the load-cell CSV or DataFrame.
+    lag_s, max_lag_s, min_load_fraction, progress
         See :func:`movie_points`.
     mask_dead : bool
         Detect non-working sensels over the movie (:func:`find_dead_sensels`) and mask them.
+    equilibration : Equilibration, str or os.PathLike, optional
+        Per-sensel gains (or the path of their JSON) applied to every frame first.
     **options
-        Passed to :func:`calibrate` (saturated frames are left out unless
-        ``keep_saturated=True``).
+        The options of :func:`calibrate` (saturated frames are left out by default).
 
     Returns
     -------
     CalibrationResult
-        With ``details["movie"]`` holding the alignment report. With a load record and no
-        ``lag_s``, the loads are aligned twice: first on the raw sum (``lag_s_raw_sum``,
-        estimated on the raw sum block-averaged to at least 4 x the load record's rate),
-        then, at the frame rate, on the force of a first fit (``first_pass_params``) to at
-        most 5000 frames, over the lags within ``NEAR_BLOCKS`` (16) decimation blocks of the
-        first lag (over every lag if the correlation peaks at that window's edge).
+        With ``diagnostics["movie"]`` holding the alignment report (also in
+        :meth:`CalibrationResult.summary`). With a load record and no ``lag_s``, the loads
+        are aligned twice: first on the raw sum (``lag_s_raw_sum``, estimated on the raw sum
+        block-averaged to at least 4 x the load record's rate), then, at the frame rate, on
+        the force of a first fit (``first_pass_params``) to at most 5000 frames, over the
+        lags within ``NEAR_BLOCKS`` (16) decimation blocks of the first lag (over every lag
+        if the correlation peaks at that window's edge).
+
+    Raises
+    ------
+    TactilecalError
+        A recording that is not raw, loads that cannot be paired with the frames, a bad
+        option, and every error of :func:`calibrate`.
     """
+    setup = method_options(method, options)  # before anything is read
+    module, common, method_opts = setup
     equilibration = as_equilibration(equilibration)  # the object, or its JSON's path
     if not isinstance(recording, xr.DataArray):
         from tactilecal.io import open_recording
@@ -490,39 +533,32 @@ def calibrate_movie(recording, loads, *, method="power", time_col=None, load_col
     files = [loads] if isinstance(loads, str | Path) else []
     if files:
         loads = read_movie_loads(loads, time_col=time_col, load_col=load_col)
+    loads = _load_record(loads, time_col, load_col)
     dead = find_dead_sensels(recording.data) if mask_dead else None  # dask: streamed
-    fits_compiled = method in ("power", "piecewise") and \
+    fits_compiled = module.NAME in ("power", "piecewise") and \
         recording.sizes[recording.dims[0]] >= COMPILED_MIN_POINTS  # fit_power's kernels
     hist = _histograms(recording.data, None if dead is None else dead.mask, equilibration,
                        resolve(progress), fits_compiled)
     sums = _frame_sums(hist)
     signal_N, first = None, None
-    if lag_s is None and isinstance(loads, xr.DataArray) and method in FITTERS:
+    if lag_s is None and isinstance(loads, xr.DataArray):
         # The raw sum is not proportional to the load (b != 1): align on it, fit, then
         # align again on the force that fit gives (Gillis 2013 aligns force on force).
         signal_N, first, first_report = _first_pass(recording, hist, sums["raw_sum"], loads,
-                                                    method, options, min_load_fraction,
-                                                    max_lag_s)
-    kwargs = {"lag_s": lag_s, "max_lag_s": max_lag_s, "min_load_fraction": min_load_fraction,
-              "signal_N": signal_N, "sums": sums,
-              "near": None if first is None else first_report["near"]}
-    if method in FITTERS:
-        kept, load, meta, report = _movie_arrays(recording, hist, loads, **kwargs)
-        if method != "power":  # the power fit reads counts (hist_products); others floats
-            kept = kept.astype(float)
-        result = calibrate_arrays(kept, load, meta, method=method, **options)
-    else:  # e.g. zvyagin, which takes point objects
-        points, report = _points_from_movie(recording, hist, loads, **kwargs)
-        result = calibrate(points, method=method, **options)
+                                                    setup, min_load_fraction, max_lag_s)
+    kept, load, meta, report = _movie_arrays(
+        recording, hist, loads, lag_s=lag_s, max_lag_s=max_lag_s,
+        min_load_fraction=min_load_fraction, signal_N=signal_N, sums=sums,
+        near=None if first is None else first_report["near"])
+    if module.NAME != "power":  # the power fit reads counts (hist_products); others floats
+        kept = kept.astype(float)
+    result = fit_arrays(kept, load, meta, module=module, common=common, options=method_opts)
     if first is not None:
         report["lag_s_raw_sum"] = first_report["lag_s"]
         report["first_pass_params"] = first.params
-        if "n_evaluations" in result.details:
-            result.details["n_evaluations"] += first.details.get("n_evaluations", 0)
-    result.details["movie"] = report
-    if dead is not None:
-        result.details["non_working_sensels"] = dead.to_dict()
-    if equilibration is not None:
-        result.details["equilibration"] = equilibration.to_dict()
+        if "n_evaluations" in result.diagnostics:
+            result.diagnostics["n_evaluations"] += first.diagnostics.get("n_evaluations", 0)
+    result.diagnostics["movie"] = report
+    result.equilibration, result.non_working = equilibration, dead
     result.provenance = provenance_of([recording, loads], files=files)
     return result

@@ -3,8 +3,8 @@
 Gillis (2013), sec. 3.5: the raw frames are equilibrated (per-sensel gains) and the
 non-working sensels left out *before* the calibration law is fitted, and a recording is
 treated the same way before the law is applied. :func:`calibrate` does the first step for
-a manifest and records both on the result (``details["equilibration"]`` and
-``details["non_working_sensels"]``), where :meth:`CalibrationResult.apply` finds them.
+a manifest and keeps both on the result (``equilibration`` and ``non_working``), where
+:meth:`CalibrationResult.apply` finds them.
 """
 
 import os
@@ -19,8 +19,7 @@ from tactilecal.calibration._sensels import (
     load_equilibration,
 )
 
-__all__ = ["MASK_DETECT", "as_equilibration", "is_path", "manifest_points",
-           "reading_options", "record_preprocessing"]
+__all__ = ["MASK_DETECT", "as_equilibration", "is_path", "manifest_points", "reading_options"]
 
 MASK_DETECT = "detect"
 """``mask="detect"``: find the non-working sensels over the manifest's frames."""
@@ -114,12 +113,3 @@ def manifest_points(manifest, *, equilibration=None, mask=None, progress=None):
     points = load_points(manifest, mask=None if dead is None else dead.mask,
                          equilibration=equilibration, **reading_options(progress))
     return points, dead, equilibration
-
-
-def record_preprocessing(result, dead, equilibration):
-    """Store the preprocessing on ``result.details`` (the keys ``apply`` reads); return it."""
-    if dead is not None:
-        result.details["non_working_sensels"] = dead.to_dict()
-    if equilibration is not None:
-        result.details["equilibration"] = equilibration.to_dict()
-    return result

@@ -112,7 +112,7 @@ def save_figures(result, outdir, *, dpi=120):
     """Write a calibration's figures as PNG files into ``outdir`` (atomically).
 
     A Zvyagin calibration writes the paper's Figures 7-11 and E(b0)
-    (:meth:`tactilecal.zvyagin.ZvyaginResult.save_figures`); any other writes the
+    (:meth:`ZvyaginResult.save_figures`); any other writes the
     calibration curve, predicted vs applied loads and the error histogram (:data:`FIGURES`).
 
     Parameters
@@ -127,11 +127,8 @@ def save_figures(result, outdir, *, dpi=120):
     list of pathlib.Path
         The files written, in the order drawn.
     """
-    if result.method == "zvyagin":
-        from tactilecal.zvyagin import ZvyaginResult
-
-        zvyagin = result.method_result or ZvyaginResult.from_details(result.details)
-        return zvyagin.save_figures(outdir, dpi=dpi)
+    if result.method_result is not None:  # Zvyagin's figures of the paper
+        return result.method_result.save_figures(outdir, dpi=dpi)
     from matplotlib.figure import Figure
 
     paths = []

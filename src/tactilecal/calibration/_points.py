@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tactilecal._errors import TactilecalError
+from tactilecal._provenance import sensor_of
 from tactilecal._result import ShortRepr
 
 __all__ = [
@@ -58,6 +59,9 @@ class CalibrationPoint(ShortRepr):
     sensor : dict
         ``sensor_type`` and ``sensor_serial`` of the recording (empty when not read from
         a file); they go into the calibration's provenance.
+    manifest : str
+        The manifest the point was read from (``source`` is relative to its folder), or
+        ``""``; with ``source`` it goes into the calibration's provenance.
     """
 
     histogram: np.ndarray
@@ -73,6 +77,7 @@ class CalibrationPoint(ShortRepr):
     total_cells: int = 0
     note: str = field(default="")
     sensor: dict = field(default_factory=dict)
+    manifest: str = ""
 
     def _repr_fields(self):
         return [("load_N", self.load_N), ("raw_sum", self.raw_sum),
@@ -217,7 +222,8 @@ def points_from_frames(raw, load_N, *, source="", labels=None, frames=None, mask
     total_cells = int(np.isfinite(values[0]).sum())
     hist = frame_histograms(values, mask=mask)
     return _points_from_histograms(hist, load_N, source=source, labels=labels, frames=frames,
-                                   sensel_area_mm2=sensel_area_mm2, total_cells=total_cells)
+                                   sensel_area_mm2=sensel_area_mm2, total_cells=total_cells,
+                                   sensor=sensor_of(attrs) if attrs else None)
 
 
 def _check_length(name, found, expected):
@@ -234,7 +240,7 @@ def _checked_mask(mask, shape):
 
 
 def _points_from_histograms(hist, load_N, *, source, labels, frames, sensel_area_mm2,
-                            total_cells, notes=None, sensor=None):
+                            total_cells, notes=None, sensor=None, manifest=""):
     levels = np.arange(N_LEVELS)
     raw_sum = hist @ levels
     loaded = hist[:, 1:].sum(axis=1)
@@ -245,7 +251,8 @@ def _points_from_histograms(hist, load_N, *, source, labels, frames, sensel_area
                          loaded_cells=int(loaded[i]), saturated_cells=int(hist[i, -1]),
                          source=str(source), frame=int(frames[i]), label=str(labels[i]),
                          sensel_area_mm2=float(sensel_area_mm2), working_cells=int(working[i]),
-                         total_cells=int(total_cells), note=notes[i], sensor=dict(sensor or {}))
+                         total_cells=int(total_cells), note=notes[i], sensor=dict(sensor or {}),
+                         manifest=str(manifest))
         for i in range(len(hist))
     ]
 

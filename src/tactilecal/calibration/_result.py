@@ -1,4 +1,4 @@
-"""The calibration result: parameters, uncertainty, per-point table, JSON round-trip."""
+"""The calibration result: the law, the preprocessing, the per-point table, JSON round-trip."""
 
 import warnings
 from dataclasses import dataclass, field
@@ -11,27 +11,31 @@ import xarray as xr
 from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps, to_jsonable
 from tactilecal._result import SavedResult
+from tactilecal._text import number, share
 from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal._version import __version__
 from tactilecal.calibration import _plots
-from tactilecal.calibration._models import MODELS, force_table, sensel_force
-from tactilecal.zvyagin import ZvyaginResult
+from tactilecal.calibration._models import MODELS, check_law, force_table, sensel_force
+from tactilecal.calibration._sensels import Equilibration, NonWorkingSensels
+from tactilecal.calibration._uncertainty import PredictionInterval
+from tactilecal.calibration.methods.zvyagin import ZvyaginResult
 
-__all__ = ["CalibrationResult", "load_calibration"]
+__all__ = ["CalibrationResult"]
 
-# kPa per unit; ``N`` (force per sensel) is handled apart.
 POINT_COLUMNS = ["file", "frame", "load_N", "raw_sum", "loaded_cells", "saturated_cells",
                  "used", "reason", "predicted_N", "error_pct"]
 REQUIRED_KEYS = ["method", "model", "params", "sensel_area_mm2", "saturation_pressure_kPa",
-                 "points", "metrics"]
+                 "points", "metrics", "options", "equilibration", "non_working_sensels",
+                 "prediction_interval", "diagnostics"]
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class CalibrationResult(SavedResult):
     """A fitted static calibration (force per sensel as a function of its raw reading).
 
-    Saved as ``"format": "tactilecal-calibration/1"`` (:mod:`tactilecal._result`).
+    Saved as ``"format": "tactilecal-calibration/1"`` (:mod:`tactilecal._result`); two
+    results compare equal (``==``) when everything but their creation time is equal.
 
     Attributes
     ----------
@@ -42,29 +46,47 @@ class CalibrationResult(SavedResult):
         ``"power"``, force per sensel in newtons = ``A * raw**b``.
     params : dict
         Fitted parameters.
-    params_stderr : dict
-        Standard errors of ``params`` (None where not estimated; ``details`` says how).
     sensel_area_mm2 : float
         Area of one sensel (NaN when unknown).
     saturation_pressure_kPa : float
         Pressure at raw = 255 (NaN when the area is unknown).
     points : pandas.DataFrame
         One row per calibration point: file, frame, load_N, raw_sum, loaded_cells,
-        saturated_cells, used, reason, predicted_N, error_pct.
+        saturated_cells, used, reason, predicted_N, error_pct, label, note.
     metrics : dict
-        Fit quality over the used points.
-    details : dict
-        Method-specific JSON-serialisable intermediate results.
+        Fit quality over the used points (:func:`tactilecal.calibration._metrics.fit_metrics`,
+        and ``n_points``).
     options : dict
-        The options the method was called with.
+        Every option the fit ran with, defaults included (those of
+        :class:`tactilecal.calibration.CommonOptions` and of the method's ``Options``).
+    equilibration : Equilibration or None
+        Per-sensel gains applied to the frames before the fit; :meth:`apply` applies them to
+        a recording first.
+    non_working : NonWorkingSensels or None
+        Sensels left out of the fit; :meth:`apply` masks them (NaN).
+    prediction_interval : PredictionInterval or None
+        The bootstrap prediction interval of a new patch's load (``n_interval_resamples``),
+        used by :func:`tactilecal.calibration.validate`.
+    diagnostics : dict
+        What the method found on the way (costs, segments, Zvyagin's intermediates, a movie's
+        alignment), JSON-ready; for people and reports: :meth:`apply` never reads it.
     provenance : dict
         Where it came from (:func:`tactilecal._provenance.provenance`): package version,
         the manifest and recordings with their SHA-256, the sensor type and serial from the
-        export headers. Empty for points made in memory.
-    method_result : tactilecal.zvyagin.ZvyaginResult or None
+        export headers.
+    method_result : ZvyaginResult or None
         The method's own result with every intermediate: the :class:`ZvyaginResult` for
-        ``method="zvyagin"`` (rebuilt from ``details`` when the JSON is loaded), None for
-        the other methods. Not saved itself: ``details`` holds its JSON form.
+        ``method="zvyagin"`` (rebuilt from ``diagnostics`` when the JSON is loaded), None
+        for the other methods.
+
+    Examples
+    --------
+    >>> import tactilecal as tc
+    >>> from tactilecal.calibration import points_from_frames
+    >>> frames = np.zeros((2, 3, 3)); frames[0, 1, 1] = 10; frames[1, 1, 1] = 20
+    >>> cal = tc.calibrate(points_from_frames(frames, [1.0, 2.0]), method="linear")
+    >>> cal.params, cal.predict_force(frames).tolist()
+    ({'A': 0.1, 'b': 1.0}, [1.0, 2.0])
     """
 
     FORMAT_KIND = "calibration"
@@ -73,27 +95,37 @@ class CalibrationResult(SavedResult):
     method: str
     model: str
     params: dict
-    params_stderr: dict
     sensel_area_mm2: float
     saturation_pressure_kPa: float
     points: pd.DataFrame
     metrics: dict
-    details: dict = field(default_factory=dict)
     options: dict = field(default_factory=dict)
+    equilibration: Equilibration | None = None
+    non_working: NonWorkingSensels | None = None
+    prediction_interval: PredictionInterval | None = None
+    diagnostics: dict = field(default_factory=dict)
     version: str = __version__
     created: str = field(default_factory=lambda: datetime.now(UTC).isoformat(timespec="seconds"))
     provenance: dict = field(default_factory=dict)
-    method_result: ZvyaginResult | None = field(default=None, compare=False)
+    method_result: ZvyaginResult | None = None
 
     # ------------------------------------------------------------------ predictions
     def force_table(self):
-        """Force per sensel in newtons at raw = 0..255 (float64[256])."""
+        """Force per sensel in newtons at raw = 0..255 (float64[256]).
+
+        Examples
+        --------
+        >>> from tactilecal.calibration import calibrate, points_from_frames
+        >>> frames = np.zeros((1, 2, 2)); frames[0, 0, 0] = 10
+        >>> calibrate(points_from_frames(frames, [1.0]), method="linear").force_table()[:3]
+        array([0. , 0.1, 0.2])
+        """
         return force_table(self.model, self.params)
 
     def predict_sensel_force(self, raw):
         """Force on each sensel in newtons (same shape as ``raw``; NaN stays NaN).
 
-        Equilibration gains and the non-working-sensel mask stored in ``details`` (by
+        The equilibration gains and the non-working-sensel mask of the calibration (from
         ``tactilecal calibrate --equilibration/--mask-dead``) are applied first.
 
         Examples
@@ -108,16 +140,11 @@ class CalibrationResult(SavedResult):
 
     def _prepare_raw(self, raw):
         """Apply the calibration's equilibration gains and non-working mask, if it has them."""
-        from tactilecal.calibration._sensels import Equilibration
-
         values = np.asarray(getattr(raw, "values", raw), dtype=float)
-        if "equilibration" in self.details:
-            values = Equilibration.from_dict(self.details["equilibration"]).apply(values)
-        dead = self.details.get("non_working_sensels", {}).get("sensels", [])
-        if dead:
-            rows, cols = np.asarray(dead).T
-            values = values.copy()
-            values[..., rows, cols] = np.nan
+        if self.equilibration is not None:
+            values = self.equilibration.apply(values)
+        if self.non_working is not None and self.non_working.mask.any():
+            values = np.where(self.non_working.mask, np.nan, values)
         return values
 
     def predict_force(self, raw):
@@ -132,6 +159,13 @@ class CalibrationResult(SavedResult):
         -------
         float or numpy.ndarray
             A float for one frame, else an array (n,).
+
+        Examples
+        --------
+        >>> from tactilecal.calibration import calibrate, points_from_frames
+        >>> frames = np.zeros((1, 2, 2)); frames[0] = 10
+        >>> calibrate(points_from_frames(frames, [4.0]), method="linear").predict_force(frames[0])
+        4.0
         """
         force = self.predict_sensel_force(raw)
         if force.ndim == 2:
@@ -139,7 +173,17 @@ class CalibrationResult(SavedResult):
         return np.nansum(force.reshape(force.shape[0], -1), axis=1)
 
     def predict_histograms(self, histograms):
-        """Total force of frames given as 256-bin histograms (n, 256) -> (n,)."""
+        """Total force of frames given as 256-bin histograms (n, 256) -> (n,).
+
+        Examples
+        --------
+        >>> from tactilecal.calibration import calibrate, points_from_frames
+        >>> frames = np.zeros((1, 2, 2)); frames[0] = 10
+        >>> cal = calibrate(points_from_frames(frames, [4.0]), method="linear")
+        >>> h = np.zeros((1, 256)); h[0, 20] = 4
+        >>> cal.predict_histograms(h)
+        array([8.])
+        """
         return np.asarray(histograms, dtype=float) @ self.force_table()
 
     # ------------------------------------------------------------------ apply
@@ -240,9 +284,27 @@ class CalibrationResult(SavedResult):
 
     # ------------------------------------------------------------------ reporting
     def summary(self):
-        """Human-readable summary: parameters with errors, points used and metrics."""
+        """Human-readable summary: the law, the points used, the preprocessing and metrics.
+
+        The command line prints this text (``tactilecal calibrate``).
+
+        Examples
+        --------
+        >>> from tactilecal.calibration import calibrate, points_from_frames
+        >>> frames = np.zeros((2, 3, 3)); frames[0, 1, 1] = 10; frames[1, 1, 1] = 20
+        >>> print(calibrate(points_from_frames(frames, [1.0, 2.0]), "linear").summary())
+        ... # doctest: +ELLIPSIS
+        Calibration method 'linear', model 'power'
+          A = 0.1
+          b = 1
+          points used: 2 of 2
+        ...
+        """
         lines = [f"Calibration method {self.method!r}, model {self.model!r}"]
-        lines.extend(self._param_lines())
+        for name, value in self.params.items():
+            text = number(value) if np.ndim(value) == 0 else \
+                "[" + ", ".join(number(v) for v in np.ravel(value)) + "]"
+            lines.append(f"  {name} = {text}")
         used = self.points["used"].to_numpy(bool)
         lines.append(f"  points used: {used.sum()} of {len(used)}")
         reasons = self.points.loc[~used, "reason"].astype(str)
@@ -250,35 +312,30 @@ class CalibrationResult(SavedResult):
         for kind, group in reasons.groupby(kinds, sort=False):
             example = group.iloc[0] if group.nunique() == 1 else f"{kind} (e.g. {group.iloc[0]})"
             lines.append(f"    not used ({len(group)}): {example}")
-        lines.append(f"  sensel area: {self.sensel_area_mm2:.4g} mm2, saturation pressure: "
-                     f"{self.saturation_pressure_kPa:.5g} kPa")
-        interval = self.details.get("prediction_interval")
-        if interval:
-            lines.append(f"  {interval['level']:.0%} prediction interval of a new patch's load: "
-                         f"{100 * interval['rel_low']:+.2f} % .. {100 * interval['rel_high']:+.2f}"
-                         f" % of the prediction ({interval['method']}, "
-                         f"{interval['n_resamples']} refits)")
-        lines.extend(f"  {k}: {v:.4g}" if isinstance(v, float) else f"  {k}: {v}"
+        lines.append(f"  sensel area: {number(self.sensel_area_mm2)} mm2, saturation pressure: "
+                     f"{number(self.saturation_pressure_kPa)} kPa")
+        lines.extend(f"  {line}" for line in self._preprocessing_lines())
+        movie = self.diagnostics.get("movie")
+        if movie:
+            lines.append(f"  {movie['report']}")
+        note = self.diagnostics.get("note")
+        if note:
+            lines.append(f"  note: {note}")
+        pi = self.prediction_interval
+        if pi is not None:
+            lines.append(f"  {share(pi.level)} prediction interval of a new patch's load: "
+                         f"{100 * pi.rel_low:+.2f} % .. {100 * pi.rel_high:+.2f} % of the "
+                         f"prediction ({pi.method}, {pi.n_resamples} refits)")
+        lines.extend(f"  {k}: {share(v) if k.startswith('within_') else number(v)}"
                      for k, v in self.metrics.items())
         return "\n".join(lines)
 
-    def _param_lines(self):
-        """One line per parameter (with its interval in a calibration saved with one)."""
-        intervals = self.details.get("params_interval") or {}
+    def _preprocessing_lines(self):
         lines = []
-        for name, value in self.params.items():
-            val_txt = f"{value:.6g}" if np.ndim(value) == 0 else str(np.round(value, 6).tolist())
-            bounds = intervals.get(name)
-            if bounds is not None and np.ndim(value) == 0:
-                val_txt += (f"  ({intervals['level']:.0%} interval {bounds[0]:.6g} .. "
-                            f"{bounds[1]:.6g})")
-            lines.append(f"  {name} = {val_txt}")
-        if "unbounded" in intervals:  # a calibration saved before issue 12's removal
-            lines.append(f"  parameter intervals: unbounded ({intervals['unbounded']})")
-        elif intervals:
-            lines.append(f"  parameter intervals: {intervals['method']}")
-        elif self.options.get("n_bootstrap"):  # asked for, and not given: say why
-            lines.append(f"  parameter intervals: {self.details.get('stderr_method')}")
+        if self.equilibration is not None:
+            lines.append("equilibration: " + self.equilibration.summary().splitlines()[0])
+        if self.non_working is not None:
+            lines.append(self.non_working.report())
         return lines
 
     def _repr_fields(self):
@@ -293,10 +350,17 @@ class CalibrationResult(SavedResult):
         """JSON-ready dictionary (keys of the calibration JSON contract)."""
         return to_jsonable({
             "method": self.method, "model": self.model, "params": self.params,
-            "params_stderr": self.params_stderr, "sensel_area_mm2": self.sensel_area_mm2,
+            "sensel_area_mm2": self.sensel_area_mm2,
             "saturation_pressure_kPa": self.saturation_pressure_kPa,
             "points": self.points.to_dict(orient="records"), "metrics": self.metrics,
-            "details": self.details, "options": self.options, "version": self.version,
+            "options": self.options,
+            "equilibration": None if self.equilibration is None
+            else self.equilibration.to_dict(),
+            "non_working_sensels": None if self.non_working is None
+            else self.non_working.to_dict(),
+            "prediction_interval": None if self.prediction_interval is None
+            else self.prediction_interval.to_dict(),
+            "diagnostics": self.diagnostics, "version": self.version,
             "created": self.created, "provenance": self.provenance,
         })
 
@@ -315,41 +379,49 @@ class CalibrationResult(SavedResult):
         check_calibration(data, source)
         table = pd.DataFrame(data["points"], columns=None if data["points"] else POINT_COLUMNS)
         nan = float("nan")
+        where = f"key '{{}}' of {source}"
         return cls(
             method=data["method"], model=data["model"], params=dict(data["params"]),
-            params_stderr=dict(data.get("params_stderr") or {}),
             sensel_area_mm2=(nan if data["sensel_area_mm2"] is None
                              else float(data["sensel_area_mm2"])),
             saturation_pressure_kPa=(nan if data["saturation_pressure_kPa"] is None
                                      else float(data["saturation_pressure_kPa"])),
-            points=table, metrics=dict(data["metrics"]), details=dict(data.get("details") or {}),
-            options=dict(data.get("options") or {}), version=data.get("version", ""),
+            points=table, metrics=dict(data["metrics"]), options=dict(data["options"]),
+            equilibration=None if data["equilibration"] is None else Equilibration.from_dict(
+                data["equilibration"], source=where.format("equilibration")),
+            non_working=None if data["non_working_sensels"] is None
+            else NonWorkingSensels.from_dict(data["non_working_sensels"],
+                                             source=where.format("non_working_sensels")),
+            prediction_interval=None if data["prediction_interval"] is None
+            else PredictionInterval.from_dict(data["prediction_interval"],
+                                              where.format("prediction_interval")),
+            diagnostics=dict(data["diagnostics"]), version=data.get("version", ""),
             created=data.get("created", ""),
             provenance=dict(check_type(data.get("provenance") or {}, dict,
-                                       f"key 'provenance' of {source}", expected="an object")),
+                                       where.format("provenance"), expected="an object")),
             method_result=_method_result(data, source),
         )
 
 
 def _method_result(data, source):
-    """Rebuild the ZvyaginResult of a Zvyagin calibration from its ``details`` (else None)."""
-    details = data.get("details") or {}
-    if data["method"] != "zvyagin" or details.get("method") != "zvyagin":
+    """Rebuild the ZvyaginResult of a Zvyagin calibration from its ``diagnostics``."""
+    if data["method"] != "zvyagin":
         return None
     try:
-        return ZvyaginResult.from_details(details)
+        return ZvyaginResult.from_details(data["diagnostics"])
     except (KeyError, IndexError, TypeError, ValueError, AttributeError, ArithmeticError) \
-            as exc:  # any malformed part of the details: one line naming the key
-        raise TactilecalError(f"key 'details' of {source}: the Zvyagin intermediates cannot be "
-                              f"read ({type(exc).__name__}: {exc}); expected those written by "
-                              "method='zvyagin'") from None
+            as exc:  # any malformed part of the intermediates: one line naming the key
+        raise TactilecalError(f"key 'diagnostics' of {source}: the Zvyagin intermediates "
+                              f"cannot be read ({type(exc).__name__}: {exc}); expected those "
+                              "written by method='zvyagin'") from None
 
 
 def check_calibration(data, source):
     """Check the types and values of a calibration JSON's keys before they are used.
 
-    The law must give finite forces at raw 0..255, positive at 255; the power law (eq. 1 of
-    Zvyagin 2022) needs A > 0 and b > 0 (A < 0 gives negative forces, b <= 0 no law).
+    The law must be a force per sensel (:func:`tactilecal.calibration._models.check_law`:
+    finite, never negative, never decreasing on raw 0..255, positive at 255); the power law
+    (eq. 1 of Zvyagin 2022) needs A > 0 and b > 0.
     """
     where = f"key '{{}}' of {source}"
     check_type(data["method"], str, where.format("method"), expected="a method name")
@@ -359,46 +431,30 @@ def check_calibration(data, source):
                               f"{sorted(MODELS)}")
     params = check_type(data["params"], dict, where.format("params"),
                         expected="an object of parameters")
-    for key in ("points", "metrics", "details", "options", "params_stderr"):
-        if key in REQUIRED_KEYS or data.get(key) is not None:
-            check_type(data[key], list if key == "points" else dict, where.format(key),
-                       expected="a list of points" if key == "points" else "an object")
+    check_type(data["points"], list, where.format("points"), expected="a list of points")
+    for key in ("metrics", "options", "diagnostics"):
+        check_type(data[key], dict, where.format(key), expected="an object")
+    for key in ("equilibration", "non_working_sensels", "prediction_interval"):
+        if data[key] is not None:
+            check_type(data[key], dict, where.format(key), expected="an object or null")
     if model == "power":
         require_keys(params, ("A", "b"), where.format("params"), expected="a power law")
         for name in ("A", "b"):
             check_number(params[name], where.format(f"params.{name}"), minimum=0.0,
                          min_inclusive=False)
     for name, value in params.items():
-        for item in np.ravel(value if isinstance(value, list) else [value]):
-            check_number(item, where.format(f"params.{name}"))
+        items = value if isinstance(value, list) else [value]
+        for k, item in enumerate(items):
+            check_number(item, where.format(f"params.{name}")
+                         + (f", entry {k}" if isinstance(value, list) else ""))
     check_number(data["sensel_area_mm2"], where.format("sensel_area_mm2"), minimum=0.0,
                  min_inclusive=False, allow_none=True)
     check_number(data["saturation_pressure_kPa"], where.format("saturation_pressure_kPa"),
-                 allow_none=True)
+                 minimum=0.0, min_inclusive=False, allow_none=True)
     try:
-        with np.errstate(all="ignore"):  # overflow is caught below as a non-finite force
-            table_N = force_table(model, params)
+        check_law(model, params, where.format("params"))
     except (KeyError, IndexError, TypeError, ValueError) as exc:
-        raise TactilecalError(f"{where.format('params')}: {exc!r} with model {model!r}; expected "
-                              "the parameters of that model") from None
-    if not np.all(np.isfinite(table_N)) or not table_N[255] > 0:
-        raise TactilecalError(f"{where.format('params')} give forces from {np.nanmin(table_N):g} "
-                              f"to {np.nanmax(table_N):g} N at raw 0..255; expected finite forces, "
-                              "positive at 255")
-
-
-def load_calibration(path):
-    """Read a calibration JSON written by :meth:`CalibrationResult.to_json`.
-
-    The same as ``CalibrationResult.from_json(path)``.
-
-    Raises
-    ------
-    ValueError
-        If the file is not JSON, lacks a contract key, or holds an impossible value (a law
-        that gives negative or non-finite forces, a sensel area <= 0); the message names
-        the file and the key.
-    TypeError
-        If a key holds the wrong type (a string where a number belongs).
-    """
-    return CalibrationResult.from_json(path)
+        if isinstance(exc, TactilecalError):
+            raise
+        raise TactilecalError(f"{where.format('params')}: {exc!r} with model {model!r}; "
+                              "expected the parameters of that model") from None

@@ -52,7 +52,7 @@ def _frame_blocks(raw, chunk_frames):
     return values, bounds
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class NonWorkingSensels(SavedResult):
     """Sensels that never respond although their neighbours do.
 
@@ -80,20 +80,6 @@ class NonWorkingSensels(SavedResult):
     def sensels(self):
         """List of ``[row, col]`` of the non-working sensels."""
         return np.argwhere(self.mask).tolist()
-
-    @classmethod
-    def report_dict(cls, data):
-        """Return :meth:`report` of :meth:`to_dict` output (e.g. a calibration's details).
-
-        The mask is rebuilt as the smallest that holds the listed sensels (the report
-        names only the sensels and the number of frames examined).
-        """
-        rows_cols = np.array(data["sensels"], dtype=int).reshape(-1, 2)
-        shape = tuple(rows_cols.max(axis=0) + 1) if len(rows_cols) else (0, 0)
-        mask = np.zeros(shape, dtype=bool)
-        mask[tuple(rows_cols.T)] = True
-        return cls(mask=mask, evidence_frames=np.zeros(shape, dtype=int),
-                   n_frames=int(data["n_frames"])).report()
 
     def report(self):
         """One line saying how many sensels were found and where."""
@@ -212,7 +198,7 @@ def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=20
 
 
 # ---------------------------------------------------------------------- equilibration
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class Equilibration(SavedResult):
     """Per-sensel gains that equalise the raw output under a uniform load.
 

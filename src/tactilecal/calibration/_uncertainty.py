@@ -31,9 +31,9 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from tactilecal._errors import TactilecalError
-from tactilecal.calibration._points import points_to_arrays
+from tactilecal._validate import check_number, check_type, require_keys
 
-__all__ = ["Bootstrap", "PredictionInterval", "bootstrap_refits", "prediction_interval"]
+__all__ = ["Bootstrap", "PredictionInterval", "bootstrap_refits"]
 
 FAILURES = (ValueError, np.linalg.LinAlgError, ZeroDivisionError)
 
@@ -63,6 +63,21 @@ class PredictionInterval:
     def to_dict(self):
         """JSON-ready dictionary."""
         return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data, where):
+        """Rebuild from :meth:`to_dict` output, checking every key (``where`` names it)."""
+        require_keys(data, ("level", "rel_low", "rel_high", "n_resamples", "n_failed",
+                            "n_out_of_bag"), where, expected="a prediction interval")
+        level = check_number(data["level"], f"{where}, level", minimum=0, maximum=1,
+                             min_inclusive=False, max_inclusive=False)
+        low = check_number(data["rel_low"], f"{where}, rel_low", minimum=-1)
+        high = check_number(data["rel_high"], f"{where}, rel_high", minimum=low)
+        counts = [check_number(data[k], f"{where}, {k}", minimum=0, integer=True)
+                  for k in ("n_resamples", "n_failed", "n_out_of_bag")]
+        method = check_type(data.get("method", cls.method), str, f"{where}, method",
+                            expected="a text")
+        return cls(level, low, high, *counts, method=method)
 
 
 @dataclass(frozen=True)
@@ -131,44 +146,3 @@ def bootstrap_refits(refit, hist, load_N, *, n_resamples, seed=0):
     draws = {k: np.array([np.asarray(p[k], dtype=float) for p in params])
              for k in (params[0] if params else {})}
     return Bootstrap(draws, errors[np.isfinite(errors)], int(n_resamples), failed)
-
-
-def prediction_interval(points, method="power", *, n_resamples=200, level=0.95, seed=0,
-                        **options):
-    """Bootstrap the prediction interval of a new patch's load for one calibration method.
-
-    Parameters
-    ----------
-    points : sequence of CalibrationPoint
-        The training patches (as given to :func:`calibrate`).
-    method : str
-        Any method of :func:`calibrate`; ``options`` are passed on to it.
-    n_resamples : int
-        Refits on patches drawn with replacement.
-    level : float
-        Probability the interval holds, in (0, 1).
-    seed : int
-        Seed of the resampling.
-
-    Returns
-    -------
-    PredictionInterval
-
-    Raises
-    ------
-    ValueError
-        Fewer than 3 patches, a bad ``level``, or fewer than 20 out-of-bag errors (too few
-        resamples could be fitted).
-    """
-    from tactilecal.calibration._calibrate import calibrate
-
-    points = list(points)
-    if len(points) < 3:
-        raise TactilecalError(f"{len(points)} patches; a prediction interval needs at least 3")
-    if not 0 < level < 1:
-        raise TactilecalError(f"level={level!r}; expected a probability in (0, 1)")
-    hist, load = points_to_arrays(points)
-    boot = bootstrap_refits(lambda idx: calibrate([points[k] for k in idx], method=method,
-                                                  **options),
-                            hist, load, n_resamples=n_resamples, seed=seed)
-    return boot.prediction_interval(level)

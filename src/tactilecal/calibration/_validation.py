@@ -4,6 +4,7 @@ from dataclasses import dataclass, field
 
 from tactilecal._jsonutil import to_jsonable, to_python
 from tactilecal._result import SavedResult
+from tactilecal._text import number, share
 from tactilecal._validate import check_type, require_keys
 
 __all__ = ["ValidationResult"]
@@ -44,12 +45,31 @@ class ValidationResult(SavedResult):
 
     # ---------------------------------------------------------------- text
     def summary(self):
-        """One line: how many points, the shares within 5 % and 10 %, median and max error."""
+        """Return the points, then one line of scores (what ``tactilecal validate`` prints).
+
+        Examples
+        --------
+        >>> check = ValidationResult(
+        ...     points=[{"file": "a.csv", "frame": 3, "load_N": 10.0, "predicted_N": 10.2,
+        ...              "error_pct": 2.0, "saturated": False}],
+        ...     metrics={"n": 1, "n_saturated_excluded": 0, "within_5pct": 1.0,
+        ...              "within_10pct": 1.0, "median_abs_error_pct": 2.0,
+        ...              "max_abs_error_pct": 2.0})
+        >>> print(check.summary().splitlines()[-1])  # doctest: +NORMALIZE_WHITESPACE
+        n = 1 (saturated left out: 0): 100.0 % within 5 %, 100.0 % within 10 %,
+        median |error| 2 %, max 2 %
+        """
+        lines = [f"{'file':<28} {'frame':>6} {'load_N':>10} {'predicted_N':>12} {'error_%':>8}"]
+        for p in self.points:
+            flag = "  saturated" if p["saturated"] else ""
+            lines.append(f"{str(p['file'])[:28]:<28} {p['frame']:>6} {number(p['load_N']):>10} "
+                         f"{number(p['predicted_N']):>12} {number(p['error_pct']):>8}{flag}")
         m = self.metrics
-        return (f"n = {m['n']} (saturated left out: {m['n_saturated_excluded']}): "
-                f"{m['within_5pct']:.1%} within 5 %, {m['within_10pct']:.1%} within 10 %, "
-                f"median |error| {m['median_abs_error_pct']:.2f} %, "
-                f"max {m['max_abs_error_pct']:.2f} %")
+        lines.append(f"n = {m['n']} (saturated left out: {m['n_saturated_excluded']}): "
+                     f"{share(m['within_5pct'])} within 5 %, {share(m['within_10pct'])} within "
+                     f"10 %, median |error| {number(m['median_abs_error_pct'])} %, "
+                     f"max {number(m['max_abs_error_pct'])} %")
+        return "\n".join(lines)
 
     def _repr_fields(self):
         keys = ("calibration_method", "n", "within_5pct", "within_10pct",

@@ -22,10 +22,10 @@ def register(subparsers):
 def run(args):
     """Run ``tactilecal apply``."""
     import tactilecal.analysis  # noqa: F401 - registers recording.tactile
-    from tactilecal.calibration import load_calibration
+    from tactilecal.calibration import CalibrationResult
     from tactilecal.io import open_recording, write_netcdf
 
-    result = load_calibration(args.calibration)
+    result = CalibrationResult.from_json(args.calibration)
     recording = open_recording(args.recording)
     out = result.apply(recording, units=args.units)
     write_netcdf(out, args.out)

@@ -3,7 +3,6 @@
 from pathlib import Path
 
 from tactilecal._errors import TactilecalError
-from tactilecal.cli._calibrate_options import add_fit_options, fit_options
 from tactilecal.cli._common import info, info_grouped, print_json, progress_for
 from tactilecal.cli._types import positive_float
 
@@ -16,7 +15,7 @@ def register(subparsers):
                     "load_N or mass_kg [+ pad_mass_g], label), or to every frame of a movie "
                     "paired with a load-cell record (--movie REC --loads CSV).")
     p.add_argument("manifest", nargs="?", help="manifest CSV (not with --movie)")
-    add_fit_options(p)
+    p.defer(_add_fit_options)  # made from the library's option classes: imported when used
     p.add_argument("--movie", metavar="RECORDING", help="raw recording for movie calibration")
     p.add_argument("--loads", metavar="LOADCELL.csv",
                    help="load-cell CSV for --movie (time and load columns, or one load column "
@@ -31,9 +30,16 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
+def _add_fit_options(p):
+    from tactilecal.cli._calibrate_options import add_fit_options
+
+    add_fit_options(p)
+
+
 def run(args):
     """Run ``tactilecal calibrate``."""
-    from tactilecal.calibration import METHODS, NonWorkingSensels, calibrate, calibrate_movie
+    from tactilecal.calibration import METHODS, calibrate, calibrate_movie
+    from tactilecal.cli._calibrate_options import fit_options
 
     if args.method not in METHODS:  # before any manifest file is read
         raise TactilecalError(f"--method {args.method!r}; expected one of {', '.join(METHODS)}")
@@ -46,7 +52,6 @@ def run(args):
                                  lag_s=args.lag, max_lag_s=args.max_lag,
                                  mask_dead=args.mask_dead, equilibration=args.equilibration,
                                  progress=progress_for(args), **fit_options(args))
-        info(args, result.details["movie"]["report"])
     else:
         if not args.manifest:
             raise TactilecalError("no MANIFEST given; expected 'tactilecal calibrate MANIFEST' "
@@ -58,8 +63,6 @@ def run(args):
         table = result.points
         info_grouped(args, [f"{f}: {n}" for f, n in zip(table["file"], table["note"],
                                                          strict=True) if n])
-        if "non_working_sensels" in result.details:
-            info(args, NonWorkingSensels.report_dict(result.details["non_working_sensels"]))
     if args.out:
         result.to_json(Path(args.out))
         info(args, f"calibration written to {args.out}")

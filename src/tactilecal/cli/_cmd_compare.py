@@ -1,4 +1,4 @@
-"""``tactilecal compare CAL.json...``: a Zvyagin-Table-2-like table and curves on one plot."""
+"""``tactilecal compare CAL.json...``: calibrations side by side, curves on one plot."""
 
 from pathlib import Path
 
@@ -10,10 +10,11 @@ def register(subparsers):
     """Add the ``compare`` command."""
     p = subparsers.add_parser(
         "compare", help="compare calibrations: Table-2-like table and curves on one plot",
-        description="One row per CAL.json: points used, I* and d(I*) (Zvyagin calibrations), "
-                    "A0, b0 (power model) and the saturation pressure p_s, like Zvyagin "
-                    "(2022) Table 2, to see a sensor's drift across sessions or a used "
-                    "sensor against a new one. --out DIR also draws every curve on one plot.")
+        description="One row per CAL.json of any method: points used, I* and d(I*) (Zvyagin "
+                    "calibrations), A0, b0 (power model), the force at raw 128, the "
+                    "saturation pressure p_s and the fit's median error, like Zvyagin (2022) "
+                    "Table 2, to see a sensor's drift across sessions or a used sensor "
+                    "against a new one. --out DIR also draws every curve on one plot.")
     p.add_argument("calibrations", metavar="CAL.json", nargs="+")
     p.add_argument("--json", action="store_true", help="print the table as JSON")
     p.add_argument("--out", metavar="DIR", help="write compare_curves.png into DIR")
@@ -30,11 +31,11 @@ def _row_names(paths):
 def run(args):
     """Run ``tactilecal compare``."""
     from tactilecal._atomic import atomic_path
-    from tactilecal.calibration import load_calibration
-    from tactilecal.zvyagin import compare_calibrations
+    from tactilecal.calibration import CalibrationResult, compare_calibrations
 
-    comparison = compare_calibrations([load_calibration(p) for p in args.calibrations],
-                                      _row_names(args.calibrations))
+    comparison = compare_calibrations(
+        [CalibrationResult.from_json(p) for p in args.calibrations],
+        _row_names(args.calibrations))
     figure = None
     if args.out:
         outdir = make_folder(args.out, what="--out")

@@ -24,9 +24,9 @@ def register(subparsers):
 
 def run(args):
     """Run ``tactilecal plot``."""
-    from tactilecal.calibration import load_calibration
+    from tactilecal.calibration import CalibrationResult
 
-    result = load_calibration(args.calibration)
+    result = CalibrationResult.from_json(args.calibration)
     outdir = make_folder(args.out, what="--out")
     paths = result.save_figures(outdir, dpi=args.dpi)
     if args.json:

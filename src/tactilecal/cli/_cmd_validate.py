@@ -19,30 +19,16 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
-def _table(out):
-    lines = [f"{'file':<28} {'frame':>6} {'load_N':>10} {'predicted_N':>12} {'error_%':>8}"]
-    for p in out.points:
-        flag = "  saturated" if p["saturated"] else ""
-        lines.append(f"{str(p['file'])[:28]:<28} {p['frame']:>6} {p['load_N']:>10.4g} "
-                     f"{p['predicted_N']:>12.4g} {p['error_pct']:>8.2f}{flag}")
-    s = out.metrics
-    lines.append(f"n = {s['n']} (saturated left out: {s['n_saturated_excluded']}): "
-                 f"{s['within_5pct']:.1%} within 5 %, {s['within_10pct']:.1%} within 10 %, "
-                 f"median |error| {s['median_abs_error_pct']:.2f} %, "
-                 f"max {s['max_abs_error_pct']:.2f} %")
-    return "\n".join(lines)
-
-
 def run(args):
     """Run ``tactilecal validate``."""
-    from tactilecal.calibration import load_calibration, validate
+    from tactilecal.calibration import CalibrationResult, validate
 
     # the manifest's frames get the calibration's equilibration gains, as for the fit
-    out = validate(load_calibration(args.calibration), args.manifest,
+    out = validate(CalibrationResult.from_json(args.calibration), args.manifest,
                    progress=progress_for(args),
                    include_saturated=args.include_saturated)
     if args.json:
         print_json(out.to_dict())
     else:
-        print(_table(out))
+        print(out.summary())
     return 0

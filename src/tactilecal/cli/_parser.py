@@ -19,6 +19,29 @@ class _Parser(argparse.ArgumentParser):
     ``checks_value``) is bad input like a bad file, and exits 1 with one line naming the flag.
     """
 
+    def defer(self, setup):
+        """Add this parser's arguments with ``setup(parser)`` only when it is used.
+
+        A command whose flags are made from the library's option classes (``calibrate``)
+        would import the library to build them; deferred, ``tactilecal info`` does not pay
+        for it.
+        """
+        self._deferred = setup
+
+    def _complete(self):
+        setup = getattr(self, "_deferred", None)
+        if setup is not None:
+            self._deferred = None
+            setup(self)
+
+    def parse_known_args(self, args=None, namespace=None):
+        self._complete()
+        return super().parse_known_args(args, namespace)
+
+    def format_help(self):
+        self._complete()
+        return super().format_help()
+
     def _get_value(self, action, arg_string):
         try:
             return super()._get_value(action, arg_string)

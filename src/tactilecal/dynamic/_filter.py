@@ -101,7 +101,7 @@ def centred_spectrum(taps, n_fft, *, phase=False):
     return spectrum if phase else spectrum.real
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class CorrectionFilter(SavedResult):
     """Zero-phase correction filter; build it with :meth:`from_model` or :meth:`from_response`.
 

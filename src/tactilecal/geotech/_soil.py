@@ -9,7 +9,7 @@ same as at prototype depth ``N z`` under 1 g (Gillis 2013, section 5.4).
 import numpy as np
 
 from tactilecal._errors import TactilecalError
-from tactilecal._units import G_STANDARD
+from tactilecal._units import G_STANDARD, pressure_to_kPa
 
 __all__ = ["k0_jaky", "void_ratio", "dry_unit_weight_kN_m3", "unit_weight_from_relative_density",
            "vertical_stress_kPa", "hydrostatic_pressure_kPa", "at_rest_pressure_kPa"]
@@ -236,7 +236,7 @@ def hydrostatic_pressure_kPa(depth_m, g_level, *, density_kg_m3=1000.0):
     z = _finite("depth_m", depth_m, low=0)
     n = _finite("g_level", g_level, low=0, open_low=True)
     rho = _finite("density_kg_m3", density_kg_m3, low=0, open_low=True)
-    return rho * n * G_STANDARD * z / 1000.0
+    return pressure_to_kPa(rho * n * G_STANDARD * z, "Pa")
 
 
 def at_rest_pressure_kPa(depth_m, g_level, phi_deg, **unit_weight):

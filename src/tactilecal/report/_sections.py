@@ -13,6 +13,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from tactilecal._jsonutil import to_jsonable
+from tactilecal._text import number, share
+from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal.report._figures import (
     figure_html,
     new_axes,
@@ -27,20 +29,13 @@ __all__ = ["comparison_blocks", "calibration_blocks", "filter_blocks", "evaluati
 COF_MIN_FORCE_SHARE = 0.05
 
 
-def _interval(result, name):
-    intervals = result.details.get("params_interval") or {}
-    if name in intervals:
-        return " .. ".join(f"{x:.6g}" for x in intervals[name])
-    return intervals.get("unbounded", "none (no interval of b held 90-99 % in simulation)")
-
-
 def _scalar_params(result):
     return [(k, v) for k, v in result.params.items() if np.ndim(v) == 0]
 
 
 # ---------------------------------------------------------------- method comparison
 def comparison_blocks(calibrations, validations):
-    """Every calibration side by side: parameters, intervals, training and held-out errors.
+    """Every calibration side by side: parameters, training and held-out errors.
 
     Parameters
     ----------
@@ -60,16 +55,16 @@ def comparison_blocks(calibrations, validations):
             held_out[positions[0]] = check.metrics
     rows = []
     for position, (label, result) in enumerate(calibrations):
-        params = ", ".join(f"{k} = {v:.5g}" for k, v in _scalar_params(result)) or "table"
+        params = ", ".join(f"{k} = {number(v)}" for k, v in _scalar_params(result)) or "table"
         check = held_out.get(position, {})
-        rows.append((label, result.method, result.model, params, _interval(result, "b"),
-                     f"{result.metrics['n_used']} of {result.metrics['n_points']}",
-                     result.metrics.get("median_abs_error_pct"),
-                     result.metrics.get("within_5pct"),
-                     check.get("median_abs_error_pct", "no validation input"),
-                     check.get("within_5pct", "")))
+        rows.append((label, result.method, result.model, params,
+                     f"{result.metrics['n']} of {result.metrics['n_points']}",
+                     number(result.metrics.get("median_abs_error_pct")),
+                     share(result.metrics.get("within_5pct")),
+                     number(check["median_abs_error_pct"]) if check else "no validation input",
+                     share(check["within_5pct"]) if check else ""))
     blocks = [table_html(rows, header=(
-        "calibration", "method", "model", "parameters", "95 % interval of b", "points used",
+        "calibration", "method", "model", "parameters", "points used",
         "training median |error| %", "training share within 5 %",
         "held-out median |error| %", "held-out share within 5 %"), wide=True)]
     if not held_out:
@@ -88,7 +83,7 @@ def _draw_curves(calibrations):
     ax = new_axes((7.5, 4.5))
     raw = np.arange(256)
     for label, result in calibrations:
-        pressure_kPa = result.force_table() / result.sensel_area_mm2 * 1e3
+        pressure_kPa = result.force_table() / result.sensel_area_mm2 * N_PER_MM2_TO_KPA
         ax.plot(raw[1:], pressure_kPa[1:], lw=1.2, label=f"{label} ({result.method})")
     ax.set(xlabel="raw reading (0..255)", ylabel="pressure on a sensel [kPa]")
     ax.legend(fontsize="small", frameon=False)
@@ -98,13 +93,11 @@ def _draw_curves(calibrations):
 # ---------------------------------------------------------------- one calibration
 def calibration_blocks(result, label):
     """Summary, parameters, points table and figures of one calibration result."""
-    params = [(k, v, result.params_stderr.get(k), _interval(result, k))
-              for k, v in _scalar_params(result)]
+    metrics = [(k, share(v) if k.startswith("within_") else number(v))
+               for k, v in result.metrics.items()]
     blocks = [
         f"<pre>{html.escape(result.summary())}</pre>",
-        table_html(params, header=("parameter", "value", "standard error",
-                                   "95 % interval")),
-        table_html(sorted(result.metrics.items()), header=("metric", "value")),
+        table_html(metrics, header=("metric", "value")),
         table_html(_record_rows(result), header=("calibration record", "value"), wide=True),
         figure_html(result.plot_curve(ax=new_axes()),
                     f"{label}: calibration curve",
@@ -120,8 +113,8 @@ def calibration_blocks(result, label):
                     "How many patches the calibration misses by how much, in percent of the "
                     "applied load; a narrow peak at 0 is a good calibration."),
     ]
-    if result.method == "zvyagin":
-        blocks += _zvyagin_blocks(result, label)
+    if result.method_result is not None:
+        blocks += _zvyagin_blocks(result.method_result, label)
     return blocks
 
 
@@ -162,13 +155,8 @@ _ZVYAGIN_FIGURES = (
 )
 
 
-def _zvyagin_blocks(result, label):
-    from tactilecal.zvyagin import ZvyaginResult
-
-    if result.details.get("method") != "zvyagin":
-        return [note_html(f"{label}: the calibration file holds no Zvyagin intermediates "
-                          "(details), so the paper's figures cannot be drawn")]
-    zvyagin = result.method_result or ZvyaginResult.from_details(result.details)
+def _zvyagin_blocks(zvyagin, label):
+    """Return the paper's figures of a Zvyagin calibration (its ``method_result``)."""
     return [figure_html(getattr(zvyagin, name)(), f"{label}: Zvyagin (2022) {title}", how)
             for name, title, how in _ZVYAGIN_FIGURES]
 

@@ -10,7 +10,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 from tactilecal._atomic import make_folder, write_text_atomic
 from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import write_json
-from tactilecal._units import KPA_MM2_TO_N
+from tactilecal._units import KPA_MM2_TO_N, mass_to_N
 from tactilecal.simulate._loads import (
     G_STANDARD,
     PAD_MASS_G,
@@ -323,7 +323,7 @@ def _draw_patches(sensor, base, contact, masses_kg, pad_sides_cm, n, rng):
     mass = rng.choice(np.asarray(masses_kg, dtype=np.float64), size=n)
     side = rng.choice(np.asarray(pad_sides_cm, dtype=np.int64), size=n)
     pad_g = np.array([PAD_MASS_G[int(s)] for s in side])
-    load = (mass + pad_g / 1000.0) * G_STANDARD
+    load = mass_to_N(mass, "kg") + mass_to_N(pad_g, "g")
     force = np.empty((n, sensor.rows, sensor.cols))
     for s in np.unique(side):
         idx = np.flatnonzero(side == s)

@@ -115,7 +115,8 @@ def true_force_table_N(sensor):
     levels = np.arange(256, dtype=float)
     if not sensor.curvature:
         return sensor.force_of_raw(levels)
-    force = np.geomspace(sensor.force_of_raw(0.5) * 1e-3, sensor.force_of_raw(255.0) * 1e3, 4000)
+    low, high = sensor.force_of_raw(0.5), sensor.force_of_raw(255.0)
+    force = np.geomspace(low * 1e-3, high * 1e3, 4000)  # three decades beyond: not a unit factor
     raw = sensor.ideal_raw(force)
     order = np.argsort(raw)
     table = np.interp(levels, raw[order], force[order])

@@ -11,7 +11,7 @@ like Zvyagin 2022, Figure 4); each sensel's share of the load becomes a raw read
 
 import numpy as np
 
-from tactilecal._units import G_STANDARD
+from tactilecal._units import mass_to_N
 from tactilecal.simulate._loads import PAD_MASS_G
 
 __all__ = ["patch_histograms"]
@@ -82,7 +82,8 @@ def patch_histograms(n_patches=60, *, A_N=0.0035, b=1.16, masses_kg=(2, 5, 10),
     hist = np.zeros((n_patches, 256), dtype=np.int64)
     mass = rng.choice(np.asarray(masses_kg, dtype=float), n_patches)
     side_cm = rng.choice(np.asarray(pad_sides_cm), n_patches)
-    load = (mass + np.array([PAD_MASS_G.get(int(s), 0.0) for s in side_cm]) / 1000) * G_STANDARD
+    load = mass_to_N(mass, "kg") + mass_to_N(
+        np.array([PAD_MASS_G.get(int(s), 0.0) for s in side_cm]), "g")
     for t in range(n_patches):
         side = max(int(round(side_cm[t] * 10 / sensel_pitch_mm)), 2)
         force = load[t] * _contact_field(side, rng)

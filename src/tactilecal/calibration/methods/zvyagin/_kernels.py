@@ -19,7 +19,7 @@ threshold (a root that may fall on either side of it).
 :func:`power_sums` scores the candidate roots of the best-fit root choice.
 
 numba is imported with this module, i.e. on the first search or pair stage, not on
-``import tactilecal.zvyagin``.
+``import tactilecal.calibration.methods.zvyagin``.
 """
 
 import numpy as np

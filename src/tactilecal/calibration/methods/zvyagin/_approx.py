@@ -25,7 +25,7 @@ __all__ = [
 #: The five approximating values Y_m = 3**m, m = 1..5 (eq. 5).
 CLASS_VALUES = 3 ** np.arange(1, 6)
 _RAW = np.arange(256)
-_DOMAINS = ("strict", "closed")
+DOMAINS = ("strict", "closed")
 #: float32 values per working block of the exact re-evaluation (~0.5 MB, stays in cache)
 _BLOCK_VALUES = 131_072
 #: (columns (I3, I4), rows (I1, I2)) of the d-map accumulated at a time (fit in L1)
@@ -138,8 +138,8 @@ def separation_domain(domain="strict"):
     >>> [len(r) for r in separation_domain()]
     [5, 17, 53, 161]
     """
-    if domain not in _DOMAINS:
-        raise TactilecalError(f"domain = {domain!r}; expected one of {_DOMAINS}")
+    if domain not in DOMAINS:
+        raise TactilecalError(f"domain = {domain!r}; expected one of {DOMAINS}")
     extra = 1 if domain == "closed" else 0
     return tuple(np.arange(lo + 1, hi + extra)
                  for lo, hi in ((3, 9), (9, 27), (27, 81), (81, 243)))
@@ -153,7 +153,7 @@ def search_separation(histograms, *, domain="strict"):
     Q_T(I) = 243 C_T - 6 a(I1) - 18 a(I2) - 54 a(I3) - 162 a(I4), so
     R_T - Q_T(I) = u_T(I1, I2) + v_T(I3, I4): the search is a broadcast sum of two small
     tables per patch, reduced over patches by a compiled loop
-    (:func:`tactilecal.zvyagin._kernels.abs_sum_map`) that keeps a tile of the map in cache
+    (:func:`._kernels.abs_sum_map`) that keeps a tile of the map in cache
     while it adds every patch to it.
 
     Parameters
@@ -203,7 +203,7 @@ def search_separation(histograms, *, domain="strict"):
 
 def _abs_sum_map(u, c3, c4, inv_c, n_k):
     """d-map sums ``sum_T |u[T, a] + v[T, k]|`` in float32 (numba, imported on first use)."""
-    from tactilecal.zvyagin._kernels import abs_sum_map
+    from tactilecal.calibration.methods.zvyagin._kernels import abs_sum_map
 
     out = np.empty((u.shape[1], n_k), dtype=np.float32)
     abs_sum_map(np.ascontiguousarray(u), np.ascontiguousarray(c3), np.ascontiguousarray(c4),

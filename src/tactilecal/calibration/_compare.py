@@ -1,15 +1,16 @@
-"""Compare calibrations like Zvyagin (2022) Table 2 and Figure 10."""
+"""Compare calibrations of any method, like Zvyagin (2022) Table 2 and Figure 10."""
 
 import numpy as np
 
 from tactilecal._errors import TactilecalError
 from tactilecal._result import ShortRepr
-from tactilecal._units import N_PER_MM2_TO_KPA
+from tactilecal._units import N_PER_MM2_TO_KPA, pressure_to_kPa
 
 __all__ = ["Comparison", "compare_calibrations", "format_compare_table",
            "plot_compare"]
 
-COLUMNS = ("name", "method", "points", "I1", "I2", "I3", "I4", "d", "A0", "b0", "p_s_MPa")
+COLUMNS = ("name", "method", "points", "I1", "I2", "I3", "I4", "d", "A0", "b0", "f128_N",
+           "p_s_MPa", "median_abs_error_pct")
 
 
 def _row(name, cal):
@@ -18,11 +19,16 @@ def _row(name, cal):
     row.update(name=name, method=cal.method, points=used)
     if cal.model == "power":
         row.update(A0=float(cal.params["A"]), b0=float(cal.params["b"]))
+    row["f128_N"] = float(cal.force_table()[128])
     sat = cal.saturation_pressure_kPa
-    row["p_s_MPa"] = float(sat) / 1000.0 if np.isfinite(sat) else None
+    row["p_s_MPa"] = float(pressure_to_kPa(sat, "kPa") / pressure_to_kPa(1.0, "MPa")) \
+        if np.isfinite(sat) else None
+    error = cal.metrics.get("median_abs_error_pct")
+    row["median_abs_error_pct"] = float(error) if error is not None and np.isfinite(error) \
+        else None
     if cal.method == "zvyagin":
-        sep = cal.details["separation"]
-        row.update(I1=sep[0], I2=sep[1], I3=sep[2], I4=sep[3], d=cal.details["d_min"])
+        sep = cal.diagnostics["separation"]
+        row.update(I1=sep[0], I2=sep[1], I3=sep[2], I4=sep[3], d=cal.diagnostics["d_min"])
     return row
 
 
@@ -36,7 +42,9 @@ class Comparison(ShortRepr):
     rows : list of dict
         One per calibration, keys :data:`COLUMNS`: ``points`` used, the separation ``I1``..
         ``I4`` and ``d`` (Zvyagin calibrations only), ``A0``, ``b0`` (power model only),
-        the saturation pressure ``p_s_MPa``; None where a calibration has no such value.
+        the force per sensel at raw 128 ``f128_N`` and the saturation pressure ``p_s_MPa``
+        (any law), the median absolute error of the fit in percent of the load; None where
+        a calibration has no such value.
     """
 
     def __init__(self, calibrations, names, rows):
@@ -78,8 +86,17 @@ def compare_calibrations(calibrations, names=None):
 
     Raises
     ------
-    ValueError
+    TactilecalError
         With no calibration, or a number of names other than one per calibration.
+
+    Examples
+    --------
+    >>> from tactilecal.calibration import calibrate, points_from_frames
+    >>> raw = np.zeros((3, 2, 2)); raw[:, 0, 0] = [10, 50, 200]
+    >>> points = points_from_frames(raw, 0.004 * raw[:, 0, 0] ** 1.2)
+    >>> cals = [calibrate(points, method=m) for m in ("power", "lut", "linear")]
+    >>> [r["method"] for r in compare_calibrations(cals).rows]
+    ['power', 'lut', 'linear']
     """
     calibrations = list(calibrations)
     if not calibrations:
@@ -100,14 +117,16 @@ def _fmt(value, spec):
 def format_compare_table(rows):
     """Format :attr:`Comparison.rows` as a fixed-width text table."""
     width = max(12, *(len(r["name"]) for r in rows))
-    head = (f"{'calibration':<{width}} {'method':<10} {'|T|':>4} {'I1':>3} {'I2':>3} "
-            f"{'I3':>3} {'I4':>4} {'d':>6} {'A0':>9} {'b0':>7} {'p_s MPa':>8}")
+    head = (f"{'calibration':<{width}} {'method':<13} {'|T|':>4} {'I1':>3} {'I2':>3} "
+            f"{'I3':>3} {'I4':>4} {'d':>6} {'A0':>9} {'b0':>7} {'f(128) N':>9} "
+            f"{'p_s MPa':>8} {'|err| %':>7}")
     lines = [head]
     for r in rows:
-        lines.append(f"{r['name']:<{width}} {r['method']:<10} {r['points']:>4} "
+        lines.append(f"{r['name']:<{width}} {r['method']:<13} {r['points']:>4} "
                      f"{_fmt(r['I1'], '>3')} {_fmt(r['I2'], '>3')} {_fmt(r['I3'], '>3')} "
                      f"{_fmt(r['I4'], '>4')} {_fmt(r['d'], '>6.2f')} {_fmt(r['A0'], '>9.5f')} "
-                     f"{_fmt(r['b0'], '>7.4f')} {_fmt(r['p_s_MPa'], '>8.3f')}")
+                     f"{_fmt(r['b0'], '>7.4f')} {_fmt(r['f128_N'], '>9.4g')} "
+                     f"{_fmt(r['p_s_MPa'], '>8.3f')} {_fmt(r['median_abs_error_pct'], '>7.2f')}")
     return "\n".join(lines)
 
 

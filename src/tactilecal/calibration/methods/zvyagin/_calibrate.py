@@ -6,8 +6,7 @@ import numpy as np
 
 from tactilecal._errors import TactilecalError
 from tactilecal._units import G_STANDARD
-from tactilecal.sensors import get_sensor
-from tactilecal.zvyagin._approx import (
+from tactilecal.calibration.methods.zvyagin._approx import (
     CLASS_VALUES,
     check_histograms,
     class_counts,
@@ -16,35 +15,23 @@ from tactilecal.zvyagin._approx import (
     search_separation,
     separation_domain,
 )
-from tactilecal.zvyagin._fit import (
+from tactilecal.calibration.methods.zvyagin._fit import (
     fit_power_law,
     minimise_energy,
     minimise_energy_free,
     patch_power_sums,
 )
-from tactilecal.zvyagin._pairs import solve_pairs
-from tactilecal.zvyagin._result import ZvyaginResult
+from tactilecal.calibration.methods.zvyagin._pairs import solve_pairs
+from tactilecal.calibration.methods.zvyagin._result import ZvyaginResult
 
-__all__ = ["zvyagin_fit", "load_groups", "MODES", "DEFAULT_MODE", "SENSEL_AREA_5051_MM2",
-           "OPTIONS"]
+__all__ = ["zvyagin_fit", "load_groups", "resolve_mode", "MODES", "DEFAULT_MODE", "CHOICES"]
 
-SENSEL_AREA_5051_MM2 = get_sensor("5051").sensel_area_mm2
-"""5051 sensel area in mm2 (1.27 mm x 1.27 mm), from the sensor catalogue."""
-
-#: Options of ``calibrate(points, method="zvyagin")``: those of :func:`zvyagin_fit`, the
-#: static methods' ``keep_saturated`` and the sensel area (default: the points').
-OPTIONS = ("mode", "domain", "root_choice", "outliers", "b_range", "saturated", "final",
-           "pair_b_min", "objective", "keep_saturated", "trim", "max_relerr", "grey_share",
-           "group_tolerance", "sensel_area_mm2")
-
-#: Defaults of the two modes; any option passed explicitly overrides them.
+#: The choices of the two modes; any option given explicitly overrides its mode's.
 MODES = {
     "faithful": {"root_choice": "smallest", "outliers": "none", "b_range": "pairs",
-                 "saturated": "keep", "final": "curve", "pair_b_min": 1.0,
-                 "objective": "l2"},
+                 "final": "curve", "pair_b_min": 1.0, "objective": "l2"},
     "robust": {"root_choice": "best-fit", "outliers": "trim", "b_range": "inliers",
-               "saturated": "keep", "final": "free", "pair_b_min": 0.5,
-               "objective": "cv"},
+               "final": "free", "pair_b_min": 0.5, "objective": "cv"},
 }
 DEFAULT_MODE = "robust"
 """The mode with the best worst case on the simulated family (benchmarks/
@@ -54,19 +41,26 @@ worst-session share was 0.96 (20 sessions, 150 held-out patches), faithful's 0.7
 better on one member, 4010N-noisy (1.53 against 1.47, both above the truth); the
 cross-validated objective (``objective="cv"``) brought robust there to 1.61 and kept 0.96
 on 9500-b1.4 (docs/static-calibration.md)."""
-_CHOICES = {"root_choice": ("smallest", "best-fit"), "outliers": ("none", "trim", "mad"),
-            "saturated": ("keep", "drop", "censored"), "final": ("curve", "free"),
-            "objective": ("l2", "l1", "relative", "cv")}
+CHOICES = {"root_choice": ("smallest", "best-fit"), "outliers": ("none", "trim", "mad"),
+           "final": ("curve", "free"), "objective": ("l2", "l1", "relative", "cv")}
+"""The allowed values of the choices a mode sets."""
 
 
-def _resolve_options(mode, options):
+def resolve_mode(mode, options):
+    """Return the choices of ``mode`` with those of ``options`` that are not None over them.
+
+    Raises
+    ------
+    TactilecalError
+        An unknown mode or choice, or a ``b_range`` or ``pair_b_min`` out of range.
+    """
     if mode not in MODES:
         raise TactilecalError(f"mode = {mode!r}; expected one of {tuple(MODES)}")
     resolved = dict(MODES[mode])
     for key, value in options.items():
         if value is not None:
             resolved[key] = value
-    for key, allowed in _CHOICES.items():
+    for key, allowed in CHOICES.items():
         if resolved[key] not in allowed:
             raise TactilecalError(f"{key} = {resolved[key]!r}; expected one of {allowed}")
     b_range = resolved["b_range"]
@@ -166,11 +160,8 @@ def _pair_matrix(n, pairs):
     return chart
 
 
-def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=None,
-                outliers=None, b_range=None, saturated=None, final=None, pair_b_min=None,
-                objective=None, trim=0.05, max_relerr=0.10,
-                grey_share=0.05, group_tolerance=0.05, sensel_area_mm2=SENSEL_AREA_5051_MM2,
-                labels=None):
+def zvyagin_fit(histograms, load_N, options, *, censored=None, labels=None,
+                sensel_area_mm2=float("nan")):
     """Run Zvyagin's four steps on calibration patches given as raw-value histograms.
 
     Steps (Zvyagin 2022, Section 3): (1) the degrees-of-three approximation and the exhaustive
@@ -185,42 +176,14 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
         Counts of raw values 0..255 over the working sensels of each calibration frame.
     load_N : array_like, shape (n_patches,)
         Applied load of each patch in newtons.
-    mode : {"robust", "faithful"}, optional
-        Default :data:`DEFAULT_MODE` ("robust").
-        ``"faithful"``: the paper as written (smallest root Y > 3, plain log-log least squares
-        on every valid pair, E along the curve over the full b range of the pairs, saturated
-        patches kept unless ``saturated`` says otherwise). ``"robust"``: roots Y > 3**0.5
-        (b > 0.5, so that a sensor with b near 1 keeps both halves of its pair cloud), the
-        best-fitting root, the power law fitted to the pairs between the 5% and 95% quantiles
-        of b; then the law minimising the patches' misfit over A and b together, as the power
-        method fits it (``final="free"``, ``objective="cv"``: l1 or relative, whichever
-        predicts held-out patches better in 5-fold cross-validation), with the curve's
-        optimum kept as ``details["final"]["curve_A0"/"curve_b0"]``. See ``docs/zvyagin.md``.
-    domain : {"strict", "closed"}
-        Search domain of I (see :func:`separation_domain`).
-    root_choice, outliers, b_range, saturated, final, pair_b_min, objective : optional
-        Override one choice of the mode: ``root_choice`` in {"smallest", "best-fit"},
-        ``outliers`` in {"none", "trim", "mad"} (see :func:`fit_power_law`), ``b_range``
-        in {"pairs", "inliers"} or ``(b_min, b_max)``, ``saturated`` in {"keep", "drop",
-        "censored"} (censored: patches with a sensel at 255 stay out of I* and the pairs,
-        whose equations need the true load of both patches, and enter E one-sided as lower
-        bounds), ``final`` in {"curve", "free"} (eq. 15 along the curve, or E over A and b
-        together, :func:`minimise_energy_free`), ``pair_b_min`` (pairs keep roots
-        Y > 3**pair_b_min; the paper: 1), ``objective`` of the free step in {"l1", "l2",
-        "relative", "cv"}; "cv", robust's default, takes l1 or relative by 5-fold
-        cross-validation over the patches (:func:`choose_objective`) (the curve step
-        always minimises E as eq. 15 writes it).
-    trim : float
-        Share of pairs cut at each end of the b range when ``outliers="trim"``.
-    max_relerr : float
-        Raw-sum approximation error |R - Q(I*)| / R from which a patch's pairs are rejected.
-    grey_share : float
-        A patch is "grey" (pairs with almost nothing) when fewer than this share of its
-        pairs have a root Y > 3.
-    group_tolerance : float
-        Relative load difference within which patches count as one dead weight.
+    options : tactilecal.calibration.methods.zvyagin.Options
+        The mode and its choices (see that class).
+    censored : array_like of bool, optional
+        Patches whose load is only a lower bound (a sensel at 255): they stay out of I* and
+        the pairs, whose equations need the true load of both patches, and enter E
+        one-sided as lower bounds.
     sensel_area_mm2 : float
-        Sensel area for p_s (default 1.27 mm x 1.27 mm, the 5051).
+        Sensel area for p_s (eq. 16); NaN when unknown.
     labels : sequence of str, optional
         Names of the patches for messages and tables (default ``"patch <k>"``).
 
@@ -230,7 +193,7 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
 
     Raises
     ------
-    ValueError
+    TactilecalError
         Malformed input, fewer than two usable patches, no pair with a root Y > 3, fewer
         than three valid pairs.
 
@@ -242,9 +205,10 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
 
     Examples
     --------
+    >>> from tactilecal.calibration.methods.zvyagin import Options
     >>> from tactilecal.simulate import patch_histograms
     >>> h, f, _ = patch_histograms(40, A_N=0.0035, b=1.16, seed=3)
-    >>> res = zvyagin_fit(h, f)
+    >>> res = zvyagin_fit(h, f, Options())
     >>> abs(res.b0 - 1.16) < 0.05 and abs(res.A0 / 0.0035 - 1) < 0.15
     True
     """
@@ -254,11 +218,8 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
     if len(labels) != n:
         raise TactilecalError(f"labels has {len(labels)} names; expected one per patch ({n})")
     f = _check_loads(load_N, n, labels)
-    mode = DEFAULT_MODE if mode is None else mode
-    opts = _resolve_options(mode, {"root_choice": root_choice, "outliers": outliers,
-                                   "b_range": b_range, "saturated": saturated,
-                                   "final": final, "pair_b_min": pair_b_min,
-                                   "objective": objective})
+    mode, opts = options.mode, options.resolved()
+    domain, trim, max_relerr = options.domain, options.trim, options.max_relerr
     cells = loaded_cells(h)
     sat_cells = h[:, 255].copy()
     excluded = {}
@@ -267,19 +228,17 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
         warnings.warn(f"patches {_describe(labels, empty)} have no loaded sensel (empty "
                       "frames); left out", UserWarning, stacklevel=2)
         excluded.update({int(k): "empty frame" for k in empty})
-    if opts["saturated"] == "drop":
-        excluded.update({int(k): f"{sat_cells[k]} saturated sensels"
-                         for k in np.nonzero((sat_cells > 0) & (cells > 0))[0]})
     usable = np.ones(n, dtype=bool)
     usable[list(excluded)] = False
-    censored = usable & (sat_cells > 0) if opts["saturated"] == "censored" else None
+    if censored is not None:
+        censored = usable & np.asarray(censored, dtype=bool)
     in_pairs = usable if censored is None else usable & ~censored
     _check_pair_patches(in_pairs, usable, labels)
     if usable.sum() < 2:
         why = "; ".join(f"{labels[k]}: {r}" for k, r in excluded.items()) or "none excluded"
         raise TactilecalError(f"{int(usable.sum())} usable patch(es) of {n}; expected at least 2 "
                               f"(left out: {why})")
-    group, group_names = load_groups(f, tolerance=group_tolerance)
+    group, group_names = load_groups(f, tolerance=options.group_tolerance)
     if np.unique(group[usable]).size == 1:
         warnings.warn(f"all {int(usable.sum())} usable patches carry one load "
                       f"({group_names[group[usable][0]]}); b then rests only on how the load "
@@ -332,12 +291,12 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
     partner_share = (np.bincount(pairs["i"][both & with_root], minlength=n)
                      + np.bincount(pairs["j"][both & with_root], minlength=n))
     partner_share = partner_share / max(int(usable.sum()) - 1, 1)
-    grey = np.nonzero(usable & (partner_share < grey_share))[0]
+    grey = np.nonzero(usable & (partner_share < options.grey_share))[0]
     domain_ranges = separation_domain(domain)
     return ZvyaginResult(
         mode=mode, options={**opts, "domain": domain, "max_relerr": max_relerr,
-                            "grey_share": grey_share, "group_tolerance": group_tolerance,
-                            "trim": trim},
+                            "grey_share": options.grey_share,
+                            "group_tolerance": options.group_tolerance, "trim": trim},
         labels=labels, load_N=f, loaded_cells=cells, raw_sum=r_sum, raw_relerr=relerr,
         saturated_cells=sat_cells, usable=usable, excluded=excluded, group=group,
         group_names=group_names, separation=sep, d_min=d_min, d_map=d_map,

@@ -4,7 +4,7 @@ For patches i != j with class counts n_i, n_j at I* and loads F_i, F_j, eliminat
 Q_Ti(Y) = F_i / A and Q_Tj(Y) = F_j / A and dividing by Y gives eq. (12):
 c1 + c2 Y + c3 Y^2 + c4 Y^3 + c5 Y^4 = 0 with c_m = F_j n_{i,m} - F_i n_{j,m}.
 :func:`solve_pairs` finds every pair's real roots above the threshold with a compiled
-isolate-and-polish loop (:func:`tactilecal.zvyagin._kernels.pair_roots`: Descartes' rule,
+isolate-and-polish loop (:func:`._kernels.pair_roots`: Descartes' rule,
 the derivatives' roots, Newton's method in a bracket), ~20x faster than the companion
 matrices; the few pairs it flags as ill-conditioned (a near-double root, a root at the
 threshold) go to :func:`polynomial_roots`, the eigenvalues of their companion matrices
@@ -127,10 +127,10 @@ def _class_sums(counts, rows, y):
 def _patch_power_sums(histograms, rows, b):
     """S_T(b) = sum_k X_k**b for patches ``rows`` and exponents ``b`` (equal lengths).
 
-    Compiled (:func:`tactilecal.zvyagin._kernels.power_sums`): only the raw values a patch
+    Compiled (:func:`._kernels.power_sums`): only the raw values a patch
     holds are raised to the power.
     """
-    from tactilecal.zvyagin._kernels import power_sums
+    from tactilecal.calibration.methods.zvyagin._kernels import power_sums
 
     out = np.empty(len(rows))
     power_sums(np.ascontiguousarray(histograms, dtype=np.int64),
@@ -198,7 +198,7 @@ def _pair_candidates(counts, load_N, i, j, threshold):
     The compiled solver takes every pair; those it flags are solved again here with the
     companion matrices (:func:`polynomial_roots`, :func:`roots_above`).
     """
-    from tactilecal.zvyagin._kernels import pair_roots
+    from tactilecal.calibration.methods.zvyagin._kernels import pair_roots
 
     i = np.ascontiguousarray(i, dtype=np.int64)
     j = np.ascontiguousarray(j, dtype=np.int64)

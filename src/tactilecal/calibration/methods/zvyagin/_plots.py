@@ -7,40 +7,14 @@ matplotlib is imported inside the functions; figures are built with
 import numpy as np
 
 from tactilecal._atomic import atomic_path
-from tactilecal._errors import TactilecalError
 from tactilecal._units import N_PER_MM2_TO_KPA
 
-__all__ = ["as_zvyagin_result", "plot_d_map", "plot_pair_chart", "plot_ab_scatter",
+__all__ = ["plot_d_map", "plot_pair_chart", "plot_ab_scatter",
            "plot_calibration_curves", "plot_patch_errors", "plot_energy", "save_figures"]
 
 #: colours of the pair chart (Figure 8): valid green, outlier cyan, 10% rule orange
 PAIR_COLOURS = {"V": "#2ca02c", "O": "#17becf", "R": "#ff7f0e", "N": "#ffffff",
                 "X": "#bdbdbd", "-": "#000000"}
-
-
-def as_zvyagin_result(obj):
-    """Return a :class:`ZvyaginResult` from itself, a CalibrationResult or its details.
-
-    A CalibrationResult's is its ``method_result``; a ``details`` dict is rebuilt with
-    :meth:`ZvyaginResult.from_details`.
-
-    Raises
-    ------
-    ValueError
-        If ``obj`` is a calibration of another method (no Zvyagin details).
-    """
-    from tactilecal.zvyagin._result import ZvyaginResult  # it draws with this module
-
-    if isinstance(obj, ZvyaginResult):
-        return obj
-    if isinstance(getattr(obj, "method_result", None), ZvyaginResult):
-        return obj.method_result
-    details = getattr(obj, "details", obj)
-    if not isinstance(details, dict) or details.get("method") != "zvyagin":
-        method = getattr(obj, "method", type(obj).__name__)
-        raise TactilecalError(f"calibration method {method!r} has no Zvyagin details; expected a "
-                              "calibration made with method='zvyagin'")
-    return ZvyaginResult.from_details(details)
 
 
 def _axes(ax, size=(5.5, 4.2)):
@@ -58,7 +32,7 @@ def plot_d_map(result, ax=None):
     -------
     matplotlib.axes.Axes
     """
-    res = as_zvyagin_result(result)
+    res = result
     ax = _axes(ax)
     dm = res.d_summary
     (lo3, hi3), (lo4, hi4) = dm["ranges"][2], dm["ranges"][3]
@@ -89,7 +63,7 @@ def plot_pair_chart(result, ax=None):
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
-    res = as_zvyagin_result(result)
+    res = result
     ax = _axes(ax, (6.5, 6))
     order = _patch_order(res)
     letters = list(PAIR_COLOURS)
@@ -126,7 +100,7 @@ def plot_ab_scatter(result, ax=None):
     -------
     matplotlib.axes.Axes
     """
-    res = as_zvyagin_result(result)
+    res = result
     ax = _axes(ax)
     cat = res.pairs["category"]
     for letter, colour, label in (("V", "C0", "pairs (A, b)"), ("O", "C7", "outside the fit")):
@@ -164,7 +138,7 @@ def plot_calibration_curves(result, ax=None):
     -------
     matplotlib.axes.Axes
     """
-    res = as_zvyagin_result(result)
+    res = result
     ax = _axes(ax)
     area = res.sensel_area_mm2
     known = np.isfinite(area) and area > 0
@@ -190,7 +164,7 @@ def plot_patch_errors(result, ax=None):
     -------
     matplotlib.axes.Axes
     """
-    res = as_zvyagin_result(result)
+    res = result
     ax = _axes(ax)
     err = res.error_pct
     top = max(12.0, float(np.ceil(np.nanmax(np.abs(err[res.usable])))))
@@ -213,7 +187,7 @@ def plot_energy(result, ax=None):
     -------
     matplotlib.axes.Axes
     """
-    res = as_zvyagin_result(result)
+    res = result
     ax = _axes(ax)
     ax.plot(res.final["b_grid"], res.final["E_grid"], "k-")
     ax.axvline(res.b0, color="C1", label=f"b0 = {res.b0:.4f}")
@@ -235,15 +209,15 @@ def save_figures(result, outdir, *, dpi=120):
     Examples
     --------
     >>> import tempfile
-    >>> from tactilecal.zvyagin import zvyagin_fit
+    >>> from tactilecal.calibration.methods.zvyagin import Options, zvyagin_fit
     >>> from tactilecal.simulate import patch_histograms
-    >>> res = zvyagin_fit(*patch_histograms(20, seed=1)[:2])
+    >>> res = zvyagin_fit(*patch_histograms(20, seed=1)[:2], Options())
     >>> sorted(p.name for p in res.save_figures(tempfile.mkdtemp()))[:2]
     ['zvyagin_ab.png', 'zvyagin_curves.png']
     """
     from pathlib import Path
 
-    res = as_zvyagin_result(result)
+    res = result
     outdir = Path(outdir)
     paths = []
     for name, func in FIGURES.items():

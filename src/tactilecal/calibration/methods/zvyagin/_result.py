@@ -5,8 +5,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tactilecal._result import ShortRepr
-from tactilecal.zvyagin import _plots
-from tactilecal.zvyagin._fit import saturation_pressure_MPa
+from tactilecal._units import pressure_to_kPa
+from tactilecal.calibration.methods.zvyagin import _plots
+from tactilecal.calibration.methods.zvyagin._fit import saturation_pressure_MPa
 
 __all__ = ["ZvyaginResult", "PAIR_CATEGORIES", "summarise_d_map"]
 
@@ -124,7 +125,7 @@ class ZvyaginResult(ShortRepr):
     @property
     def p_s_kPa(self):
         """Saturation pressure p_s of eq. 16 in kPa (1000 x :attr:`p_s_MPa`)."""
-        return 1000.0 * self.p_s_MPa
+        return float(pressure_to_kPa(self.p_s_MPa, "MPa"))
 
     def _repr_fields(self):
         return [("mode", self.mode),

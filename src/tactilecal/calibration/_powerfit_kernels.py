@@ -1,14 +1,14 @@
 """numba kernel of the l1 power fit for many points: weighted medians without sorting.
 
 For a fixed exponent b the l1 fit's best A is a weighted median of ``F_T / S_T(b)``
-(:func:`tactilecal._powerfit._censored_median`, which sorts). With 100,000 movie frames
+(:func:`tactilecal.calibration._powerfit._censored_median`, which sorts). With 100,000 movie frames
 and about 170 trial exponents, those sorts were most of a movie calibration's time. Here
 each median is found by selection (Hoare's quickselect with a three-way partition, expected
 O(n)), first among the ratios inside a window the caller expects it in (the previous
 round's A), so most trial exponents cost two passes over the points: one for the ratios,
 one for the cost.
 
-Imported only for large fits (:data:`tactilecal._powerfit.COMPILED_MIN_POINTS`): numba's
+Imported only for large fits (:data:`tactilecal.calibration._powerfit.COMPILED_MIN_POINTS`): numba's
 start-up in a new process (0.3-0.5 s here) costs more than it saves on a small one.
 """
 
@@ -41,7 +41,7 @@ def l1_costs(sums, load, censored, window_lo, window_hi):  # pragma: no cover (c
     cost, A : numpy.ndarray, shape (m,)
         ``sum_unc |A S - F| + sum_cens max(0, A S - F)`` and its minimiser A, the smallest
         ratio ``F / S`` at which ``2 W_unc(<= r) + W_cens(<= r) >= W_unc(all)`` (weights
-        ``S``), as :func:`tactilecal._powerfit._censored_median`.
+        ``S``), as :func:`tactilecal.calibration._powerfit._censored_median`.
     """
     m, n = sums.shape
     cost, best = np.empty(m), np.empty(m)

@@ -4,7 +4,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from tactilecal._errors import TactilecalError
-from tactilecal._powerfit import fit_power, fit_power_censored
+from tactilecal.calibration._powerfit import fit_power, fit_power_censored
 
 __all__ = ["fit_power_law", "patch_power_sums", "energy", "minimise_energy",
            "minimise_energy_free", "choose_objective", "saturation_pressure_MPa"]
@@ -216,7 +216,7 @@ def minimise_energy_free(histograms, load_N, curve, *, censored=None, objective=
     """Minimise the patch misfit over A and b together (robust mode's step 4).
 
     The misfit is eq. 15's without the constraint A = alpha b**beta, i.e. eq. 3 over every
-    patch: the power method's fit (:func:`tactilecal._powerfit.fit_power`, or
+    patch: the power method's fit (:func:`tactilecal.calibration._powerfit.fit_power`, or
     ``fit_power_censored`` when ``censored`` is given) with its ``objective`` ("l2" is E
     itself; "l1" and "relative" weigh each patch's error as the power method does) and its
     b bounds. ``objective="cv"`` (robust mode's default) takes l1 or relative, whichever
@@ -251,7 +251,7 @@ def minimise_energy_free(histograms, load_N, curve, *, censored=None, objective=
         extra["objective_cv"] = scores
     fit = _fit_free(h, f, censored, objective)
     return {**curve, "A0": fit.params["A"], "b0": fit.params["b"],
-            "E": float(fit.details["cost"]), "at_bound": False,
+            "E": float(fit.diagnostics["cost"]), "at_bound": False,
             "curve_A0": curve["A0"], "curve_b0": curve["b0"], "free": True,
             "objective": objective, **extra}
 

@@ -1,26 +1,25 @@
-"""The power law f = A * raw**b fitted to whole frames, below calibration and zvyagin.
+"""The power law f = A * raw**b fitted to whole frames.
 
 ``fit_power`` (uncensored patches) and ``fit_power_censored`` (patches with a sensel at 255
-as lower bounds) are the power method of :mod:`tactilecal.calibration` and the free final
-step of Zvyagin's robust mode (:mod:`tactilecal.zvyagin`), so they live in the core that
-both import. Every fit takes ``hist`` (n, 256) and ``load_N`` (n,) of the *used* points and
-returns a :class:`Fit`; its cost does not depend on the number of sensels:
+as lower bounds) are the ``power`` method (:mod:`tactilecal.calibration.methods.power`), the
+free final step of Zvyagin's robust mode and the starting law of ``piecewise`` and ``lut``.
+Every fit takes ``hist`` (n, 256) and ``load_N`` (n,) of the *used* points and returns a
+:class:`tactilecal.calibration._fit.Fit`; its cost does not depend on the number of sensels:
 ``sum_k X_k**b = hist @ arange(256)**b`` (Zvyagin 2022, eq. 2).
 """
 
 import os
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import optimize
 
 from tactilecal._errors import TactilecalError
+from tactilecal.calibration._fit import Fit
 
-__all__ = ["Fit", "OBJECTIVES", "DEFAULT_OBJECTIVE", "B_BOUNDS", "LEVELS",
-           "COMPILED_MIN_POINTS", "NO_STDERR",
-           "objective_weights", "fit_power", "fit_power_censored",
-           "check_unsaturated", "hist_products"]
+__all__ = ["OBJECTIVES", "DEFAULT_OBJECTIVE", "B_BOUNDS", "LEVELS", "COMPILED_MIN_POINTS",
+           "objective_weights", "fit_power", "fit_power_censored", "check_unsaturated",
+           "hist_products"]
 
 #: Raw levels 0..255 as floats (the columns of a frame histogram).
 LEVELS = np.arange(256, dtype=float)
@@ -32,16 +31,6 @@ relative and l2 fell to 0.90-0.91 of the true law's worst share on 9500-b1.4."""
 B_BOUNDS = (0.2, 4.0)
 with np.errstate(divide="ignore"):
     LOG_LEVELS = np.where(LEVELS > 0, np.log(LEVELS), 0.0)
-
-
-@dataclass
-class Fit:
-    """What a method returns before it is wrapped into a CalibrationResult."""
-
-    model: str
-    params: dict
-    params_stderr: dict
-    details: dict = field(default_factory=dict)
 
 
 # ---------------------------------------------------------------------- helpers
@@ -66,7 +55,7 @@ def hist_products(hist, matrix):
     """Return ``(hist @ matrix).T``, (c, n), for histograms of counts in any dtype.
 
     From :data:`COMPILED_MIN_POINTS` rows the numba kernel
-    :func:`tactilecal._powerfit_kernels.hist_dot` reads the counts as they are (a movie's
+    :func:`._powerfit_kernels.hist_dot` reads the counts as they are (a movie's
     uint16 histograms, with no float64 copy): up to four columns every bin in vector
     registers, in one thread (90,821 rows, one column: 5.0 ms against 11.9 ms in a pool of
     two threads, best of 9 at load 2.6); for more, skipping empty bins, on one block of rows per
@@ -90,7 +79,7 @@ def hist_products(hist, matrix):
         product = np.asarray(hist, dtype=float) @ matrix
         return product[None] if matrix.ndim == 1 else np.ascontiguousarray(product.T)
     matrix = np.ascontiguousarray(matrix[:, None] if matrix.ndim == 1 else matrix)
-    from tactilecal._powerfit_kernels import DENSE_MAX_COLUMNS, hist_dot
+    from tactilecal.calibration._powerfit_kernels import DENSE_MAX_COLUMNS, hist_dot
 
     hist, out = np.ascontiguousarray(hist), np.empty((matrix.shape[1], len(hist)))
     threads = max(1, min(os.cpu_count() or 1, len(hist) // PRODUCT_ROWS_PER_THREAD))
@@ -193,7 +182,7 @@ def _check_interior(k, grid, b_bounds):
 
 # ------------------------------------------------------- many points (movie calibration)
 #: Points from which :func:`_minimise_b` reads the histograms only twice and finds the
-#: l1 medians by selection (:mod:`tactilecal._powerfit_kernels`, numba) instead of sorting.
+#: l1 medians by selection (:mod:`._powerfit_kernels`, numba) instead of sorting.
 #: Below it numba's start-up in a new process would cost more than it saves.
 COMPILED_MIN_POINTS = 4096
 #: Points of the subsample on which :func:`_minimise_b_many` brackets the minimum.
@@ -282,7 +271,7 @@ class _Sums:
                 @ self.moments
         T, dT = _chebyshev_t(t, n_terms)
         if self.compiled:
-            from tactilecal._powerfit_kernels import series_sums
+            from tactilecal.calibration._powerfit_kernels import series_sums
 
             sums, d_sums = series_sums(self.moments, T), series_sums(self.moments, dT)
         else:
@@ -296,7 +285,7 @@ def _costs_many(sums, load_N, objective, censored, window=None):
     ``window``: (lo, hi) arrays where each exponent's median is expected, default anywhere.
     """
     if objective == "l1":
-        from tactilecal._powerfit_kernels import l1_costs
+        from tactilecal.calibration._powerfit_kernels import l1_costs
 
         flags = np.zeros(len(load_N), bool) if censored is None else censored
         if window is None:
@@ -340,7 +329,7 @@ def _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
        to the grid's bracket on all the points, and if that does not hold either, to the
        whole grid on all the points (:func:`_minimise_b_grid`).
 
-    l1 medians are selected, not sorted (:mod:`tactilecal._powerfit_kernels`). Returns
+    l1 medians are selected, not sorted (:mod:`tactilecal.calibration._powerfit_kernels`). Returns
     ``(b, A, cost, n_evaluations)``; the evaluations include those on the subsample.
     Agrees with the nested grids of :func:`_minimise_b` to ~1e-9 (``tests/test_powerfit_many.py``).
     """
@@ -456,7 +445,7 @@ def _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, com
     one more pass (:class:`_Sums`). l1: nested
     grids of ``n_grid`` exponents until the bracket is below ``xtol``; l2, relative: the
     zero of the cost's slope by :func:`scipy.optimize.brentq`. ``compiled``: the numba
-    kernels (l1 medians selected, not sorted: :mod:`tactilecal._powerfit_kernels`) or NumPy
+    kernels (l1 medians selected, not sorted: :mod:`._powerfit_kernels`) or NumPy
     alone. Returns ``(b, A, cost, n_evaluations)``.
     """
     costs = _costs_many if compiled else _costs_numpy
@@ -493,14 +482,7 @@ def _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, com
     return float(b), float(A[0]), float(cost[0]), n_eval + 1
 
 
-NO_STDERR = ("none: no parameter interval held the true b in 90-99 % of 50 simulated "
-             "sessions on every family member (a single fit's Jacobian errors 0.22-0.90, a "
-             "bootstrap over patches down to 0.38: the fitted law itself is biased where gain "
-             "spread or read noise meet the noise threshold, issue 12); the prediction interval "
-             "of a new patch's load (n_interval_resamples) holds")
-
-
-def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS, **_):
+def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS):
     """Multi-point power law over every sensel, f = A * raw**b.
 
     Objectives: ``l2`` minimises ``sum_T (A S_T(b) - F_T)**2`` (Zvyagin 2022, eq. 3),
@@ -513,9 +495,8 @@ def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS, *
     if len(hist) < COMPILED_MIN_POINTS:  # else products of the counts (hist_products)
         hist = np.asarray(hist, dtype=float)  # one conversion, then BLAS products
     b, A, cost, n_eval = _minimise_b(hist, load_N, objective, b_bounds)
-    details = {"objective": objective, "cost": cost, "n_evaluations": n_eval,
-               "stderr_method": NO_STDERR}
-    return Fit("power", {"A": A, "b": b}, {"A": None, "b": None}, details)
+    return Fit("power", {"A": A, "b": b},
+               {"objective": objective, "cost": cost, "n_evaluations": n_eval})
 
 
 def check_unsaturated(censored, name_of=None, kind="patch(es)"):
@@ -564,10 +545,9 @@ def fit_power_censored(hist, load_N, censored, *, objective=DEFAULT_OBJECTIVE,
     else:
         A, b, cost = _censored_least_squares(hist, load_N, censored, objective, b_bounds)
     excess = A * _power_sums(hist, b) - load_N
-    details = {"objective": objective, "censored": int(censored.sum()),
-               "censored_active": int((censored & (excess > 0)).sum()), "cost": cost,
-               "stderr_method": NO_STDERR}
-    return Fit("power", {"A": A, "b": b}, {"A": None, "b": None}, details)
+    return Fit("power", {"A": A, "b": b},
+               {"objective": objective, "censored": int(censored.sum()),
+                "censored_active": int((censored & (excess > 0)).sum()), "cost": cost})
 
 
 def _censored_least_squares(hist, load_N, censored, objective, b_bounds):
