@@ -23,7 +23,7 @@ def session():
 
 
 def test_movie_recovers_law_and_lag(session):
-    res = calibrate_movie(session.raw, session.loadcell)
+    res = calibrate_movie(session.raw, session.loadcell, method="power")
     movie = res.diagnostics["movie"]
     # lag within one frame (10 ms) of the simulated load-cell start offset
     assert movie["lag_s"] == pytest.approx(session.loadcell_start_offset_s, abs=0.01)
@@ -40,14 +40,14 @@ def test_movie_one_load_per_frame(session, tmp_path, assert_names_by_bytes):
     path.write_text("Load (N)\n" + "\n".join(f"{v:.6f}" for v in session.load_N) + "\n")
     loads = read_movie_loads(path)
     assert isinstance(loads, np.ndarray) and len(loads) == session.raw.sizes["frame"]
-    res = calibrate_movie(session.raw, path)
+    res = calibrate_movie(session.raw, path, method="power")
     assert res.diagnostics["movie"]["lag_s"] is None
     assert res.params["b"] == pytest.approx(1.16, abs=0.005)
     assert_names_by_bytes(res.provenance, [path])  # the movie was made in memory
     path.write_text("Load (N)\n" + "\n".join(f"{v:.6f}" for v in session.load_N[:-1]) + "\n")
     with pytest.raises(ValueError, match="loads have 2399 values and no time column; "
                                          "expected 2400 "):
-        calibrate_movie(session.raw, path)
+        calibrate_movie(session.raw, path, method="power")
     path.write_text("Load (kPa)\n1\n2\n")
     with pytest.raises(ValueError, match="is in 'kPa'; expected a force or mass unit"):
         read_movie_loads(path)
@@ -59,7 +59,8 @@ def test_movie_one_load_per_frame(session, tmp_path, assert_names_by_bytes):
 def test_movie_saturated_frames_trimmed(session):
     raw = session.raw.copy()
     raw[1500:1510, 20, 20] = 255.0
-    res = calibrate_movie(raw, session.loadcell, lag_s=session.loadcell_start_offset_s)
+    res = calibrate_movie(raw, session.loadcell, lag_s=session.loadcell_start_offset_s,
+                          method="power")
     table = res.points
     sat = table["saturated_cells"] > 0
     assert sat.sum() == 10 and not table.loc[sat, "used"].any()
@@ -69,8 +70,8 @@ def test_movie_saturated_frames_trimmed(session):
 
 def test_movie_dask_recording_gives_same_fit(session):
     lazy = session.raw.chunk({"frame": 500})
-    a = calibrate_movie(session.raw, session.loadcell, lag_s=0.37)
-    b = calibrate_movie(lazy, session.loadcell, lag_s=0.37)
+    a = calibrate_movie(session.raw, session.loadcell, lag_s=0.37, method="power")
+    b = calibrate_movie(lazy, session.loadcell, lag_s=0.37, method="power")
     assert type(lazy.data).__name__ == "Array"
     assert a.params == b.params
 
@@ -93,7 +94,7 @@ def _reference_calibration(raw, load_N, *, min_load_fraction=0.02, area=np.nan, 
                                frame=i + 1, sensel_area_mm2=area, working_cells=int(h.sum()),
                                total_cells=total)
               for i, (h, f) in enumerate(zip(hist, load_N, strict=True)) if keep[i]]
-    return calibrate(points, **options)
+    return calibrate(points, **{"method": "power", **options})
 
 
 def _assert_same_calibration(new, ref):
@@ -135,7 +136,7 @@ def test_movie_equals_reference_calibration_one_load_per_frame(session, shaped, 
         raw = shaped.astype(np.float32)
     elif storage == "dask":
         raw = shaped.chunk({"frame": 333, "row": 20})  # blocks split frames and rows
-    res = calibrate_movie(raw, session.load_N, objective="l2")
+    res = calibrate_movie(raw, session.load_N, objective="l2", method="power")
     ref = _reference_calibration(np.asarray(raw), session.load_N, objective="l2",
                                  area=raw.attrs["sensel_area_mm2"])
     _assert_same_calibration(res, ref)
@@ -161,7 +162,7 @@ def test_movie_with_mask_and_equilibration_equals_reference(session, shaped, cou
 
 def test_aligned_movie_equals_movie_on_reference_histograms(session, shaped, monkeypatch):
     """The two-pass alignment (raw sum, then calibrated force) with reference histograms."""
-    new = calibrate_movie(shaped, session.loadcell)
+    new = calibrate_movie(shaped, session.loadcell, method="power")
 
     calls = []
 
@@ -171,7 +172,7 @@ def test_aligned_movie_equals_movie_on_reference_histograms(session, shaped, mon
         return out
 
     monkeypatch.setattr(movie_module, "_frame_histograms", reference)
-    ref = calibrate_movie(shaped, session.loadcell)
+    ref = calibrate_movie(shaped, session.loadcell, method="power")
     assert sum(calls) == shaped.sizes["frame"]
     assert new.diagnostics["movie"]["lag_s"] == ref.diagnostics["movie"]["lag_s"]
     assert new.diagnostics["movie"]["lag_s_raw_sum"] == ref.diagnostics["movie"]["lag_s_raw_sum"]
@@ -185,7 +186,7 @@ def test_real_iscan_movie_equals_reference(iscan_csv, counting):
     np.testing.assert_array_equal(frame_histograms(raw), _reference_histograms(raw))
     # a known law: loads that a power law gives on these real frames
     load = 0.0035 * np.nansum(raw ** 1.16, axis=(1, 2))
-    res = calibrate_movie(rec, load, objective="l2")
+    res = calibrate_movie(rec, load, objective="l2", method="power")
     _assert_same_calibration(res, _reference_calibration(
         raw, load, objective="l2", area=rec.attrs["sensel_area_mm2"]))
     assert res.params["b"] == pytest.approx(1.16, rel=1e-6)
@@ -200,7 +201,7 @@ def test_real_fscan_frames_histograms_equal_reference(which, request, counting):
     np.testing.assert_array_equal(frame_histograms(raw), _reference_histograms(raw))
     lazy = rec.copy(data=raw).chunk({"frame": 50}).assign_attrs(units="raw")
     load = 0.0035 * np.nansum(np.rint(raw) ** 1.2, axis=(1, 2))
-    res = calibrate_movie(lazy, load, objective="relative")
+    res = calibrate_movie(lazy, load, objective="relative", method="power")
     _assert_same_calibration(res, _reference_calibration(
         raw, load, objective="relative", area=rec.attrs["sensel_area_mm2"]))
 

@@ -157,12 +157,13 @@ def test_movie_takes_the_equilibration_as_a_path_too(tmp_path):
     uniform, _ = uniform_load(sensor, [10.0, 25.0], frames_per_level=3, seed=3)
     eq = equilibrate([uniform[:3], uniform[3:]])
     eq.to_json(tmp_path / "eq.json")
-    by_path = calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=tmp_path / "eq.json")
-    by_object = calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=eq)
+    by_path = calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=tmp_path / "eq.json",
+                              method="power")
+    by_object = calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=eq, method="power")
     _assert_same_params(by_path.params, by_object.params)
     assert by_path.equilibration == by_object.equilibration
     with pytest.raises(TypeError, match="equilibration is a list; expected an Equilibration"):
-        calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=[1.0])
+        calibrate_movie(rh.raw, rh.loadcell, lag_s=0.37, equilibration=[1.0], method="power")
 
 
 def test_calibration_records_its_inputs_and_sensor_and_apply_checks_it(tmp_path):

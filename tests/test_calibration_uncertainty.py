@@ -68,7 +68,7 @@ def test_interval_reaches_json_summary_and_validate(tmp_path):
 def test_interval_needs_patches_and_a_level():
     train, _ = family_sessions("9500-b1.4", seed=0)
     with pytest.raises(ValueError, match="2 patches; a prediction interval needs at least 3"):
-        calibrate(_points(train)[:2], n_interval_resamples=10)
+        calibrate(_points(train)[:2], "power", n_interval_resamples=10)
     with pytest.raises(ValueError, match=r"n_interval_resamples=-1; expected a whole number "
                                          r">= 0"):
         calibrate(_points(train), n_interval_resamples=-1)

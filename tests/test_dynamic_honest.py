@@ -85,5 +85,6 @@ def test_no_coherent_band_names_the_records_and_the_time_range():
     reference = xr.DataArray(load + rng.normal(scale=0.3, size=t.size), dims="time",
                              coords={"time": t}, attrs={"source": "r.csv"})
     with pytest.raises(ValueError, match=r"s.csv and r.csv \(\d.*-\d.* s after alignment\): "
-                                         r"only \d+ frequency bins have coherence"):
-        fit_filter(sensor, reference, model="log")
+                                         r"only \d+ frequency bins have coherence"), \
+            pytest.warns(UserWarning, match=r"the lag is ambiguous: .* s apart \(a periodic"):
+        fit_filter(sensor, reference, model="log")  # two cycles of one sine: ambiguous

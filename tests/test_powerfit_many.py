@@ -125,8 +125,8 @@ def test_dead_sensels_of_a_dask_movie_are_found_block_by_block(movie):
     np.testing.assert_array_equal(found.mask, streamed.mask)
     np.testing.assert_array_equal(found.evidence_frames, streamed.evidence_frames)
     assert found.mask[7, 9]
-    a = calibrate_movie(raw, session.loadcell, mask_dead=True, lag_s=0.37)
-    b = calibrate_movie(lazy, session.loadcell, mask_dead=True, lag_s=0.37)
+    a = calibrate_movie(raw, session.loadcell, mask_dead=True, lag_s=0.37, method="power")
+    b = calibrate_movie(lazy, session.loadcell, mask_dead=True, lag_s=0.37, method="power")
     assert a.params == b.params
     assert a.non_working == b.non_working
 
@@ -142,9 +142,9 @@ def test_movie_calibration_is_the_same_on_either_path(movie, storage, monkeypatc
     # the prediction interval's refits run on the same path
     options = {"n_interval_resamples": 8} if storage == "float64" else {}
     monkeypatch.setattr(powerfit, "COMPILED_MIN_POINTS", 0)
-    many = calibrate_movie(raw, session.loadcell, **options)
+    many = calibrate_movie(raw, session.loadcell, **options, method="power")
     monkeypatch.setattr(powerfit, "COMPILED_MIN_POINTS", 2 ** 62)
-    direct = calibrate_movie(raw, session.loadcell, **options)
+    direct = calibrate_movie(raw, session.loadcell, **options, method="power")
     assert many.diagnostics["movie"]["lag_s"] == pytest.approx(direct.diagnostics["movie"]["lag_s"],
                                                            rel=1e-9)
     for key in ("A", "b"):

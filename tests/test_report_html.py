@@ -119,7 +119,10 @@ def test_method_comparison_lists_every_calibration_with_its_held_out_errors(sess
     from tactilecal.calibration import validate
 
     points = points_from_frames(session.raw, session.load_N)
-    results = {m: calibrate(points[:20], method=m) for m in ("power", "linear", "lut")}
+    with pytest.warns(UserWarning, match="linear calibration: .*bends away"):  # b is not 1
+        linear = calibrate(points[:20], method="linear")
+    results = {"power": calibrate(points[:20], method="power"), "linear": linear,
+               "lut": calibrate(points[:20], method="lut")}
     check = validate(results["power"], points[20:])
     text = build_report([*results.values(), check])
     heads = re.findall(r"<h2>([^<]*)</h2>", text)

@@ -1,6 +1,7 @@
 """One result base for every saved thing: tags, tactilecal.load, legacy files, reprs."""
 
 import json
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -38,8 +39,10 @@ def points(session):
 
 @pytest.fixture(scope="module")
 def calibrations(points):
-    return {method: calibrate(points, method=method)
-            for method in ("power", "linear", "lut", "polynomial", "zvyagin")}
+    with warnings.catch_warnings():  # a linear law on a power-law sensor does not fit
+        warnings.simplefilter("ignore", UserWarning)
+        return {method: calibrate(points, method=method)
+                for method in ("power", "linear", "lut", "polynomial", "zvyagin")}
 
 
 def _equilibration():

@@ -32,9 +32,11 @@ from tactilecal.calibration._sensels import (
 from tactilecal.calibration._uncertainty import PredictionInterval
 from tactilecal.calibration._validation import ValidationResult
 from tactilecal.calibration.methods import MODULES as _MODULES
+from tactilecal.calibration.methods import auto as _auto
 from tactilecal.calibration.methods.zvyagin import ZvyaginResult
 
-METHOD_OPTIONS = {name: module.Options for name, module in _MODULES.items()}
+METHOD_OPTIONS = {_auto.NAME: _auto.Options,
+                  **{name: module.Options for name, module in _MODULES.items()}}
 """Method name -> the frozen dataclass of its options (fields, defaults, help text)."""
 
 __all__ = [

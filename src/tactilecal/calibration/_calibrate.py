@@ -8,6 +8,7 @@ use (:func:`select_points`), resolves saturation and the sensel area, runs the m
 :func:`fit_arrays`, after the same option check.
 """
 
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -18,27 +19,32 @@ from tactilecal._errors import TactilecalError
 from tactilecal._provenance import provenance
 from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal.calibration._fit import FitData, MethodOptions, check_positive_number, option
+from tactilecal.calibration._gains import learn_gains
+from tactilecal.calibration._lack_of_fit import lack_of_fit, law_parameters
 from tactilecal.calibration._manifest import load_points
 from tactilecal.calibration._metrics import fit_metrics
 from tactilecal.calibration._models import check_law, force_table
-from tactilecal.calibration._pipeline import is_path, manifest_points, reading_options
-from tactilecal.calibration._points import points_to_arrays, take_rows
+from tactilecal.calibration._pipeline import chain, is_path, manifest_points, reading_options
+from tactilecal.calibration._points import frame_histograms, points_to_arrays, take_rows
 from tactilecal.calibration._powerfit import check_unsaturated, hist_products
 from tactilecal.calibration._result import CalibrationResult
 from tactilecal.calibration._saturation import SATURATED_CHOICES, SATURATED_DEFAULT
 from tactilecal.calibration._uncertainty import bootstrap_refits
 from tactilecal.calibration._validation import ValidationResult
-from tactilecal.calibration.methods import MODULES
+from tactilecal.calibration.methods import MODULES, auto
 
 __all__ = ["METHODS", "DEFAULT_METHOD", "META_COLUMNS", "CommonOptions", "calibrate",
            "fit_arrays", "law_result", "method_options", "point_meta", "select_points",
            "validate"]
 
-METHODS = tuple(MODULES)
-"""The names of the static methods, in the order of :mod:`tactilecal.calibration.methods`."""
+METHODS = (auto.NAME, *MODULES)
+"""``"auto"`` (choose by held-out error) and the static methods, in the order of
+:mod:`tactilecal.calibration.methods`."""
 
-DEFAULT_METHOD = "power"
-"""The method of :func:`calibrate` and ``tactilecal calibrate`` when none is given."""
+DEFAULT_METHOD = auto.NAME
+"""The method of :func:`calibrate` and ``tactilecal calibrate`` when none is given: on the
+family of simulated sensors, choosing by held-out error held every session within 10 % of
+the best method's error, where any one method was up to 1.5x worse on some member."""
 
 INTERVAL_LEVEL = 0.95
 """Probability of the prediction interval of a new patch's load."""
@@ -53,6 +59,10 @@ class CommonOptions(MethodOptions):
     the sensel area (default: the points', which must agree). ``n_interval_resamples``:
     refits of the whole method on patches resampled with replacement, giving the 95 %
     prediction interval of a new patch's load (0: none). ``seed``: of that resampling.
+    ``gains="learn"``: per-sensel gains learned with the law
+    (:mod:`tactilecal.calibration._gains`), applied to the frames before the method's fit
+    and kept as the result's ``equilibration``; the points need their frames
+    (``CalibrationPoint.readings``).
     """
 
     saturated: str = option(SATURATED_DEFAULT, "patches with a sensel at 255: drop them from "
@@ -64,6 +74,11 @@ class CommonOptions(MethodOptions):
     n_interval_resamples: int = option(0, "bootstrap refits for the 95 % prediction interval "
                                           "of a new patch's load (0: none)", metavar="N")
     seed: int = option(0, "seed of the bootstrap refits")
+    gains: str = option("none", "learn each sensel's gain with the law from the patches: a "
+                                "smooth surface plus a shrunk per-sensel residual, its "
+                                "strength chosen by held-out patches (no gains among the "
+                                "choices); kept as the calibration's equilibration",
+                        choices=("none", "learn"), flag=("--learn-gains", "learn"))
 
     @classmethod
     def method_name(cls):
@@ -93,9 +108,9 @@ def method_options(method, keywords):
         An option that neither the method nor :class:`CommonOptions` takes, naming it and
         the accepted ones.
     """
-    if method not in MODULES:
+    if method not in METHODS:
         raise TactilecalError(f"method={method!r} is unknown; expected one of {list(METHODS)}")
-    module = MODULES[method]
+    module = auto if method == auto.NAME else MODULES[method]
     keywords = dict(keywords)
     common = CommonOptions(**{k: keywords.pop(k) for k in CommonOptions.names()
                               if k in keywords})
@@ -220,15 +235,21 @@ def calibrate(points, method=DEFAULT_METHOD, *, equilibration=None, mask=None, p
         result = _calibrate_points(points, module, common, method_opts)
     except TactilecalError as err:  # name the manifest: the points' names are in the text
         raise TactilecalError(f"{Path(manifest)}: {err}") from None
-    result.equilibration, result.non_working = eq, dead
+    result.equilibration, result.non_working = chain(eq, result.equilibration), dead
     return result
 
 
 def _calibrate_points(points, module, common, options):
     """:func:`calibrate` on calibration points (no preprocessing left to do)."""
     hist, load = points_to_arrays(points)
+    readings = None
+    if common.gains == "learn":
+        if any(p.readings is None for p in points):
+            raise TactilecalError("gains='learn' needs the frames of the points (where each "
+                                  "reading lies); these points carry only histograms")
+        readings = np.stack([p.readings for p in points])
     result = fit_arrays(hist, load, point_meta(points), module=module, common=common,
-                        options=options)
+                        options=options, readings=readings)
     result.provenance = points_provenance(points)
     return result
 
@@ -245,13 +266,15 @@ def points_provenance(points):
     return provenance(files, [p.sensor for p in points])
 
 
-def fit_arrays(hist, load, meta, *, module, common, options):
+def fit_arrays(hist, load, meta, *, module, common, options, readings=None):
     """Fit a calibration to points given as arrays (the core of :func:`calibrate`).
 
     ``hist`` (n, 256), ``load`` (n,) and ``meta`` (dict of per-point arrays, keys
     :data:`META_COLUMNS`): what movie calibration uses for tens of thousands of frames
     without making a Python object per frame. ``module``, ``common`` and ``options`` come
-    from :func:`method_options`.
+    from :func:`method_options`; ``readings`` (n, rows, cols), the frames, are needed for
+    ``gains="learn"``: the gains learned on the used points correct every frame before
+    ``hist`` is counted again and the method fitted.
     """
     area = _sensel_area(meta["sensel_area_mm2"], common.sensel_area_mm2)
     used, reasons = select_points(load, meta, common.saturated)
@@ -263,6 +286,12 @@ def fit_arrays(hist, load, meta, *, module, common, options):
                               f"{' ...' if len(load) > 8 else ''}); expected at least one "
                               "unsaturated point with a positive load")
     rows = np.flatnonzero(used)
+    gains, gains_record = None, None
+    if common.gains == "learn":
+        exact = (meta["saturated_cells"][used] == 0) | (common.saturated != "censored")
+        gains, gains_record = learn_gains(readings[used], load[used], exact)
+        if gains is not None:
+            hist = frame_histograms(gains.apply(readings))
     if common.saturated == "censored":  # lower bounds need two exact loads to start from
         check_unsaturated(meta["saturated_cells"][used] > 0,
                           lambda k: _point_name(meta, rows[k]), kind="usable point(s)")
@@ -272,7 +301,12 @@ def fit_arrays(hist, load, meta, *, module, common, options):
                    censored=(meta["saturated_cells"][used] > 0
                              if common.saturated == "censored" else None),
                    sensel_area_mm2=area,
-                   labels=tuple(_point_name(meta, k) for k in rows))
+                   labels=tuple(_point_name(meta, k) for k in rows)
+                   if getattr(module, "NAMES_POINTS", False) else ())
+    selection = None
+    if module is auto:
+        module, options, selection = auto.select(
+            data, options, auto.groups_of(meta["file"][rows], options.folds))
     fit = module.fit(data, options)
     check_law(fit.model, fit.params, f"the {module.NAME} fit")
     if fit.chosen is not None:  # I-Scan's 1- and 2-point calibrations: the rest not used
@@ -282,8 +316,21 @@ def fit_arrays(hist, load, meta, *, module, common, options):
         reasons[others] = f"not one of the points of I-Scan's {module.NAME} calibration"
     if scale is not None:
         fit.diagnostics["working_fraction"] = scale[used].tolist()
+    if gains_record is not None:
+        fit.diagnostics["gains"] = gains_record
     result = law_result(hist, load, meta, module.NAME, fit, used, reasons, area, common,
                         options)
+    result.selection = selection
+    result.equilibration = gains
+    exact = used & ((meta["saturated_cells"] == 0) | (common.saturated != "censored"))
+    mean_raw = meta["raw_sum"][exact] / np.maximum(meta["loaded_cells"][exact], 1)
+    power_law = fit.model == "power" and module.NAME != "linear" or selection is not None
+    result.lack_of_fit = lack_of_fit(
+        load[exact], result.points["predicted_N"].to_numpy()[exact], mean_raw,
+        n_parameters=law_parameters(module.NAME, fit.model, fit.params), selection=selection,
+        hist=take_rows(hist, exact) if power_law else None)
+    for message in result.lack_of_fit.messages:
+        warnings.warn(f"{module.NAME} calibration: {message}", UserWarning, stacklevel=3)
     if common.n_interval_resamples:
         result.prediction_interval = _interval(hist, load, meta, module, common, options)
     return result
@@ -294,6 +341,7 @@ def _interval(hist, load, meta, module, common, options):
     if len(load) < 3:
         raise TactilecalError(f"{len(load)} patches; a prediction interval needs at least 3")
     once = CommonOptions(saturated=common.saturated, sensel_area_mm2=common.sensel_area_mm2)
+    # the gains learned once stay: the interval is that of the law on corrected frames
     boot = bootstrap_refits(lambda idx: fit_arrays(
         hist[idx], load[idx], {k: np.asarray(v)[idx] for k, v in meta.items()},
         module=module, common=once, options=options), hist, load,
@@ -389,7 +437,7 @@ def validate(result, points, *, include_saturated=False, progress=None):
     >>> from tactilecal.calibration import points_from_frames
     >>> raw = np.zeros((4, 3, 3)); raw[:, 1, 1] = [10, 20, 40, 80]
     >>> points = points_from_frames(raw, 0.01 * raw[:, 1, 1] ** 1.1)
-    >>> check = validate(calibrate(points[:3], objective="l2"), points[3:])
+    >>> check = validate(calibrate(points[:3], "power", objective="l2"), points[3:])
     >>> check.metrics["n"], round(check.metrics["max_abs_error_pct"], 6)
     (1, 0.0)
     """

@@ -83,13 +83,15 @@ class Fit:
     method_result: object = None
 
 
-def option(default, help, *, choices=None, metavar=None):
+def option(default, help, *, choices=None, metavar=None, flag=None):
     """Declare a field of a method's ``Options``: its default, help text and allowed values.
 
     The command line builds ``--<name>`` from it (``metadata["help"]``,
-    ``metadata["choices"]``), so neither the default nor the text is written twice.
+    ``metadata["choices"]``), so neither the default nor the text is written twice;
+    ``flag=("--learn-gains", "learn")`` makes it a flag without a value that sets that
+    choice.
     """
-    metadata = {"help": help, "choices": choices, "metavar": metavar}
+    metadata = {"help": help, "choices": choices, "metavar": metavar, "flag": flag}
     if isinstance(default, list | dict):
         raise TypeError("option defaults must be immutable (use a tuple)")
     return field(default=default, metadata=metadata)

@@ -242,7 +242,7 @@ def load_points(manifest_path, *, mask=None, equilibration=None, progress=None):
             frame_histograms(frame), [load], source=row["file"], labels=[row.get("label", "")],
             frames=[number], sensel_area_mm2=float(attrs.get("sensel_area_mm2", np.nan)),
             total_cells=total, notes=[note], sensor=sensor_of(attrs),
-            manifest=manifest_path))
+            manifest=manifest_path, readings=frame.astype(float)))
     return points
 
 

@@ -8,7 +8,9 @@ with the sensor's total raw signal by cross-correlation
 selection) and every remaining frame becomes a calibration point.
 """
 
+import dataclasses
 import os
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -22,7 +24,7 @@ from tactilecal._provenance import provenance_of
 from tactilecal.calibration._calibrate import DEFAULT_METHOD, fit_arrays, method_options
 from tactilecal.calibration._fit import FitData
 from tactilecal.calibration._models import force_table
-from tactilecal.calibration._pipeline import as_equilibration
+from tactilecal.calibration._pipeline import as_equilibration, chain
 from tactilecal.calibration._points import (
     _frame_histograms,
     _points_from_histograms,
@@ -190,13 +192,21 @@ def _lag_on(total, times, loads, max_lag_s, near=None):
 
     ``near``: ``(lag_s, half_width_s)``, search within ``half_width_s`` of ``lag_s`` first
     (``near_lag_s`` of :func:`tactilecal.dynamic.estimate_lag`).
+
+    Returns the lag and what :func:`tactilecal.dynamic.estimate_lag` warned (e.g. a lag
+    made ambiguous by a periodic load; the warnings are passed on too).
     """
     from tactilecal.dynamic import estimate_lag
 
     sensor = xr.DataArray(total, dims="time", coords={"time": times}, name="total raw")
     near_lag_s, width_s = (None, None) if near is None else near
-    return float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s,
-                              near_lag_s=near_lag_s, near_width_s=width_s))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        lag = float(estimate_lag(sensor, loads, method="xcorr", max_lag_s=max_lag_s,
+                                 near_lag_s=near_lag_s, near_width_s=width_s))
+    for w in caught:
+        warnings.warn(w.message, w.category, stacklevel=3)
+    return lag, "; ".join(str(w.message) for w in caught)
 
 
 def _align_loads(loads, total, times, n, name, lag_s, max_lag_s, near=None):
@@ -210,10 +220,12 @@ def _align_loads(loads, total, times, n, name, lag_s, max_lag_s, near=None):
             raise TactilecalError(f"loads have {len(loads)} values and no time column; expected "
                                   f"{n} (one per frame of {name}), as I-Scan's movie calibration")
         return loads, {"lag_s": None, "aligned": "one load per frame (no time column)"}
+    note = ""
     if lag_s is None:
-        lag_s = _lag_on(total, times, loads, max_lag_s, near)
+        lag_s, note = _lag_on(total, times, loads, max_lag_s, near)
     return (_loads_at(loads, times, lag_s),
-            {"lag_s": lag_s, "aligned": "cross-correlation with the total raw signal"})
+            {"lag_s": lag_s, "aligned": "cross-correlation with the total raw signal",
+             "lag_note": note})
 
 
 def _loads_at(loads, times, lag_s):
@@ -324,14 +336,17 @@ def _movie_loads(recording, signal, loads, *, lag_s, max_lag_s, aligned_on="raw 
 
 
 def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction,
-                  signal_N=None, sums=None, near=None):
+                  signal_N=None, sums=None, near=None, window=None):
     """Align the loads on ``hist @ signal_N`` (default: the raw sum) and keep the frames.
 
     Returns ``(hist, load, meta, report)`` of the frames kept as points. The kept rows are
     moved to the top of ``hist`` in place (``hist`` is not used afterwards), so the
     returned histograms are a view of it and no copy of the movie's histograms is made.
     ``sums`` are :func:`_frame_sums` of ``hist``, computed if not given; ``near``: the
-    lag is searched near a known one first (:func:`_lag_on`).
+    lag is searched near a known one first (:func:`_lag_on`). ``window``: ``(from_s, to_s,
+    min_load_N)`` (each may be None), the frames to fit: within that time of the
+    recording's clock and carrying at least that load (after the alignment, which uses the
+    whole records).
     """
     name = str(recording.attrs.get("source", "recording"))
     n = len(hist)
@@ -342,7 +357,17 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
                                 "calibrated force", near=near)
     outside = ~np.isfinite(load)
     low = ~outside & (load < min_load_fraction * np.nanmax(load))
-    keep = ~outside & ~low
+    from_s, to_s, min_load_N = (None, None, None) if window is None else window
+    times = _frame_times(recording, n)
+    excluded = np.zeros(n, dtype=bool)
+    if from_s is not None:
+        excluded |= times < from_s
+    if to_s is not None:
+        excluded |= times > to_s
+    if min_load_N is not None:
+        excluded |= ~outside & (load < min_load_N)
+    excluded &= ~outside & ~low
+    keep = ~outside & ~low & ~excluded
     frames = (recording["frame"].values if "frame" in recording.coords
               else np.arange(1, n + 1))
     kept = keep_rows_in_place(hist, keep)
@@ -359,6 +384,8 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
     report.update({
         "n_frames": n, "n_points": m, "n_outside_load_record": int(outside.sum()),
         "n_below_load_floor": int(low.sum()), "min_load_fraction": min_load_fraction,
+        "n_outside_window": int(excluded.sum()),
+        "window": {"from_s": from_s, "to_s": to_s, "min_load_N": min_load_N},
         "n_saturated_frames": int((meta["saturated_cells"] > 0).sum()),
     })
     lag_txt = "none" if report["lag_s"] is None else f"{report['lag_s']:.6g} s"
@@ -366,8 +393,9 @@ def _movie_arrays(recording, hist, loads, *, lag_s, max_lag_s, min_load_fraction
         f"movie {name}: {n} frames, lag {lag_txt} ({report['aligned']}, on the "
         f"{report['aligned_on']}); {report['n_outside_load_record']} frames outside the load "
         f"record and {report['n_below_load_floor']} below {min_load_fraction:.0%} of the "
-        f"largest load left out; {m} points, of which "
-        f"{report['n_saturated_frames']} have saturated sensels")
+        f"largest load left out"
+        + (f", {report['n_outside_window']} outside the window asked for" if window else "")
+        + f"; {m} points, of which {report['n_saturated_frames']} have saturated sensels")
     return kept, load[keep], meta, report
 
 
@@ -415,13 +443,13 @@ def _first_pass(recording, hist, raw_sum, loads, setup, min_load_fraction, max_l
     n = len(raw_sum)
     times = _frame_times(recording, n)
     total, block_times = _decimated(raw_sum, times, 4.0 * _mean_rate_hz(loads))
-    lag_s = _lag_on(total, block_times, loads, max_lag_s)
+    lag_s, note = _lag_on(total, block_times, loads, max_lag_s)
     step = max(1, n // max_points)
     load = _loads_at(loads, times[::step], lag_s)
     rate_hz = _rate_hz(times)
     near = (lag_s, NEAR_BLOCKS * (n // len(total)) / rate_hz) if rate_hz > 0 else None
     return (*_first_pass_table(hist[::step], load, setup, min_load_fraction),
-            {"lag_s": lag_s, "near": near})
+            {"lag_s": lag_s, "near": near, "lag_note": note})
 
 
 def _first_pass_table(hist, load, setup, min_load_fraction):
@@ -431,7 +459,7 @@ def _first_pass_table(hist, load, setup, min_load_fraction):
     ``load`` are those of a few thousand frames (:func:`_first_pass`).
     """
     module, common, options = setup
-    if module.NAME == "zvyagin":  # its pairs over thousands of frames: power shapes as well
+    if module.NAME in ("zvyagin", "auto"):  # power shapes the alignment signal as well
         module, options = MODULES["power"], MODULES["power"].Options()
     if module.NAME != "power" or len(hist) < COMPILED_MIN_POINTS:  # power: products of counts
         hist = hist.astype(float)
@@ -477,9 +505,39 @@ def _load_record(loads, time_col, load_col):
                         attrs={"units": "N", "source": "DataFrame"})
 
 
+def _with_learned_gains(recording, kept, load, meta, dead, equilibration, progress, compiled):
+    """Learn gains on up to ``MAX_PATCHES`` kept frames; count every frame again with them.
+
+    Returns the kept frames' histograms, the equilibration to apply (the given one, then the
+    learned gains) and the learning's record.
+    """
+    from tactilecal.calibration._gains import MAX_PATCHES, learn_gains
+
+    numbers = pd.Index(recording["frame"].values if "frame" in recording.coords
+                       else np.arange(1, recording.shape[0] + 1))
+    positions = numbers.get_indexer(meta["frame"])
+    sample = np.linspace(0, len(positions) - 1, min(len(positions), MAX_PATCHES)).astype(int)
+    frames = np.asarray(recording.data[np.sort(positions[sample])], dtype=float)
+    order = np.argsort(np.argsort(positions[sample]))  # back to the sample's order
+    frames = frames[order]
+    if dead is not None:
+        frames[:, dead.mask] = np.nan
+    if equilibration is not None:
+        frames = equilibration.apply(frames)
+    gains, record = learn_gains(frames, load[sample], meta["saturated_cells"][sample] == 0,
+                                where=str(recording.attrs.get("source", "the movie")))
+    if gains is None:
+        return kept, equilibration, record
+    combined = chain(equilibration, gains)
+    hist = _histograms(recording.data, None if dead is None else dead.mask, combined, progress,
+                       compiled)
+    return hist[positions], combined, record
+
+
 def calibrate_movie(recording, loads, *, method=DEFAULT_METHOD, time_col=None, load_col=None,
                     lag_s=None, max_lag_s=None, mask_dead=False, equilibration=None,
-                    min_load_fraction=0.02, progress=None, **options):
+                    min_load_fraction=0.02, from_s=None, to_s=None, min_load_N=None,
+                    progress=None, **options):
     """Movie calibration: align, resample, trim saturated frames, fit every frame.
 
     Parameters
@@ -495,7 +553,15 @@ def calibrate_movie(recording, loads, *, method=DEFAULT_METHOD, time_col=None, l
     time_col, load_col : str or int, optional
         Columns of the load-cell CSV or DataFrame.
     lag_s, max_lag_s, min_load_fraction, progress
-        See :func:`movie_points`.
+        See :func:`movie_points`. A periodic load (a gait cycle) correlates almost as well
+        a whole period away: of near-equal correlation peaks the lag that overlaps the
+        records most is taken, with a warning that gives the others.
+    from_s, to_s : float, optional
+        Fit only the frames between these times of the recording's clock (e.g. the
+        stance phases of a gait trial, or the steady part of a run); the alignment uses the
+        whole records.
+    min_load_N : float, optional
+        Fit only the frames carrying at least this load (e.g. stance, not swing).
     mask_dead : bool
         Detect non-working sensels over the movie (:func:`find_dead_sensels`) and mask them.
     equilibration : Equilibration, str or os.PathLike, optional
@@ -546,15 +612,27 @@ def calibrate_movie(recording, loads, *, method=DEFAULT_METHOD, time_col=None, l
         # align again on the force that fit gives (Gillis 2013 aligns force on force).
         signal_N, first, first_report = _first_pass(recording, hist, sums["raw_sum"], loads,
                                                     setup, min_load_fraction, max_lag_s)
+    window = None if from_s is None and to_s is None and min_load_N is None \
+        else (from_s, to_s, min_load_N)
     kept, load, meta, report = _movie_arrays(
         recording, hist, loads, lag_s=lag_s, max_lag_s=max_lag_s,
         min_load_fraction=min_load_fraction, signal_N=signal_N, sums=sums,
-        near=None if first is None else first_report["near"])
+        near=None if first is None else first_report["near"], window=window)
+    gains_record = None
+    if common.gains == "learn":  # learned on a sample of the frames, applied to every one
+        kept, equilibration, gains_record = _with_learned_gains(
+            recording, kept, load, meta, dead, equilibration, resolve(progress), fits_compiled)
+        common = dataclasses.replace(common, gains="none")
     if module.NAME != "power":  # the power fit reads counts (hist_products); others floats
         kept = kept.astype(float)
     result = fit_arrays(kept, load, meta, module=module, common=common, options=method_opts)
+    if gains_record is not None:
+        result.diagnostics["gains"] = gains_record
     if first is not None:
         report["lag_s_raw_sum"] = first_report["lag_s"]
+        report["lag_note"] = first_report["lag_note"] or report.get("lag_note", "")
+    if report.get("lag_note"):
+        report["report"] += "; the lag is ambiguous (a periodic load): see lag_note"
         report["first_pass_params"] = first.params
         if "n_evaluations" in result.diagnostics:
             result.diagnostics["n_evaluations"] += first.diagnostics.get("n_evaluations", 0)

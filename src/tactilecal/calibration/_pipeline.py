@@ -19,7 +19,8 @@ from tactilecal.calibration._sensels import (
     load_equilibration,
 )
 
-__all__ = ["MASK_DETECT", "as_equilibration", "is_path", "manifest_points", "reading_options"]
+__all__ = ["MASK_DETECT", "as_equilibration", "chain", "is_path", "manifest_points",
+           "reading_options"]
 
 MASK_DETECT = "detect"
 """``mask="detect"``: find the non-working sensels over the manifest's frames."""
@@ -49,6 +50,22 @@ def as_equilibration(equilibration):
         return load_equilibration(equilibration)
     raise TypeError(f"equilibration is a {type(equilibration).__name__}; expected an "
                     "Equilibration, the path of its JSON, or None")
+
+
+def chain(first, then):
+    """Return the equilibration that applies ``first``, then ``then`` (either may be None).
+
+    Gains multiply: ``x * g1 * g2`` (Equilibration.apply clips at 255 and keeps 255).
+
+    Examples
+    --------
+    >>> a = Equilibration(gain=np.full((1, 2), 2.0)); b = Equilibration(gain=np.full((1, 2), 0.5))
+    >>> chain(a, b).gain.tolist(), chain(None, b) is b
+    ([[1.0, 1.0]], True)
+    """
+    if first is None or then is None:
+        return then if first is None else first
+    return Equilibration(gain=first.gain * then.gain, levels=first.levels)
 
 
 def reading_options(progress):

@@ -62,6 +62,10 @@ class CalibrationPoint(ShortRepr):
     manifest : str
         The manifest the point was read from (``source`` is relative to its folder), or
         ``""``; with ``source`` it goes into the calibration's provenance.
+    readings : numpy.ndarray or None
+        The frame itself, ``(rows, cols)`` (NaN outside the sensor and at masked sensels):
+        where each reading lies, which a gain map learned with the law needs
+        (``calibrate(..., gains="learn")``); None for points known only by their histogram.
     """
 
     histogram: np.ndarray
@@ -78,6 +82,7 @@ class CalibrationPoint(ShortRepr):
     note: str = field(default="")
     sensor: dict = field(default_factory=dict)
     manifest: str = ""
+    readings: np.ndarray | None = field(default=None, repr=False)
 
     def _repr_fields(self):
         return [("load_N", self.load_N), ("raw_sum", self.raw_sum),
@@ -221,9 +226,12 @@ def points_from_frames(raw, load_N, *, source="", labels=None, frames=None, mask
     _check_length("frames", len(frames), n)
     total_cells = int(np.isfinite(values[0]).sum())
     hist = frame_histograms(values, mask=mask)
+    readings = values.astype(float) if mask is None else \
+        np.where(_checked_mask(mask, values.shape[1:]), np.nan, values.astype(float))
     return _points_from_histograms(hist, load_N, source=source, labels=labels, frames=frames,
                                    sensel_area_mm2=sensel_area_mm2, total_cells=total_cells,
-                                   sensor=sensor_of(attrs) if attrs else None)
+                                   sensor=sensor_of(attrs) if attrs else None,
+                                   readings=readings)
 
 
 def _check_length(name, found, expected):
@@ -240,7 +248,7 @@ def _checked_mask(mask, shape):
 
 
 def _points_from_histograms(hist, load_N, *, source, labels, frames, sensel_area_mm2,
-                            total_cells, notes=None, sensor=None, manifest=""):
+                            total_cells, notes=None, sensor=None, manifest="", readings=None):
     levels = np.arange(N_LEVELS)
     raw_sum = hist @ levels
     loaded = hist[:, 1:].sum(axis=1)
@@ -252,7 +260,8 @@ def _points_from_histograms(hist, load_N, *, source, labels, frames, sensel_area
                          source=str(source), frame=int(frames[i]), label=str(labels[i]),
                          sensel_area_mm2=float(sensel_area_mm2), working_cells=int(working[i]),
                          total_cells=int(total_cells), note=notes[i], sensor=dict(sensor or {}),
-                         manifest=str(manifest))
+                         manifest=str(manifest),
+                         readings=None if readings is None else readings[i])
         for i in range(len(hist))
     ]
 

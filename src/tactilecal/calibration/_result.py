@@ -16,9 +16,11 @@ from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal._validate import check_number, check_type, require_keys
 from tactilecal._version import __version__
 from tactilecal.calibration import _plots
+from tactilecal.calibration._lack_of_fit import LackOfFit
 from tactilecal.calibration._models import MODELS, check_law, force_table, sensel_force
 from tactilecal.calibration._sensels import Equilibration, NonWorkingSensels
 from tactilecal.calibration._uncertainty import PredictionInterval
+from tactilecal.calibration.methods.auto import Selection
 from tactilecal.calibration.methods.zvyagin import ZvyaginResult
 
 __all__ = ["CalibrationResult"]
@@ -27,7 +29,7 @@ POINT_COLUMNS = ["file", "frame", "load_N", "raw_sum", "loaded_cells", "saturate
                  "used", "reason", "predicted_N", "error_pct"]
 REQUIRED_KEYS = ["method", "model", "params", "sensel_area_mm2", "saturation_pressure_kPa",
                  "points", "metrics", "options", "equilibration", "non_working_sensels",
-                 "prediction_interval", "diagnostics"]
+                 "prediction_interval", "selection", "lack_of_fit", "diagnostics"]
 
 
 @dataclass(repr=False, eq=False)
@@ -67,6 +69,13 @@ class CalibrationResult(SavedResult):
     prediction_interval : PredictionInterval or None
         The bootstrap prediction interval of a new patch's load (``n_interval_resamples``),
         used by :func:`tactilecal.calibration.validate`.
+    selection : Selection or None
+        How ``method="auto"`` chose ``method``: every candidate's held-out error, the
+        choice and why (None for a method given by name).
+    lack_of_fit : LackOfFit or None
+        Whether the law describes its own patches (systematic error by load, drift over the
+        acquisition order); ``flagged`` with one message per finding (None for a law that
+        was not fitted here, such as a header's).
     diagnostics : dict
         What the method found on the way (costs, segments, Zvyagin's intermediates, a movie's
         alignment), JSON-ready; for people and reports: :meth:`apply` never reads it.
@@ -103,6 +112,8 @@ class CalibrationResult(SavedResult):
     equilibration: Equilibration | None = None
     non_working: NonWorkingSensels | None = None
     prediction_interval: PredictionInterval | None = None
+    selection: Selection | None = None
+    lack_of_fit: LackOfFit | None = None
     diagnostics: dict = field(default_factory=dict)
     version: str = __version__
     created: str = field(default_factory=lambda: datetime.now(UTC).isoformat(timespec="seconds"))
@@ -301,6 +312,10 @@ class CalibrationResult(SavedResult):
         ...
         """
         lines = [f"Calibration method {self.method!r}, model {self.model!r}"]
+        if self.selection is not None:
+            lines.extend(f"  {line}" for line in self.selection.lines())
+        if self.lack_of_fit is not None:
+            lines.extend(f"  warning: {m}" for m in self.lack_of_fit.messages)
         for name, value in self.params.items():
             text = number(value) if np.ndim(value) == 0 else \
                 "[" + ", ".join(number(v) for v in np.ravel(value)) + "]"
@@ -360,6 +375,8 @@ class CalibrationResult(SavedResult):
             else self.non_working.to_dict(),
             "prediction_interval": None if self.prediction_interval is None
             else self.prediction_interval.to_dict(),
+            "selection": None if self.selection is None else self.selection.to_dict(),
+            "lack_of_fit": None if self.lack_of_fit is None else self.lack_of_fit.to_dict(),
             "diagnostics": self.diagnostics, "version": self.version,
             "created": self.created, "provenance": self.provenance,
         })
@@ -395,6 +412,10 @@ class CalibrationResult(SavedResult):
             prediction_interval=None if data["prediction_interval"] is None
             else PredictionInterval.from_dict(data["prediction_interval"],
                                               where.format("prediction_interval")),
+            selection=None if data["selection"] is None
+            else Selection.from_dict(data["selection"], where.format("selection")),
+            lack_of_fit=None if data["lack_of_fit"] is None
+            else LackOfFit.from_dict(data["lack_of_fit"], where.format("lack_of_fit")),
             diagnostics=dict(data["diagnostics"]), version=data.get("version", ""),
             created=data.get("created", ""),
             provenance=dict(check_type(data.get("provenance") or {}, dict,
@@ -434,7 +455,8 @@ def check_calibration(data, source):
     check_type(data["points"], list, where.format("points"), expected="a list of points")
     for key in ("metrics", "options", "diagnostics"):
         check_type(data[key], dict, where.format(key), expected="an object")
-    for key in ("equilibration", "non_working_sensels", "prediction_interval"):
+    for key in ("equilibration", "non_working_sensels", "prediction_interval", "selection",
+                "lack_of_fit"):
         if data[key] is not None:
             check_type(data[key], dict, where.format(key), expected="an object or null")
     if model == "power":

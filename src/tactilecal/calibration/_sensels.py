@@ -231,6 +231,31 @@ class Equilibration(SavedResult):
         out = np.clip(values * self.gain, 0.0, 255.0)
         return np.where(values == 255, 255.0, out)
 
+    def plot_gains(self, ax=None):
+        """Draw the gain of every sensel as a map (NaN: no gain, drawn blank).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+
+        Examples
+        --------
+        >>> eq = Equilibration(gain=np.array([[1.0, 1.1], [0.9, np.nan]]))
+        >>> eq.plot_gains().get_title()
+        'gain per sensel (1 = unchanged)'
+        """
+        if ax is None:
+            from matplotlib.figure import Figure
+
+            ax = Figure(figsize=(5.0, 4.2), layout="constrained").add_subplot()
+        spread = float(np.nanmax(np.abs(self.gain - 1.0))) if np.isfinite(self.gain).any() \
+            else 0.1
+        image = ax.imshow(self.gain, cmap="RdBu_r", vmin=1 - spread, vmax=1 + spread,
+                          origin="upper", interpolation="nearest")
+        ax.figure.colorbar(image, ax=ax, shrink=0.8, label="gain")
+        ax.set(title="gain per sensel (1 = unchanged)", xlabel="column", ylabel="row")
+        return ax
+
     def summary(self):
         """Describe the gains and each load level's spread before and after (text)."""
         working = np.isfinite(self.gain)

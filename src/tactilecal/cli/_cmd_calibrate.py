@@ -25,6 +25,12 @@ def register(subparsers):
     p.add_argument("--lag", type=float, help="--movie: known lag in s (skip cross-correlation)")
     p.add_argument("--max-lag", type=positive_float,
                    help="--movie: search lags up to this many seconds (periodic loadings)")
+    p.add_argument("--from", dest="from_s", type=float, metavar="S",
+                   help="--movie: fit the frames from this time of the recording on")
+    p.add_argument("--to", dest="to_s", type=float, metavar="S",
+                   help="--movie: fit the frames up to this time of the recording")
+    p.add_argument("--min-load", dest="min_load_N", type=positive_float, metavar="N",
+                   help="--movie: fit the frames carrying at least this load (e.g. stance)")
     p.add_argument("--out", metavar="CAL.json", help="write the calibration JSON here")
     p.add_argument("--json", action="store_true", help="print the calibration JSON")
     p.set_defaults(func=run)
@@ -49,7 +55,8 @@ def run(args):
                                   "'tactilecal calibrate --movie REC --loads LOADCELL.csv'")
         result = calibrate_movie(args.movie, args.loads, method=args.method,
                                  time_col=args.time_col, load_col=args.load_col,
-                                 lag_s=args.lag, max_lag_s=args.max_lag,
+                                 lag_s=args.lag, max_lag_s=args.max_lag, from_s=args.from_s,
+                                 to_s=args.to_s, min_load_N=args.min_load_N,
                                  mask_dead=args.mask_dead, equilibration=args.equilibration,
                                  progress=progress_for(args), **fit_options(args))
     else:

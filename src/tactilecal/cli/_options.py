@@ -97,6 +97,11 @@ def add_option_flags(parser, classes):
         kinds = set().union(*(_kinds(f.type) for _, f in owners))
         flag = "--" + name.replace("_", "-")
         metavar = owners[0][1].metadata.get("metavar")
+        if owners[0][1].metadata.get("flag"):  # a flag that sets one choice
+            flag, const = owners[0][1].metadata["flag"]
+            parser.add_argument(flag, dest=name, action="store_const", const=const,
+                                default=None, help=owners[0][1].metadata["help"])
+            continue
         if kinds == {bool}:
             parser.add_argument(flag, dest=name, action="store_const", const=True,
                                 default=None, help=_help(owners))

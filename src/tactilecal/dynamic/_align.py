@@ -6,6 +6,7 @@ reference record starts later than the sensor record (the thesis' case: the Teks
 recording starts before the loading machine program).
 """
 
+import warnings
 from fractions import Fraction
 
 import numpy as np
@@ -168,9 +169,13 @@ def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where, 
         i = int(np.argmax(near_corr))
         if 0 < i < near_corr.size - 1 and near_corr[i] >= MIN_CORRELATION:
             corr, lag_s = near_corr, lag_s[part]
+    full = corr is None or corr.size == lag_s.size
     if corr is None:  # no window, or its peak may lie outside it: every lag
         corr = _bounded(_normalised_xcorr(x_sens, x_ref, MIN_OVERLAP), lag_s, max_lag_s)
     i = int(np.argmax(corr))
+    if full and corr[i] >= MIN_CORRELATION:  # a lag near a known one is not ambiguous
+        overlap = np.minimum(lags + x_ref.size, x_sens.size) - np.maximum(lags, 0)
+        i = _unambiguous(corr, lag_s, i, overlap, where)
     if not np.isfinite(corr[i]):
         raise TactilecalError(f"{where}: no lag with an overlap of at least {MIN_OVERLAP} of the "
                               f"shorter record (max_lag_s={max_lag_s}); expected records of the "
@@ -183,6 +188,38 @@ def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where, 
     offset = _parabolic_offset(window, 1) if window.size == 3 and np.all(
         np.isfinite(window)) else 0.0
     return float(lag_s[i] + offset / fs_sens)
+
+
+AMBIGUITY = 0.01
+"""Correlation peaks within this of the highest are equally likely lags (a periodic load).
+
+A load repeated cycle after cycle correlates within a few thousandths as well a whole cycle
+away (the simulated gait of the tests: 0.995 at every cycle); the side lobes of a sine sweep
+or of a blind test's sine sets stay 0.02-0.04 below their main peak, which is right."""
+
+
+def _unambiguous(corr, lag_s, i, overlap, where):
+    """Among near-equal correlation peaks, the one with the most overlap; warn if several.
+
+    A periodic loading (a gait cycle, a shaking table) correlates almost as well a whole
+    period away; the highest peak is then a matter of noise, and a lag whole periods off
+    leaves most frames outside the load record. Peaks within :data:`AMBIGUITY` of the
+    highest (and standing out from their surroundings) are candidates; the one whose lag
+    leaves the most overlap between the records (then the nearest to zero) is taken.
+    """
+    finite = np.where(np.isfinite(corr), corr, -1.0)
+    peaks, _ = signal.find_peaks(finite, height=corr[i] - AMBIGUITY, prominence=2 * AMBIGUITY)
+    peaks = np.union1d(peaks, [i])
+    if peaks.size < 2:
+        return i
+    best = int(peaks[np.lexsort((np.abs(lag_s[peaks]), -overlap[peaks]))[0]])
+    shown = ", ".join(f"{lag_s[k]:.4g} s ({corr[k]:.3f})" for k in peaks[:6])
+    warnings.warn(f"{where}: the lag is ambiguous: {peaks.size} near-equal correlation peaks "
+                  f"at {shown}{' ...' if peaks.size > 6 else ''}, "
+                  f"{np.median(np.diff(lag_s[peaks])):.4g} s apart (a periodic loading); took "
+                  f"{lag_s[best]:.4g} s, which overlaps the records most; give lag_s (or a "
+                  "max_lag_s) if it is another", UserWarning, stacklevel=4)
+    return best
 
 
 def _bounded(corr, lag_s, max_lag_s):

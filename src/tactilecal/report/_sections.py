@@ -113,8 +113,34 @@ def calibration_blocks(result, label):
                     "How many patches the calibration misses by how much, in percent of the "
                     "applied load; a narrow peak at 0 is a good calibration."),
     ]
+    blocks[1:1] = _choice_blocks(result, label)
     if result.method_result is not None:
         blocks += _zvyagin_blocks(result.method_result, label)
+    return blocks
+
+
+def _choice_blocks(result, label):
+    """How ``auto`` chose the method, whether the law fits, the gains learned with it."""
+    blocks = []
+    if result.lack_of_fit is not None and result.lack_of_fit.flagged:
+        blocks += [note_html(f"{label}: {message}") for message in result.lack_of_fit.messages]
+    if result.selection is not None:
+        rows = [(s["candidate"], "not fitted: " + s["note"] if s["rms_rel"] is None
+                 else share(s["rms_rel"], 2), "" if s["excess_se"] is None
+                 else number(s["excess_se"], 2),
+                 "chosen" if s["candidate"] == result.selection.chosen else "")
+                for s in result.selection.scores]
+        blocks += [f"<p>{html.escape(result.selection.reason)}</p>",
+                   table_html(rows, header=("candidate", "held-out RMS error",
+                                            "above the best (standard errors)", ""))]
+    gains = result.diagnostics.get("gains")
+    if gains and gains["chosen"] != "none" and result.equilibration is not None:
+        blocks.append(figure_html(
+            result.equilibration.plot_gains(ax=new_axes((5.0, 4.2))),
+            f"{label}: gains learned with the law ({gains['chosen']})",
+            "Each sensel's reading is multiplied by its gain before the law: red sensels "
+            "read low and are raised, blue ones read high; a smooth pattern is a field over "
+            f"the sensor, isolated spots single sensels. {gains['reason']}."))
     return blocks
 
 

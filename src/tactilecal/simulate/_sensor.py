@@ -121,6 +121,9 @@ class SimulatedSensor:
         Log-log curvature of the response, 0 for the pure power law: the reading ``r0`` of
         eq. 1 becomes ``r0 * exp(curvature * ln(r0 / 32)**2)``, a response no single power
         law describes (to test how each method degrades under misspecification).
+    b_sensel : numpy.ndarray or None
+        ``(rows, cols)`` exponent of each sensel when the exponents spread around ``b``
+        (None: every sensel follows ``b``); no single law is then exact.
     """
 
     sensor_type: str
@@ -137,6 +140,7 @@ class SimulatedSensor:
     noise_threshold: int = 2
     seconds_per_frame: float = 0.005
     curvature: float = 0.0
+    b_sensel: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def shape(self):
@@ -150,7 +154,7 @@ class SimulatedSensor:
         Negative forces count as 0.
         """
         force = np.maximum(np.asarray(force_N, dtype=np.float64), 0.0)
-        raw = (force / self.A_N) ** (1.0 / self.b)
+        raw = (force / self.A_N) ** (1.0 / (self.b if self.b_sensel is None else self.b_sensel))
         if self.curvature:
             log_ratio = np.log(np.where(raw > 0, raw, 32.0) / 32.0)
             raw = raw * np.exp(self.curvature * log_ratio ** 2)
@@ -160,7 +164,7 @@ class SimulatedSensor:
         """Force per sensel in N of a unit-gain reading, ``A * raw ** b`` (Zvyagin eq. 1)."""
         return self.A_N * np.asarray(raw, dtype=np.float64) ** self.b
 
-    def read(self, force_N, rng=None):
+    def read(self, force_N, rng=None, *, sensitivity=None):
         """Return the readings of the true per-sensel forces ``force_N``.
 
         Parameters
@@ -170,6 +174,9 @@ class SimulatedSensor:
         rng : numpy.random.Generator or int, optional
             Source of the read noise (a seed is accepted). ``None`` draws fresh entropy, so
             pass a generator or seed for reproducible readings.
+        sensitivity : array_like, optional
+            Multiplier of each frame's readings before noise (one per frame along the first
+            axis), e.g. a sensor whose sensitivity drifts or depends on its loading history.
 
         Returns
         -------
@@ -193,6 +200,9 @@ class SimulatedSensor:
             raise TactilecalError(f"force_N: last two axes are {force.shape[-2:]}; expected "
                                   f"(rows, cols) = {self.shape}")
         raw = self.ideal_raw(force) * self.gain
+        if sensitivity is not None:
+            raw *= np.asarray(sensitivity, dtype=np.float64).reshape(
+                (-1,) + (1,) * (raw.ndim - 1))
         return self._digitise(raw, _as_rng(rng))
 
     def _digitise(self, raw, rng, scratch=None):

@@ -35,6 +35,8 @@ from tactilecal.calibration.methods.zvyagin._result import ZvyaginResult
 __all__ = ["NAME", "Options", "fit", "ZvyaginResult"]
 
 NAME = "zvyagin"
+NAMES_POINTS = True
+"""The procedure names the patches in its tables and figures: give it the points' names."""
 
 
 def _b_range(text):

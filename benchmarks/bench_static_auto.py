@@ -1,0 +1,158 @@
+"""Static calibration on the family of simulated sensors: every method, ``auto``, the floor.
+
+For each member of :data:`tactilecal.simulate.FAMILY` and each seed: a training session
+(45 patches), a held-out session (``--test-patches``, 500 by default) and a floor session
+(``--floor-patches``, 2000) of the same sensor. The statistic is the RMS relative error of
+the held-out patch loads (unsaturated patches), divided by the floor's: the best global
+power law (least squares on relative errors) fitted on the floor session's patches. Also:
+the ratio of ``auto`` (the default) to the best method of the same session (an oracle that
+knows which wins) and to the true law's error, whether the default said the law does not
+fit (lack of fit), and the CPU time of ``auto``.
+
+The ``track_*`` functions return the worst case over members and seeds; ``python
+benchmarks/bench_static_auto.py`` prints the whole table (median / worst per member).
+"""
+
+import argparse
+import functools
+import time
+import warnings
+
+import numpy as np
+
+import tactilecal as tc
+from tactilecal.calibration import points_from_frames
+from tactilecal.simulate import FAMILY, family_sessions, true_force_table_N
+
+METHODS = {"power": {"method": "power"},
+           "power relative": {"method": "power", "objective": "relative"},
+           "zvyagin": {"method": "zvyagin"}, "piecewise": {"method": "piecewise"},
+           "lut": {"method": "lut"}, "polynomial": {"method": "polynomial"},
+           "auto": {"method": "auto"}}
+SEEDS = (0, 1, 2)
+POWER_LAW = ("5051-zvyagin", "5051-sensor2", "5101-b1.0", "9500-b1.4", "5051-saturating")
+"""Members whose readings follow a power law (gains, noise and saturation aside)."""
+BENT = ("5051-bent", "5051-concave")
+"""Members whose response bends away from any power law by more than the patches' scatter."""
+
+
+def _points(session):
+    return points_from_frames(session.raw.values, session.load_N,
+                              sensel_area_mm2=session.sensor.sensel_area_mm2)
+
+
+def _rms(table, hist, load):
+    return float(np.sqrt(np.mean((hist @ table / load - 1.0) ** 2)))
+
+
+@functools.cache
+def session_errors(member, seed, test_patches=500, floor_patches=2000):
+    """Held-out RMS relative error of every method, the floor and the truth in one session."""
+    train, test = family_sessions(member, seed, n_test=test_patches)
+    _, floor = family_sessions(member, seed, n_test=floor_patches, test_seed=10_000 + seed)
+    held = [p for p in _points(test) if p.saturated_cells == 0]
+    hist = np.array([p.histogram for p in held], dtype=float)
+    load = np.array([p.load_N for p in held])
+    out, seconds = {}, {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        points = _points(train)
+        for name, kwargs in METHODS.items():
+            start = time.process_time()
+            try:
+                cal = tc.calibrate(points, **kwargs)
+            except ValueError:  # e.g. a polynomial that decreases: refused
+                out[name] = float("nan")
+                continue
+            seconds[name] = time.process_time() - start
+            out[name] = _rms(cal.force_table(), hist, load)
+            if name == "auto":
+                out["auto chose"] = cal.selection.chosen
+                out["auto flagged"] = cal.lack_of_fit.flagged
+        best = tc.calibrate(_points(floor), method="power", objective="relative")
+    out["floor"] = _rms(best.force_table(), hist, load)
+    out["truth"] = _rms(true_force_table_N(train.sensor), hist, load)
+    out["n_test"] = len(held)
+    out["seconds"] = seconds
+    return out
+
+
+def _ratios(key, against="floor", members=None, seeds=SEEDS):
+    values = {}
+    for member in members or FAMILY:
+        for seed in seeds:
+            e = session_errors(member, seed)
+            if against == "oracle":
+                ref = np.nanmin([e[m] for m in METHODS if m != "auto"])
+            else:
+                ref = e[against]
+            values.setdefault(member, []).append(e[key] / ref)
+    return values
+
+
+def track_auto_over_oracle_worst():
+    """Worst ratio of auto's held-out RMS error to the best method's in the same session."""
+    return max(max(v) for v in _ratios("auto", "oracle").values())
+
+
+track_auto_over_oracle_worst.unit = "ratio"
+
+
+def track_auto_over_truth_worst():
+    """Worst ratio of auto's held-out RMS error to the true law's in the same session."""
+    return max(max(v) for v in _ratios("auto", "truth").values())
+
+
+track_auto_over_truth_worst.unit = "ratio"
+
+
+def _flag_share(members, seeds=SEEDS):
+    flags = [session_errors(m, s)["auto flagged"] for m in members for s in seeds]
+    return float(np.mean(flags))
+
+
+def track_lack_of_fit_on_bent_sessions():
+    """Share of sessions of a bent response where the default says the law does not fit."""
+    return _flag_share(BENT)
+
+
+track_lack_of_fit_on_bent_sessions.unit = "share"
+
+
+def track_lack_of_fit_on_power_law_sessions():
+    """Share of sessions of power-law sensors where the default says the law does not fit."""
+    return _flag_share(POWER_LAW)
+
+
+track_lack_of_fit_on_power_law_sessions.unit = "share"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--members", nargs="*", default=list(FAMILY))
+    parser.add_argument("--seeds", type=int, default=len(SEEDS))
+    args = parser.parse_args()
+    seeds = tuple(range(args.seeds))
+    names = [*METHODS, "truth"]
+    print(f"held-out RMS relative error / floor (median / worst over {len(seeds)} sessions)")
+    print(f"{'member':<17}" + "".join(f"{n:>16}" for n in names) + f"{'auto/oracle':>13}"
+          f"{'auto/truth':>12}{'flagged':>9}  auto chose")
+    for member in args.members:
+        cells = []
+        for name in names:
+            r = _ratios(name, "floor", [member], seeds)[member]
+            cells.append(f"{np.nanmedian(r):7.2f} / {np.nanmax(r):5.2f}")
+        oracle = _ratios("auto", "oracle", [member], seeds)[member]
+        truth = _ratios("auto", "truth", [member], seeds)[member]
+        runs = [session_errors(member, s) for s in seeds]
+        flagged = sum(r["auto flagged"] for r in runs)
+        print(f"{member:<17}" + "".join(f"{c:>16}" for c in cells)
+              + f"{max(oracle):>13.3f}{max(truth):>12.3f}{flagged:>5} of {len(seeds)}  "
+              + ", ".join(r["auto chose"] for r in runs), flush=True)
+    worst = max(max(v) for v in _ratios("auto", "oracle", args.members, seeds).values())
+    cpu = max(session_errors(m, s)["seconds"]["auto"] for m in args.members for s in seeds)
+    print(f"worst auto / oracle: {worst:.3f}; slowest auto: {cpu:.2f} s CPU (45 patches)")
+
+
+if __name__ == "__main__":
+    main()
