@@ -84,11 +84,23 @@ def _reporter(total, desc, quiet):
     return _Lines(total, desc, sys.stderr)
 
 
+class _Silent:
+    """A progress report that says nothing (``quiet``)."""
+
+    def update(self, n=1):
+        pass
+
+    def close(self):
+        pass
+
+
 def terminal_bar(iterable=None, *, total=None, desc=None, quiet=False):
     """Yield the items of ``iterable``, reporting progress the command line's way.
 
     A tqdm bar on standard error when it is a terminal; one line per 10 % when it is
-    redirected (``total`` or ``len(iterable)`` known); nothing when ``quiet``.
+    redirected (``total`` or ``len(iterable)`` known); nothing when ``quiet``. Without an
+    iterable, return the report itself, advanced by its ``update()`` and ended by
+    ``close()``.
 
     Examples
     --------
@@ -98,6 +110,8 @@ def terminal_bar(iterable=None, *, total=None, desc=None, quiet=False):
     if total is None and hasattr(iterable, "__len__"):
         total = len(iterable)
     reporter = _reporter(total, desc, quiet)
+    if iterable is None:
+        return _Silent() if reporter is None else reporter
     if reporter is None:
         return iterable
     return _report(iterable, reporter)

@@ -31,7 +31,7 @@ from tactilecal.dynamic._fit import complex_r2
 from tactilecal.dynamic._rational import RationalModel
 
 __all__ = ["Structure", "STRUCTURES", "RationalFit", "fit_rational", "choose_rational",
-           "held_out_bins", "held_out_score", "delayed"]
+           "held_out_bins", "held_out_score", "delayed", "section_bounds_hz", "at_edge"]
 
 HELD_OUT_EVERY = 4
 #: Consecutive bins held out together: Welch's Hann window spreads a tone over about four
@@ -56,6 +56,8 @@ MATERIAL_ERROR = 0.01
 #: Bounds of the delay fitted jointly with a model: the clocks were aligned by
 #: cross-correlation, which takes part of the sensor's group delay for clock offset.
 MAX_DELAY_MS = 20.0
+#: A section within this share of its bounds is at the edge (:func:`at_edge`).
+EDGE = 0.02
 #: Most residual evaluations of one least-squares fit (a structure with more sections than
 #: the response needs wanders among poles that cancel zeros; 300 keep the others' fits).
 MAX_EVALUATIONS = 300
@@ -316,10 +318,11 @@ def choose_rational(f_hz, correction, gain_error, *, structures=STRUCTURES, fs_h
 
     Every ``HELD_OUT_EVERY``-th block of bins is held out (:func:`held_out_bins`); each
     structure is fitted on the others and scored on the held-out ones by
-    :func:`held_out_score`. Of the structures within ``MIN_IMPROVEMENT`` of the best score,
-    the one with the fewest parameters wins (the lower score on a tie); it is then refitted
-    on all bins. ``fs_hz`` bounds the corners, ``delay_s`` starts the delay (see
-    :func:`fit_rational`).
+    :func:`held_out_score`. A structure with a section at the edge of the band
+    (:func:`at_edge`) is not a candidate. Of the structures within ``MIN_IMPROVEMENT`` of
+    the best score, the one with the fewest parameters wins (the lower score on a tie); it is
+    then refitted on all bins (and dropped if its sections then reach the edge). ``fs_hz``
+    bounds the corners, ``delay_s`` starts the delay (see :func:`fit_rational`).
 
     Raises
     ------
@@ -335,6 +338,7 @@ def choose_rational(f_hz, correction, gain_error, *, structures=STRUCTURES, fs_h
                               f"{max(s.n_params for s in structures)} parameters needs at "
                               f"least {need}")
     held = held_out_bins(f_hz.size)
+    bounds = section_bounds_hz(f_hz, fs_hz)
     scores = {}
     for structure in structures:
         try:
@@ -344,15 +348,34 @@ def choose_rational(f_hz, correction, gain_error, *, structures=STRUCTURES, fs_h
             scores[structure] = float("inf")
             continue
         predicted = delayed(model.correction(f_hz[held]), delay, f_hz[held])
-        scores[structure] = held_out_score(correction[held], predicted, gain_error[held])
-    best = min(scores.values())
-    if not np.isfinite(best):
-        raise TactilecalError(f"no rational structure could be fitted to the {f_hz.size} "
-                              "coherent bins")
-    good = [s for s in structures if scores[s] <= best * (1 + MIN_IMPROVEMENT)]
-    chosen = min(good, key=lambda s: (s.n_params, scores[s]))
-    model, delay = fit_rational(f_hz, correction, gain_error, chosen, fs_hz=fs_hz,
-                                delay_s=delay_s)
-    r2 = complex_r2(correction, delayed(model.correction(f_hz), delay, f_hz))
-    return RationalFit(model, chosen, r2, scores[chosen],
-                       {s.label: scores[s] for s in structures}, delay)
+        scores[structure] = (float("inf") if at_edge(model, *bounds) else
+                             held_out_score(correction[held], predicted, gain_error[held]))
+    while np.isfinite(best := min(scores.values())):
+        good = [s for s in structures if scores[s] <= best * (1 + MIN_IMPROVEMENT)]
+        chosen = min(good, key=lambda s: (s.n_params, scores[s]))
+        model, delay = fit_rational(f_hz, correction, gain_error, chosen, fs_hz=fs_hz,
+                                    delay_s=delay_s)
+        if not at_edge(model, *bounds):
+            r2 = complex_r2(correction, delayed(model.correction(f_hz), delay, f_hz))
+            return RationalFit(model, chosen, r2, scores[chosen],
+                               {s.label: scores[s] for s in structures}, delay)
+        scores[chosen] = float("inf")  # refitted on every bin, it went to the edge
+    raise TactilecalError(f"no rational structure could be fitted to the {f_hz.size} coherent "
+                          "bins with its sections inside the band")
+
+
+def at_edge(model, low_hz, high_hz):
+    """True when a section of ``model`` sits at the edge of what the band identifies.
+
+    A corner or natural frequency within ``EDGE`` of ``low_hz`` or ``high_hz``
+    (:func:`section_bounds_hz`), or a damping within ``EDGE`` of its bounds: the fit wanted
+    it further out, where the sweep says nothing about it, and inside the band it only
+    stands in for something else (a delay, a slowly rising gain).
+    """
+    sections = model.sections()
+    frequencies = [*sections["zeros_hz"], *sections["poles_hz"],
+                   *(f for f, _ in sections["zero_pairs"] + sections["pole_pairs"])]
+    dampings = [z for _, z in sections["zero_pairs"] + sections["pole_pairs"]]
+    return (any(f <= low_hz * (1 + EDGE) or f >= high_hz / (1 + EDGE) for f in frequencies)
+            or any(z <= DAMPING_BOUNDS[0] * (1 + EDGE) or z >= DAMPING_BOUNDS[1] / (1 + EDGE)
+                   for z in dampings))

@@ -32,9 +32,9 @@ def _classify_dict(data, where):
 
     cls = result_class(data, where)
     if cls.FORMAT_KIND not in _KINDS:
-        raise TactilecalError(f"{where}: a {cls.DESCRIPTION.removeprefix('a ')} (format "
-                              f"{data['format']!r}); expected a calibration, a validation, a "
-                              "dynamic filter or an evaluation of one")
+        raise TactilecalError(f"{where} is {cls.DESCRIPTION} (format {data['format']!r}); "
+                              "expected a calibration, a validation, a dynamic filter or an "
+                              "evaluation of one")
     return _KINDS[cls.FORMAT_KIND], cls.from_dict(data, source=where)
 
 

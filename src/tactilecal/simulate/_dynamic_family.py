@@ -65,7 +65,20 @@ class DynamicMember:
     notes: str = field(default="", compare=False)
 
     def session(self, *, seed=0, rates="thesis", response=None):
-        """Return this member's sweep(s) and blind test (see :func:`dynamic_family_session`).
+        """Return this member's sweep(s) and blind test for one seed.
+
+        Parameters
+        ----------
+        seed : int
+            Draws the noise, the blind test's sets and every clock offset (0.5-1.0 s).
+        rates : {"thesis", "fast"}
+            See :data:`RATES`.
+        response : DynamicSensor, optional
+            Another response in the member's tests (to vary a parameter).
+
+        Returns
+        -------
+        DynamicFamilySession
 
         Examples
         --------
@@ -75,7 +88,19 @@ class DynamicMember:
         >>> s.blind.lag_s != s.sweeps[0].lag_s
         True
         """
-        return dynamic_family_session(self.name, seed=seed, rates=rates, response=response)
+        if rates not in RATES:
+            raise TactilecalError(f"rates={rates!r}; expected one of {', '.join(RATES)}")
+        member = self if response is None else replace(self, response=response)
+        rng = np.random.default_rng(seed)
+        sweep_rates, blind_rates = RATES[rates]
+        sweeps = tuple(
+            sine_sweep(response=member.response, amplitude_lbf=amplitude, seed=10 * seed + k,
+                       lag_s=float(rng.uniform(0.5, 1.0)), **{**sweep_rates, **member.sweep})
+            for k, amplitude in enumerate(member.sweep_amplitudes_lbf))
+        blind = random_sine_sets(response=member.response, seed=10 * seed + 9,
+                                 lag_s=float(rng.uniform(0.5, 1.0)),
+                                 **{**blind_rates, **member.blind})
+        return DynamicFamilySession(member, sweeps, blind, seed)
 
 
 #: A blind test inside the band the sweep calibrated (the sweep's 1-140 Hz).
@@ -138,38 +163,13 @@ class DynamicFamilySession:
 
 
 def dynamic_family_session(name, *, seed=0, rates="thesis", response=None):
-    """Return the sweep(s) and the blind test of one member of :data:`DYNAMIC_FAMILY`.
+    """Return the sweep(s) and the blind test of member ``name`` (:meth:`DynamicMember.session`).
 
-    Parameters
-    ----------
-    name : str
-        A key of :data:`DYNAMIC_FAMILY`.
-    seed : int
-        Draws the noise, the blind test's sets and every clock offset (0.5-1.0 s).
-    rates : {"thesis", "fast"}
-        See :data:`RATES`.
-    response : DynamicSensor, optional
-        Another response in the member's tests (to vary a parameter).
-
-    Returns
-    -------
-    DynamicFamilySession
-
+    Raises
+    ------
+    TactilecalError
+        An unknown member or rates.
     """
     if name not in DYNAMIC_FAMILY:
         raise TactilecalError(f"name={name!r}; expected one of {', '.join(DYNAMIC_FAMILY)}")
-    if rates not in RATES:
-        raise TactilecalError(f"rates={rates!r}; expected one of {', '.join(RATES)}")
-    member = DYNAMIC_FAMILY[name]
-    if response is not None:
-        member = replace(member, response=response)
-    rng = np.random.default_rng(seed)
-    sweep_rates, blind_rates = RATES[rates]
-    sweeps = tuple(
-        sine_sweep(response=member.response, amplitude_lbf=amplitude, seed=10 * seed + k,
-                   lag_s=float(rng.uniform(0.5, 1.0)), **{**sweep_rates, **member.sweep})
-        for k, amplitude in enumerate(member.sweep_amplitudes_lbf))
-    blind = random_sine_sets(response=member.response, seed=10 * seed + 9,
-                             lag_s=float(rng.uniform(0.5, 1.0)),
-                             **{**blind_rates, **member.blind})
-    return DynamicFamilySession(member, sweeps, blind, seed)
+    return DYNAMIC_FAMILY[name].session(seed=seed, rates=rates, response=response)
