@@ -57,9 +57,10 @@ def test_fit_writes_the_contract_keys(files, filter_json, capsys, assert_names_b
     assert main(["-q", "dynamic", "fit", files["sensor"], files["cell"], "--out", str(out),
                  "--json", "--band", "2", "120"]) == 0
     printed = json.loads(capsys.readouterr().out)
-    assert printed["model"] == "log" and printed["log_base"] == "e"
+    # the default model is auto, which takes the thesis' law in its log10 base
+    assert printed["model"] == "log10" and printed["log_base"] == "10"
     assert printed["band_hz"] == [2.0, 120.0]
-    assert printed["A"] == pytest.approx(0.11 / np.log(10), rel=0.05)
+    assert printed["A"] == pytest.approx(0.11, rel=0.05)
 
 
 def test_apply_csv_keeps_columns(files, filter_json, assert_names_by_bytes):
@@ -120,7 +121,7 @@ def test_fit_sums_a_recording(files, tmp_path):
     write_netcdf(rec, src)
     out = tmp_path / "F.json"
     assert main(["-q", "dynamic", "fit", str(src), files["cell"], "--out", str(out)]) == 0
-    assert json.loads(out.read_text())["A"] == pytest.approx(0.11 / np.log(10), rel=0.05)
+    assert json.loads(out.read_text())["A"] == pytest.approx(0.11, rel=0.05)  # auto: log10
 
 
 def test_fit_sums_a_tekscan_export(files, tmp_path):
@@ -191,6 +192,7 @@ def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path)
     # the library calls behind the CLI: the same numbers as apply_filter on the data
     from tactilecal.dynamic import (
         CorrectionFilter,
+        Evaluation,
         apply_filter,
         evaluate,
         filter_recording,
@@ -215,9 +217,10 @@ def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path)
     np.testing.assert_allclose(lazy.values, apply_filter(rec, filt).values,
                                atol=5e-6 * float(np.ptp(rec.values)))  # float32 FFTs
     ev = evaluate(filt, read_record(files["blind_sensor"]), read_record(files["blind_cell"]))
-    written = ev.save(tmp_path, filt, extra={"filter": "F"})
+    ev.inputs = {"filter": "F"}
+    written = ev.save(tmp_path, filt)
     stored = json.loads((tmp_path / "evaluation.json").read_text())
-    assert set(stored) == set(written) == {*ev.to_dict(), "filter", "figures"}
-    assert stored["filter"] == "F" and stored["figures"] == written["figures"]
-    assert stored["rms_after_N"] == pytest.approx(ev.to_dict()["rms_after_N"], rel=1e-12)
-    assert all((tmp_path / name).stat().st_size > 1000 for name in written["figures"])
+    assert stored["format"] == "tactilecal-dynamic-evaluation/1"
+    assert stored["inputs"] == {"filter": "F"} and stored["figures"] == list(written.figures)
+    assert Evaluation.from_json(tmp_path / "evaluation.json") == written  # by value
+    assert all((tmp_path / name).stat().st_size > 1000 for name in written.figures)
