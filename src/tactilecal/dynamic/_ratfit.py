@@ -365,7 +365,7 @@ def choose_rational(f_hz, correction, gain_error, *, structures=STRUCTURES, fs_h
 
 
 def at_edge(model, low_hz, high_hz):
-    """True when a section of ``model`` sits at the edge of what the band identifies.
+    """Return True when a section of ``model`` sits at the edge of what the band identifies.
 
     A corner or natural frequency within ``EDGE`` of ``low_hz`` or ``high_hz``
     (:func:`section_bounds_hz`), or a damping within ``EDGE`` of its bounds: the fit wanted
