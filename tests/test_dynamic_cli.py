@@ -1,6 +1,7 @@
 """``tactilecal dynamic fit|apply|evaluate`` on short simulated sessions written to files."""
 
 import json
+import re
 
 import numpy as np
 import pandas as pd
@@ -224,3 +225,69 @@ def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path)
     assert stored["inputs"] == {"filter": "F"} and stored["figures"] == list(written.figures)
     assert Evaluation.from_json(tmp_path / "evaluation.json") == written  # by value
     assert all((tmp_path / name).stat().st_size > 1000 for name in written.figures)
+
+
+def _actions(parser, *path):
+    """The options of subcommand ``path`` of ``parser``, by keyword."""
+    import argparse
+
+    for name in path:
+        sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        parser = sub.choices[name]
+    return {a.dest: a for a in parser._actions if a.option_strings}
+
+
+def test_every_dynamic_flag_default_is_the_librarys():
+    import inspect
+
+    from tactilecal.cli import build_parser
+    from tactilecal.dynamic import evaluate, filter_recording, fit_filter
+
+    parser = build_parser()
+    owners = {("dynamic", "fit"): fit_filter, ("dynamic", "apply"): filter_recording,
+              ("dynamic", "evaluate"): evaluate}
+    checked = 0
+    for path, function in owners.items():
+        signature = inspect.signature(function).parameters
+        for dest, action in _actions(parser, *path).items():
+            if dest in signature:
+                assert action.default == signature[dest].default, (path, dest)
+                checked += 1
+    assert checked >= 12  # model, band, method, coherence, power, outside, noise, force, ...
+    assert fit_filter.__kwdefaults__["model"] == "auto"  # the same door as dynamic fit
+    help_text = _actions(parser, "dynamic", "apply")["chunk_frames"].help
+    assert "%(default)s" in help_text and "65536" not in help_text  # said, not restated
+
+
+def test_fit_prints_readable_lines_and_no_library_noise(files, tmp_path, capsys):
+    out = tmp_path / "F.json"
+    assert main(["dynamic", "fit", files["sensor"], files["cell"], "--out", str(out)]) == 0
+    captured = capsys.readouterr()
+    lines = captured.out.splitlines()
+    assert [line.split(":")[0] for line in lines] == ["fit", "band", "model choice", "clock",
+                                                      "filter"]
+    assert "{" not in captured.out  # no raw dict
+    assert re.search(r"A = 0\.1\d+ \+- .* \(natural-log A 0\.04\d+\)", lines[0])
+    assert "Warning" not in captured.err and "encountered" not in captured.err
+    assert captured.err.strip() == f"filter written to {out}"
+
+
+def test_evaluate_says_its_clock_and_labels_the_realigned_figure(files, filter_json, capsys):
+    assert main(["-q", "dynamic", "evaluate", str(filter_json), files["blind_sensor"],
+                 files["blind_cell"], "--realign"]) == 0
+    text = capsys.readouterr().out
+    assert "at the fitted clock (lag" in text and "timing error" in text
+    assert "re-aligned by" in text and "not what the filter delivers" in text
+    assert main(["-q", "dynamic", "evaluate", str(filter_json), files["blind_sensor"],
+                 files["blind_cell"], "--lag", "0.5", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["clock"] == "given" and result["lag_s"] == 0.5
+    assert result["rms_after_realigned_N"] is None  # not asked for
+
+
+def test_an_unknown_model_is_bad_input_naming_the_choices(files, tmp_path, capsys):
+    assert main(["dynamic", "fit", files["sensor"], files["cell"], "--out",
+                 str(tmp_path / "F.json"), "--model", "cubic"]) == 1
+    assert capsys.readouterr().err.strip() == (
+        "tactilecal dynamic fit: error: --model 'cubic'; expected one of auto, log, log10, "
+        "log-quadratic, rational, wiener")
