@@ -103,7 +103,19 @@ def test_cli_calibrate_supplies_its_bar(tmp_path, monkeypatch):
         assert calls == [(50, "reading m.csv", quiet)]
 
 
-def test_a_redirected_report_is_a_short_line_per_tenth(capsys):
+@pytest.fixture
+def no_delay(monkeypatch):
+    import tactilecal._progress as progress
+
+    monkeypatch.setattr(progress, "DELAY_S", 0.0)
+
+
+def test_quick_work_says_nothing(capsys):
+    assert list(terminal_bar(range(20), desc="filtering")) == list(range(20))
+    assert capsys.readouterr().err == ""  # done within DELAY_S
+
+
+def test_a_redirected_report_is_a_short_line_per_tenth(capsys, no_delay):
     assert list(terminal_bar(range(20), desc="filtering")) == list(range(20))
     lines = capsys.readouterr().err.splitlines()
     assert [line.split(" (")[0] for line in lines] == [f"filtering: {p}%" for p in
@@ -113,7 +125,7 @@ def test_a_redirected_report_is_a_short_line_per_tenth(capsys):
     assert capsys.readouterr().err == ""
 
 
-def test_a_bare_report_is_advanced_by_hand(capsys):
+def test_a_bare_report_is_advanced_by_hand(capsys, no_delay):
     bar = terminal_bar(total=4, desc="analyze")
     for _ in range(4):
         bar.update()
@@ -125,7 +137,7 @@ def test_a_bare_report_is_advanced_by_hand(capsys):
     assert capsys.readouterr().err == ""
 
 
-def test_dask_progress_reports_tasks_as_lines_and_is_silent_when_quiet(capsys):
+def test_dask_progress_reports_tasks_as_lines_and_is_silent_when_quiet(capsys, no_delay):
     import dask.array as da
 
     from tactilecal._progress import dask_progress

@@ -9,7 +9,8 @@ chooses a bar itself: the command line supplies :func:`terminal_bar`, a notebook
 One convention for the command line, loops and dask computations alike
 (:func:`terminal_bar`, :func:`dask_progress`): a tqdm bar on standard error when it is a
 terminal; when it is redirected to a log, one short line per 10 % (a bar's carriage returns
-would make one line of many kilobytes); nothing with ``quiet``.
+would make one line of many kilobytes); nothing with ``quiet``, and nothing for work done
+within ``DELAY_S``.
 """
 
 import sys
@@ -21,6 +22,8 @@ __all__ = ["no_progress", "resolve", "terminal_bar", "dask_progress", "STEP"]
 
 #: Share of the work between two lines of a redirected progress report.
 STEP = 0.1
+#: Seconds before anything is shown: work that ends sooner says nothing.
+DELAY_S = 1.0
 
 
 def no_progress(iterable, *, total=None, desc=None):
@@ -62,13 +65,13 @@ class _Lines:
         if not self.total:
             return
         step = int(min(self.done / self.total, 1.0) / STEP + 1e-9)
-        if step > self.shown:
+        if step > self.shown and time.monotonic() - self.start >= DELAY_S:
             self.shown = step
             print(f"{self.desc}: {round(100 * step * STEP)}% ({self.done} of {self.total}, "
                   f"{time.monotonic() - self.start:.1f} s)", file=self.stream, flush=True)
 
     def close(self):
-        if not self.total and self.done:
+        if not self.total and self.done and time.monotonic() - self.start >= DELAY_S:
             print(f"{self.desc}: {self.done} done ({time.monotonic() - self.start:.1f} s)",
                   file=self.stream, flush=True)
 
@@ -80,7 +83,7 @@ def _reporter(total, desc, quiet):
     if sys.stderr.isatty():
         from tqdm.auto import tqdm
 
-        return tqdm(total=total, desc=desc, file=sys.stderr, leave=False)
+        return tqdm(total=total, desc=desc, file=sys.stderr, leave=False, delay=DELAY_S)
     return _Lines(total, desc, sys.stderr)
 
 

@@ -1,5 +1,7 @@
 """``tactilecal dynamic apply``: correct a time-series CSV or every sensel of a recording."""
 
+from functools import partial
+
 from tactilecal.cli._common import info, progress_for
 from tactilecal.cli._dynamic_options import add_option
 from tactilecal.cli._types import positive_int
@@ -40,7 +42,7 @@ def run(args):
 
     filt = CorrectionFilter.from_json(args.filter)
     options = {"method": args.method, "causal": args.causal, "dtype": args.dtype,
-               "progress": progress_for(args)}
+               "progress": partial(progress_for(args), desc="filtering")}
     if recording_format(args.input) is None:  # a time-series CSV
         columns, rows = filter_timeseries_csv(filt, args.input, args.out, **options)
         what = f"{columns} column(s) x {rows} rows"

@@ -1,5 +1,7 @@
 """``tactilecal dynamic evaluate``: error before and after correction, and its figures."""
 
+from functools import partial
+
 from tactilecal._atomic import make_folder
 from tactilecal.cli._common import print_json, progress_for
 from tactilecal.cli._dynamic_options import add_option
@@ -38,7 +40,7 @@ def run(args):
     filt = CorrectionFilter.from_json(args.filter)
     ev = evaluate(filt, read_record(args.sensor), read_record(args.reference),
                   lag_s=args.lag_s, realign=args.realign, causal=args.causal,
-                  progress=progress_for(args))
+                  progress=partial(progress_for(args), desc="filtering"))
     ev.inputs = {"filter": args.filter, "sensor": args.sensor, "reference": args.reference}
     if args.out:
         ev.save(make_folder(args.out, what="--out"), filt)
