@@ -174,10 +174,11 @@ class Structure:
 
 
 #: The structures :func:`choose_rational` tries, by number of parameters: real corners
-#: (orders 1-4 of zeros = poles), a single pole, a resonance (pole pair), a corner pair with
-#: a resonance, a resonance with an anti-resonance.
+#: (orders 1-4 of zeros = poles), a single pole, a resonance (pole pair), an anti-resonance
+#: (zero pair), a corner pair with a resonance, a resonance with an anti-resonance.
 STRUCTURES = (
     Structure(poles=1), Structure(zeros=1, poles=1), Structure(pole_pairs=1),
+    Structure(zero_pairs=1),
     Structure(zeros=2, poles=2), Structure(zeros=1, poles=1, pole_pairs=1),
     Structure(zero_pairs=1, pole_pairs=1), Structure(zeros=3, poles=3),
     Structure(zeros=2, poles=2, pole_pairs=1), Structure(zeros=4, poles=4),
