@@ -143,8 +143,8 @@ def test_an_antiresonance_in_the_band_is_refused_because_its_inverse_amplifies_n
     """The sensor barely reads 60 Hz (a zero pair, damping 0.03): undoing it needs 17x."""
     notch = DynamicSensor(A=0.0, antiresonances=((60.0, 0.03),))
     with pytest.raises(ValueError, match=r"simulated sensor: .*the rational \(1 zero pair\) "
-                                         r"filter amplifies up to 1\d(\.\d)?x \(at [56]\d(\.\d+)? Hz; "
-                                         r"limit max_noise_gain=10\)"):
+                                         r"filter amplifies up to 1\d(\.\d)?x \(at "
+                                         r"[56]\d(\.\d+)? Hz; limit max_noise_gain=10\)"):
         fit_filter(*_sweep(notch), model="auto")
 
 
