@@ -94,6 +94,7 @@ def _record(values, fs_hz):
                         coords={"time": ("frame", np.arange(values.shape[0]) / fs_hz)})
 
 
+@pytest.mark.filterwarnings("ignore::tactilecal.dynamic._apply.BandWarning")  # a random walk
 def test_a_phase_filter_takes_the_multirate_and_dask_paths(visco_filter):
     rng = np.random.default_rng(3)
     rec = _record(100 + rng.standard_normal((12_000, 3)).cumsum(axis=0) * 0.1, 4000.0)

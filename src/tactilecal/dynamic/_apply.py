@@ -656,8 +656,8 @@ def apply_filter(data, filt, *, precision="single", workers=-1, progress=None,
     Warns
     -----
     BandWarning
-        When more than ``MAX_ABOVE_BAND`` (5 %) of the record's dynamic power lies above
-        the filter's band (:func:`above_band_share`): that part is left as recorded.
+        When more than ``MAX_ABOVE_BAND`` (1 %) of the record's dynamic power is content
+        above the filter's band (:func:`above_band_share`): that part is left as recorded.
 
     Examples
     --------
