@@ -575,7 +575,9 @@ def above_band_share(data, filt):
     width = min(m, STRIP_SENSELS)
     middle = np.nan_to_num(np.abs(np.asarray(flat[flat.shape[0] // 2], dtype=float)))
     start = int(np.argmax(np.convolve(middle, np.ones(width), "valid")))
-    series = np.nansum(np.asarray(flat[:, start:start + width], dtype=float), axis=1)
+    series = np.asarray(np.sum(flat[:, start:start + width], axis=1, dtype=float))
+    if not np.isfinite(series).all():  # NaN sensels in the strip (outside the shape)
+        series = np.nansum(np.asarray(flat[:, start:start + width], dtype=float), axis=1)
     fs_hz = filt.fs_hz
     f_hz, power = signal.welch(series, fs=fs_hz, nperseg=min(series.size, int(round(fs_hz))))
     top = filt.band_hz[1]
