@@ -2,7 +2,7 @@
 
 Sensors (each calibrated on a sine sweep and tested blind on random sine sets, both from
 :mod:`tactilecal.simulate`; the viscoelastic ones pass the records through a rational
-response with :func:`~tactilecal.simulate.through_response`):
+response with :class:`~tactilecal.simulate.DynamicSensor`):
 
 * ``thesis``: Gillis's log10 gain law, A = 0.11, zero phase;
 * ``visco1``: first-order relaxation, zero 40 Hz, pole 10 Hz (gain falls to 0.25);
@@ -27,23 +27,20 @@ import warnings
 
 import numpy as np
 
-from tactilecal.dynamic import RationalModel, evaluate, fit_filter
-from tactilecal.simulate import random_sine_sets, sine_sweep, through_response
+from tactilecal.dynamic import evaluate, fit_filter
+from tactilecal.simulate import DynamicSensor, random_sine_sets, sine_sweep
 
 RATES = {"fs_sensor_hz": 1000.0, "fs_reference_hz": 1250.0, "sensor_noise_N": 0.2,
          "reference_noise_N": 0.05}
 SHORT = ({"step_hz": 2, "cycles_high": 10, **RATES}, RATES)  # (sweep, blind test) options
 FULL = ({}, {})
 LAG_S = 0.8373
-W0, ZETA = 2 * np.pi * 60, 0.1
-_POLE = complex(-ZETA * W0, W0 * np.sqrt(1 - ZETA**2))
 SENSORS = {
-    "thesis": (0.11, None),
-    "visco1": (0.0, RationalModel.from_corners_hz(zeros_hz=[40.0], poles_hz=[10.0])),
-    "visco2": (0.0, RationalModel.from_corners_hz(zeros_hz=[30.0, 120.0],
-                                                  poles_hz=[8.0, 60.0])),
-    "creep": (0.11, RationalModel.from_corners_hz(zeros_hz=[6.0], poles_hz=[2.0])),
-    "resonant": (0.0, RationalModel((), (_POLE, _POLE.conjugate()), W0**2)),
+    "thesis": DynamicSensor(),
+    "visco1": DynamicSensor(A=0.0, zeros_hz=(40.0,), poles_hz=(10.0,)),
+    "visco2": DynamicSensor(A=0.0, zeros_hz=(30.0, 120.0), poles_hz=(8.0, 60.0)),
+    "creep": DynamicSensor(A=0.11, zeros_hz=(6.0,), poles_hz=(2.0,)),
+    "resonant": DynamicSensor(A=0.0, resonances=((60.0, 0.1),)),
 }
 MODELS = ("log10", "rational", "wiener")
 
@@ -58,13 +55,9 @@ def corners_hz(model):
 
 def records(name, options):
     """The sweep and the blind test of one sensor: (sensor, reference) pairs."""
-    A, response = SENSORS[name]
-    sweep = sine_sweep(seed=0, A=A, **options[0])
-    blind = random_sine_sets(seed=5, A=A, **options[1])
-    if response is None:
-        return (sweep.sensor, sweep.reference), (blind.sensor, blind.reference)
-    return ((through_response(sweep.sensor, response), sweep.reference),
-            (through_response(blind.sensor, response), blind.reference))
+    sweep = sine_sweep(seed=0, response=SENSORS[name], **options[0])
+    blind = random_sine_sets(seed=5, response=SENSORS[name], **options[1])
+    return (sweep.sensor, sweep.reference), (blind.sensor, blind.reference)
 
 
 def describe_auto(name, sweep):
@@ -86,7 +79,7 @@ def model_row(model, sweep, blind):
             filt = fit_filter(*sweep, model=model, force=True)
         except ValueError as exc:
             return f"{model:>9}: no fit ({str(exc)[:90]})"
-        r2 = filt.fit.excluded.get("model_r2_complex", filt.fit.r2_complex)
+        r2 = filt.fit.model_choice.r2_complex
         offline = evaluate(filt, *blind)
         causal = evaluate(filt, *blind, causal=True) if filt.rational is not None else None
     r2_text = f"complex R2 {r2:.3f}, "

@@ -111,7 +111,8 @@ def make_seeds(folder):
     CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000, band_hz=(1, 140)).save(filt)
     seeds.append(("filter", filt))
     for name, phase_filter in (  # the filters with phase: a rational model, a measured one
-            ("RATIONAL.json", CorrectionFilter("rational", {"order": 1}, 1000.0, (1.0, 100.0),
+            ("RATIONAL.json", CorrectionFilter("rational", {"zeros": 1, "poles": 1}, 1000.0,
+                                               (1.0, 100.0),
                                                rational=RationalModel.from_corners_hz(
                                                    zeros_hz=[40.0], poles_hz=[10.0]))),
             ("WIENER.json", CorrectionFilter("wiener", {"bins": 3}, 1000.0, (1.0, 100.0),
@@ -122,10 +123,14 @@ def make_seeds(folder):
     evaluation = folder / "evaluation.json"
     f_hz = [1.0, 2.0, 5.0, 10.0]
     evaluation.write_text(json.dumps({
-        "lag_s": 0.01, "static_factor": 1.2, "fs_hz": 100.0, "rms_before_N": 3.0,
-        "rms_after_N": 1.0, "f_hz": f_hz, "error_before_pct": [-1.0, -3.0, -8.0, -15.0],
+        "format": "tactilecal-dynamic-evaluation/1", "lag_s": 0.01, "clock": "fitted",
+        "static_factor": 1.2, "fs_hz": 100.0, "band_hz": [1.0, 40.0], "rms_before_N": 3.0,
+        "rms_after_N": 1.0, "timing_error_s": 0.0, "above_band_share": 0.01, "f_hz": f_hz,
+        "error_before_pct": [-1.0, -3.0, -8.0, -15.0],
         "error_after_pct": [0.1, -0.2, 0.3, 0.5], "phase_before_deg": [-1.0, -2.0, -5.0, -9.0],
-        "phase_after_deg": [0.0, 0.1, -0.1, 0.2]}))
+        "phase_after_deg": [0.0, 0.1, -0.1, 0.2],
+        "window": {"time_s": [0.0, 0.01], "reference": [1.0, 2.0], "sensor": [1.0, 1.5],
+                   "corrected": [1.0, 2.0]}}))
     seeds.append(("evaluation", evaluation))
     return seeds
 

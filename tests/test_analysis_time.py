@@ -123,3 +123,27 @@ def test_creep_through_a_simulated_sensor():
     # 0.02 x 30 N = 0.6 N per decade; 8-bit rounding of ~0.3 N sensels: 5 % tolerance
     assert r.log_slope_per_decade == pytest.approx(0.6, rel=0.05)
     assert r.log_r2 > r.linear_r2
+
+
+def test_creep_and_hysteresis_are_saved_files_that_load_reads_back(tmp_path):
+    import json
+
+    import tactilecal
+
+    creep = analysis.creep(held_force())
+    loop = analysis.hysteresis(*sine_loop())
+    for result, name, tag in ((creep, "creep.json", "tactilecal-creep/1"),
+                              (loop, "loop.json", "tactilecal-hysteresis/1")):
+        result.to_json(tmp_path / name)
+        assert json.loads((tmp_path / name).read_text())["format"] == tag
+        back = tactilecal.load(tmp_path / name)
+        assert type(back) is type(result) and back == result  # equal by value
+    flat = analysis.creep(np.full(50, 3.0), time_s=np.arange(50.0))  # R2 undefined: NaN
+    flat.to_json(tmp_path / "flat.json")
+    assert tactilecal.load(tmp_path / "flat.json") == flat  # NaN equals NaN: unknown
+    data = json.loads((tmp_path / "creep.json").read_text())
+    data["n"] = "many"
+    (tmp_path / "bad.json").write_text(json.dumps(data))
+    with pytest.raises(TypeError, match=r"key 'n' of .*bad.json is 'many' \(str\); expected a "
+                                        r"whole number"):
+        tactilecal.load(tmp_path / "bad.json")

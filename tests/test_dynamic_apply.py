@@ -12,6 +12,12 @@ from tactilecal.dynamic._multirate import plan_multirate
 FS_HZ = 4000.0
 
 
+#: These tests check the realisations of a filter on random walks and white noise, whose
+#: power lies mostly above the filters' bands: the warning that says so is tested in
+#: tests/test_dynamic_band.py.
+pytestmark = pytest.mark.filterwarnings("ignore::tactilecal.dynamic._apply.BandWarning")
+
+
 @pytest.fixture(scope="module")
 def thesis_filter():
     """Gillis (2013) law 1 + 0.11 log10(f + 1), band 1..140 Hz, sampled at 4000 Hz."""

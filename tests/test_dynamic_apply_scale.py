@@ -12,6 +12,12 @@ from tactilecal.dynamic import CorrectionFilter, RationalModel, apply_filter
 from tactilecal.dynamic._multirate import plan_multirate
 
 FS_HZ = 1000.0
+
+#: These tests check the realisations of a filter on random walks and white noise, whose
+#: power lies mostly above the filters' bands: the warning that says so is tested in
+#: tests/test_dynamic_band.py.
+pytestmark = pytest.mark.filterwarnings("ignore::tactilecal.dynamic._apply.BandWarning")
+
 VISCO = RationalModel.from_corners_hz(zeros_hz=[20.0], poles_hz=[5.0])
 
 

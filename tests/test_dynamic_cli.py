@@ -1,6 +1,7 @@
 """``tactilecal dynamic fit|apply|evaluate`` on short simulated sessions written to files."""
 
 import json
+import re
 
 import numpy as np
 import pandas as pd
@@ -57,9 +58,10 @@ def test_fit_writes_the_contract_keys(files, filter_json, capsys, assert_names_b
     assert main(["-q", "dynamic", "fit", files["sensor"], files["cell"], "--out", str(out),
                  "--json", "--band", "2", "120"]) == 0
     printed = json.loads(capsys.readouterr().out)
-    assert printed["model"] == "log" and printed["log_base"] == "e"
+    # the default model is auto, which takes the thesis' law in its log10 base
+    assert printed["model"] == "log10" and printed["log_base"] == "10"
     assert printed["band_hz"] == [2.0, 120.0]
-    assert printed["A"] == pytest.approx(0.11 / np.log(10), rel=0.05)
+    assert printed["A"] == pytest.approx(0.11, rel=0.05)
 
 
 def test_apply_csv_keeps_columns(files, filter_json, assert_names_by_bytes):
@@ -120,7 +122,7 @@ def test_fit_sums_a_recording(files, tmp_path):
     write_netcdf(rec, src)
     out = tmp_path / "F.json"
     assert main(["-q", "dynamic", "fit", str(src), files["cell"], "--out", str(out)]) == 0
-    assert json.loads(out.read_text())["A"] == pytest.approx(0.11 / np.log(10), rel=0.05)
+    assert json.loads(out.read_text())["A"] == pytest.approx(0.11, rel=0.05)  # auto: log10
 
 
 def test_fit_sums_a_tekscan_export(files, tmp_path):
@@ -191,6 +193,7 @@ def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path)
     # the library calls behind the CLI: the same numbers as apply_filter on the data
     from tactilecal.dynamic import (
         CorrectionFilter,
+        Evaluation,
         apply_filter,
         evaluate,
         filter_recording,
@@ -215,9 +218,76 @@ def test_library_file_functions_match_apply_filter(files, filter_json, tmp_path)
     np.testing.assert_allclose(lazy.values, apply_filter(rec, filt).values,
                                atol=5e-6 * float(np.ptp(rec.values)))  # float32 FFTs
     ev = evaluate(filt, read_record(files["blind_sensor"]), read_record(files["blind_cell"]))
-    written = ev.save(tmp_path, filt, extra={"filter": "F"})
+    ev.inputs = {"filter": "F"}
+    written = ev.save(tmp_path, filt)
     stored = json.loads((tmp_path / "evaluation.json").read_text())
-    assert set(stored) == set(written) == {*ev.to_dict(), "filter", "figures"}
-    assert stored["filter"] == "F" and stored["figures"] == written["figures"]
-    assert stored["rms_after_N"] == pytest.approx(ev.to_dict()["rms_after_N"], rel=1e-12)
-    assert all((tmp_path / name).stat().st_size > 1000 for name in written["figures"])
+    assert stored["format"] == "tactilecal-dynamic-evaluation/1"
+    assert stored["inputs"] == {"filter": "F"} and stored["figures"] == list(written.figures)
+    assert Evaluation.from_json(tmp_path / "evaluation.json") == written  # by value
+    assert all((tmp_path / name).stat().st_size > 1000 for name in written.figures)
+
+
+def _actions(parser, *path):
+    """The options of subcommand ``path`` of ``parser``, by keyword."""
+    import argparse
+
+    for name in path:
+        sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        parser = sub.choices[name]
+    return {a.dest: a for a in parser._actions if a.option_strings}
+
+
+def test_every_dynamic_flag_default_is_the_librarys():
+    import inspect
+
+    from tactilecal.cli import build_parser
+    from tactilecal.dynamic import evaluate, filter_recording, fit_filter
+
+    parser = build_parser()
+    owners = {("dynamic", "fit"): fit_filter, ("dynamic", "apply"): filter_recording,
+              ("dynamic", "evaluate"): evaluate}
+    checked = 0
+    for path, function in owners.items():
+        signature = inspect.signature(function).parameters
+        for dest, action in _actions(parser, *path).items():
+            if dest in signature:
+                assert action.default == signature[dest].default, (path, dest)
+                checked += 1
+    assert checked >= 12  # model, band, method, coherence, power, outside, noise, force, ...
+    assert fit_filter.__kwdefaults__["model"] == "auto"  # the same door as dynamic fit
+    help_text = _actions(parser, "dynamic", "apply")["chunk_frames"].help
+    assert "%(default)s" in help_text and "65536" not in help_text  # said, not restated
+
+
+def test_fit_prints_readable_lines_and_no_library_noise(files, tmp_path, capsys):
+    out = tmp_path / "F.json"
+    assert main(["dynamic", "fit", files["sensor"], files["cell"], "--out", str(out)]) == 0
+    captured = capsys.readouterr()
+    lines = captured.out.splitlines()
+    assert [line.split(":")[0] for line in lines] == ["fit", "band", "model choice", "clock",
+                                                      "filter"]
+    assert "{" not in captured.out  # no raw dict
+    assert re.search(r"A = 0\.1\d+ \+- .* \(natural-log A 0\.04\d+\)", lines[0])
+    assert "Warning" not in captured.err and "encountered" not in captured.err
+    assert captured.err.strip() == f"filter written to {out}"
+
+
+def test_evaluate_says_its_clock_and_labels_the_realigned_figure(files, filter_json, capsys):
+    assert main(["-q", "dynamic", "evaluate", str(filter_json), files["blind_sensor"],
+                 files["blind_cell"], "--realign"]) == 0
+    text = capsys.readouterr().out
+    assert "at the fitted clock (lag" in text and "timing error" in text
+    assert "re-aligned by" in text and "not what the filter delivers" in text
+    assert main(["-q", "dynamic", "evaluate", str(filter_json), files["blind_sensor"],
+                 files["blind_cell"], "--lag", "0.5", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["clock"] == "given" and result["lag_s"] == 0.5
+    assert result["rms_after_realigned_N"] is None  # not asked for
+
+
+def test_an_unknown_model_is_bad_input_naming_the_choices(files, tmp_path, capsys):
+    assert main(["dynamic", "fit", files["sensor"], files["cell"], "--out",
+                 str(tmp_path / "F.json"), "--model", "cubic"]) == 1
+    assert capsys.readouterr().err.strip() == (
+        "tactilecal dynamic fit: error: --model 'cubic'; expected one of auto, log, log10, "
+        "log-quadratic, rational, wiener")

@@ -178,7 +178,8 @@ def test_bad_filter_files(tmp_path):
 
 
 def test_more_error_messages(sweep):
-    from tactilecal.dynamic import resample_to, static_factor
+    from tactilecal.dynamic import resample_to
+    from tactilecal.dynamic._calibrate import static_factor
     from tactilecal.dynamic._transfer import TransferFunction
 
     f = np.arange(5.0)

@@ -101,3 +101,53 @@ def test_cli_calibrate_supplies_its_bar(tmp_path, monkeypatch):
         out = tmp_path / f"cal{len(flags)}.json"
         assert main([*flags, "calibrate", str(tmp_path / "m.csv"), "--out", str(out)]) == 0
         assert calls == [(50, "reading m.csv", quiet)]
+
+
+@pytest.fixture
+def no_delay(monkeypatch):
+    import tactilecal._progress as progress
+
+    monkeypatch.setattr(progress, "DELAY_S", 0.0)
+
+
+def test_quick_work_says_nothing(capsys):
+    assert list(terminal_bar(range(20), desc="filtering")) == list(range(20))
+    assert capsys.readouterr().err == ""  # done within DELAY_S
+
+
+def test_a_redirected_report_is_a_short_line_per_tenth(capsys, no_delay):
+    assert list(terminal_bar(range(20), desc="filtering")) == list(range(20))
+    lines = capsys.readouterr().err.splitlines()
+    assert [line.split(" (")[0] for line in lines] == [f"filtering: {p}%" for p in
+                                                       range(10, 101, 10)]
+    assert all(len(line) < 60 for line in lines)
+    assert list(terminal_bar(range(20), desc="filtering", quiet=True)) == list(range(20))
+    assert capsys.readouterr().err == ""
+
+
+def test_a_bare_report_is_advanced_by_hand(capsys, no_delay):
+    bar = terminal_bar(total=4, desc="analyze")
+    for _ in range(4):
+        bar.update()
+    bar.close()
+    assert capsys.readouterr().err.splitlines()[-1].startswith("analyze: 100% (4 of 4, ")
+    quiet = terminal_bar(total=4, desc="analyze", quiet=True)
+    quiet.update()
+    quiet.close()
+    assert capsys.readouterr().err == ""
+
+
+def test_dask_progress_reports_tasks_as_lines_and_is_silent_when_quiet(capsys, no_delay):
+    import dask.array as da
+
+    from tactilecal._progress import dask_progress
+
+    x = da.ones((1000, 10), chunks=(100, 10))
+    with dask_progress(desc="filtering"):
+        assert float((x * 2).sum().compute()) == 20000.0
+    lines = capsys.readouterr().err.splitlines()
+    assert lines and lines[-1].startswith("filtering: 100% (")
+    assert len(lines) <= 10 and all(len(line) < 60 for line in lines)
+    with dask_progress(desc="filtering", quiet=True):
+        (x * 2).sum().compute()
+    assert capsys.readouterr().err == ""

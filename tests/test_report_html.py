@@ -137,45 +137,50 @@ def test_method_comparison_lists_every_calibration_with_its_held_out_errors(sess
     assert "Calibration curves of all methods" in table
 
 
+def _evaluation(**change):
+    """An evaluation.json's content (``tactilecal dynamic evaluate``), three bins."""
+    f_hz = np.arange(1.0, 4.0)
+    return {"format": "tactilecal-dynamic-evaluation/1", "lag_s": 0.1, "clock": "fitted",
+            "static_factor": 1.0, "fs_hz": 4000.0, "band_hz": [1.0, 140.0],
+            "rms_before_N": 8.0, "rms_after_N": 2.0, "timing_error_s": 0.0,
+            "above_band_share": 0.0, "f_hz": f_hz.tolist(),
+            "error_before_pct": (-0.2 * f_hz).tolist(), "error_after_pct": (0.01 * f_hz).tolist(),
+            "phase_before_deg": (-f_hz).tolist(), "phase_after_deg": (0 * f_hz).tolist(),
+            **change}
+
+
 def test_blind_test_section_shows_the_error_before_and_after():
-    f_hz = np.arange(1.0, 41.0)
-    evaluation = {"lag_s": 0.1, "static_factor": 1.0, "fs_hz": 4000.0, "rms_before_N": 8.0,
-                  "rms_after_N": 2.0, "f_hz": f_hz.tolist(),
-                  "error_before_pct": (-0.2 * f_hz).tolist(), "error_after_pct":
-                  (0.01 * f_hz).tolist(), "phase_before_deg": (-f_hz).tolist(),
-                  "phase_after_deg": (0 * f_hz).tolist()}
-    text = build_report([evaluation])
+    text = build_report([_evaluation()])
     assert re.findall(r"<h2>([^<]*)</h2>", text)[0] == ("Blind test of a dynamic filter: "
                                                         "evaluation dict in memory")
     assert "<td>improvement (before / after)</td><td>4</td>" in text
+    assert "<td>clock</td><td>fitted (lag 0.1 s)</td>" in text
     assert [alt for alt, _ in images(text)] == [
         "evaluation dict in memory: amplitude and phase error before and after the filter "
         "(Gillis 2013, Fig. 4.12)"]
 
 
 @pytest.mark.parametrize(("change", "message"), [
-    ({"rms_after_N": "x"}, r"key 'rms_after_N' of evaluation dict in memory is 'x' \(str\); "
+    ({"rms_after_N": "x"}, r"key 'rms_after_N' of dict input is 'x' \(str\); "
                            "expected a number"),
     ({"rms_before_N": -1.0}, r"key 'rms_before_N' of .* is -1.0; expected a finite number >= 0"),
     ({"f_hz": "abc"}, r"key 'f_hz' of .* is 'abc' \(str\); expected a list of numbers"),
     ({"error_before_pct": [1.0, 2.0]}, r"per-frequency lists of lengths \{'f_hz': 3, "
-                                       r"'error_before_pct': 2, 'error_after_pct': 3\}"),
-    ({"error_after_pct": None}, r"per-frequency lists of lengths \{'f_hz': 3, "
-                                r"'error_before_pct': 3\}"),
-    ({"phase_before_deg": [0.0, 0.0, 0.0]}, r"expected f_hz, error_before_pct, "
-                                            r"error_after_pct \(and both phase errors\)"),
+                                       r"'error_before_pct': 2, 'error_after_pct': 3"),
+    ({"error_after_pct": None}, r"key 'error_after_pct' of .* is None \(NoneType\); expected "
+                                "a list of numbers"),
+    ({"timing_error_s": 1e308}, r"key 'timing_error_s' of .* is 1e\+308; expected a finite "
+                                "number >= -1 and <= 1"),
+    ({"clock": "guessed"}, r"key 'clock' of .* is 'guessed'; expected one of fitted, given"),
 ])
 def test_a_bad_evaluation_is_refused_naming_its_key(change, message):
-    evaluation = {"fs_hz": 4000.0, "rms_before_N": 8.0, "rms_after_N": 2.0,
-                  "f_hz": [1.0, 2.0, 3.0], "error_before_pct": [1.0, 2.0, 3.0],
-                  "error_after_pct": [0.0, 0.1, 0.2], **change}
     with pytest.raises((ValueError, TypeError), match=message):
-        build_report([evaluation])
+        build_report([_evaluation(**change)])
 
 
 def test_a_perfect_correction_is_an_infinite_improvement_not_a_crash():
     # it divided by zero with a traceback before; a non-finite number is shown as n/a
-    text = build_report([{"fs_hz": 4000.0, "rms_before_N": 8.0, "rms_after_N": 0.0}])
+    text = build_report([_evaluation(rms_after_N=0.0)])
     assert "<td>improvement (before / after)</td><td>n/a</td>" in text
 
 
@@ -184,7 +189,8 @@ def test_errors_and_atomic_write(files, tmp_path):
     bad.write_text('{"hello": 1}')
     out = tmp_path / "r.html"
     out.write_text("previous report")
-    with pytest.raises(ValueError, match=r"other.json: JSON with keys \['hello'\] is neither"):
+    with pytest.raises(ValueError, match=r"other.json has no key 'format'; expected a "
+                                         "tactilecal result JSON"):
         write_report([bad], out)
     assert out.read_text() == "previous report"  # untouched on failure
     with pytest.raises(ValueError, match="not valid JSON"):

@@ -265,12 +265,14 @@ def test_a_point_and_an_evaluation_have_short_reprs(points):
     # a point holds a 256-bin histogram, an evaluation its per-frequency errors and records:
     # both were dataclass reprs of every value (1342 and 8154 characters before)
     f_hz = np.arange(1.0, 400.0)
-    evaluation = Evaluation.from_dict({"fs_hz": 4000.0, "rms_before_N": 8.0,
-                                       "rms_after_N": 2.0, "f_hz": f_hz.tolist(),
-                                       "error_before_pct": f_hz.tolist(),
-                                       "error_after_pct": f_hz.tolist()})
+    evaluation = Evaluation.from_dict({
+        "format": "tactilecal-dynamic-evaluation/1", "lag_s": 0.5, "clock": "fitted",
+        "static_factor": 1.0, "fs_hz": 4000.0, "band_hz": [1.0, 140.0], "rms_before_N": 8.0,
+        "rms_after_N": 2.0, "timing_error_s": 0.0, "above_band_share": 0.0,
+        **{k: f_hz.tolist() for k in ("f_hz", "error_before_pct", "error_after_pct",
+                                      "phase_before_deg", "phase_after_deg")}})
     for obj, shown in ((points[0], f"load_N={points[0].load_N:.6g}"),
-                       (evaluation, "improvement=4, lag_s=nan")):
+                       (evaluation, "improvement=4, clock='fitted', lag_s=0.5")):
         text = repr(obj)
         assert len(text) < 1000 and text.startswith(f"<{type(obj).__name__} ") and shown in text
         assert obj._repr_html_().startswith("<table>")
@@ -296,11 +298,11 @@ def test_report_tells_inputs_apart_by_their_tag(calibrations, tmp_path):
     kind, obj, _ = load_input(tmp_path / "cal.json")
     assert kind == "calibration" and obj.params == calibrations["power"].params
     kind, obj, _ = load_input(tmp_path / "FILTER.json")
-    assert kind == "filter" and obj["params"] == {"A": 0.11}
-    with pytest.raises(ValueError, match=r"eq.json: JSON with format "
-                                         r"'tactilecal-equilibration/1' is neither a "
-                                         r"calibration .* a dynamic filter .* nor a blind "
-                                         r"test"):
+    assert kind == "filter" and obj == _filters()[0]  # the filter itself, equal by value
+    with pytest.raises(ValueError, match=r"eq.json is an equilibration JSON \(format "
+                                         r"'tactilecal-equilibration/1'\); expected a "
+                                         r"calibration, a validation, a dynamic filter or an "
+                                         r"evaluation of one"):
         load_input(tmp_path / "eq.json")
 
 

@@ -64,7 +64,7 @@ _LAZY = {
 __all__ = ["__version__", "load", "TactilecalError", "TactilecalTypeError", *_LAZY]
 
 #: The subpackages that define the saved kinds (importing them registers the kinds).
-_SAVED_KINDS_IN = ("tactilecal.calibration", "tactilecal.dynamic")
+_SAVED_KINDS_IN = ("tactilecal.calibration", "tactilecal.dynamic", "tactilecal.analysis")
 
 
 def load(path):
@@ -82,7 +82,8 @@ def load(path):
     Returns
     -------
     tactilecal.calibration.CalibrationResult, Equilibration, NonWorkingSensels,
-    ValidationResult or tactilecal.dynamic.CorrectionFilter
+    ValidationResult, tactilecal.dynamic.CorrectionFilter or Evaluation,
+    tactilecal.analysis.CreepResult or HysteresisResult
 
     Raises
     ------

@@ -7,13 +7,15 @@ and the unloading response at the same load. :func:`creep` fits both zones' form
 (linear in time and linear in log-time) and :func:`hysteresis` measures the loop.
 """
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 import xarray as xr
 
 from tactilecal._errors import TactilecalError
-from tactilecal._jsonutil import dumps
+from tactilecal._jsonutil import to_jsonable
+from tactilecal._result import SavedResult
+from tactilecal._validate import check_number, require_keys
 
 __all__ = ["CreepResult", "HysteresisResult", "creep", "hysteresis"]
 
@@ -38,9 +40,43 @@ def _as_series(signal, time_s, calibration, what):
     return values, time_s, units
 
 
-@dataclass(frozen=True)
-class CreepResult:
+class _TimeResult(SavedResult):
+    """A saved time-effect result: its fields as JSON numbers, equal by value."""
+
+    def _to_dict(self):
+        return to_jsonable(asdict(self))
+
+    @classmethod
+    def _from_dict(cls, data, source):
+        require_keys(data, [f.name for f in fields(cls)], source, expected=cls.DESCRIPTION)
+        values = {}
+        for f in fields(cls):
+            where = f"key '{f.name}' of {source}"
+            if f.type is str:
+                values[f.name] = str(data[f.name])
+            else:  # numbers; NaN was saved as null (an undefined R2 or rate)
+                value = check_number(data[f.name], where, allow_none=f.type is float,
+                                     integer=f.type is int, minimum=0 if f.type is int else None)
+                values[f.name] = float("nan") if value is None else value
+        return cls(**values)
+
+    def __eq__(self, other):
+        if type(other) is not type(self):
+            return NotImplemented
+        return self.to_dict() == other.to_dict()
+
+    __hash__ = None
+
+    def _repr_fields(self):
+        return [(f.name, getattr(self, f.name)) for f in fields(self)][:8]
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class CreepResult(_TimeResult):
     """Drift of a signal held under a constant load (see :func:`creep`).
+
+    Saved with :meth:`to_json` (``"format": "tactilecal-creep/1"``), read by
+    ``tactilecal.load``.
 
     Attributes
     ----------
@@ -83,13 +119,8 @@ class CreepResult:
     linear_r2: float
     log_r2: float
 
-    def to_dict(self):
-        """Return the result as a JSON-ready dict."""
-        return asdict(self)
-
-    def to_json(self):
-        """Return the result as JSON text."""
-        return dumps(self.to_dict())
+    FORMAT_KIND = "creep"
+    DESCRIPTION = "a creep result JSON"
 
     def summary(self):
         """Return a short human-readable summary."""
@@ -175,9 +206,12 @@ def creep(signal, *, time_s=None, start_s=None, stop_s=None, t_load_s=None,
     )
 
 
-@dataclass(frozen=True)
-class HysteresisResult:
+@dataclass(frozen=True, eq=False, repr=False)
+class HysteresisResult(_TimeResult):
     """Loading/unloading loop of a sensor against a reference (see :func:`hysteresis`).
+
+    Saved with :meth:`to_json` (``"format": "tactilecal-hysteresis/1"``), read by
+    ``tactilecal.load``.
 
     Attributes
     ----------
@@ -208,9 +242,8 @@ class HysteresisResult:
     area: float
     area_pct: float
 
-    def to_dict(self):
-        """Return the result as a JSON-ready dict."""
-        return asdict(self)
+    FORMAT_KIND = "hysteresis"
+    DESCRIPTION = "a hysteresis result JSON"
 
     def summary(self):
         """Return a short human-readable summary."""

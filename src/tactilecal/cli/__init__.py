@@ -36,12 +36,13 @@ def main(argv=None):
     if args.command is None:
         parser.print_help(sys.stderr)
         return 2
+    command = " ".join(filter(None, (args.command, getattr(args, "action", None))))
     try:
         check_outputs(args)
         args.command_line = shlex.join(["tactilecal", *(sys.argv[1:] if argv is None else argv)])
         with warnings.catch_warnings():  # the CLI shows warnings (one line), never raises them
             warnings.simplefilter("default")
-            warnings.showwarning = partial(print_warning, args.command, parser)
+            warnings.showwarning = partial(print_warning, command, parser)
             code = args.func(args)
     except BrokenPipeError:  # the reader went away (`tactilecal info F | head`): stop quietly
         silence_stdout()
@@ -49,11 +50,11 @@ def main(argv=None):
     except (TactilecalError, OSError) as exc:  # bad input: one line naming it
         if args.debug:
             traceback.print_exc()
-        print(f"tactilecal {args.command}: error: {error_line(exc, parser)}", file=sys.stderr)
+        print(f"tactilecal {command}: error: {error_line(exc, parser)}", file=sys.stderr)
         return 1
     except Exception:  # noqa: BLE001 (a bug: say so, with everything needed to report it)
         traceback.print_exc()
-        print(f"tactilecal {args.command}: internal error (a bug in tactilecal, not in your "
+        print(f"tactilecal {command}: internal error (a bug in tactilecal, not in your "
               f"input); {BUG_REPORT}", file=sys.stderr)
         return 1
     return 0 if code is None else int(code)

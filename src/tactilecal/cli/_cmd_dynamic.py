@@ -11,9 +11,11 @@ def register(subparsers):
     """Add the ``dynamic`` command and its ``fit``, ``apply`` and ``evaluate`` actions."""
     p = subparsers.add_parser(
         "dynamic", help="dynamic calibration: fit, apply and evaluate a correction filter",
-        description="Dynamic calibration of Gillis (2013): fit Y = A log(f + 1) + 1 to "
-                    "|reference(f)| / |sensor(f)| on a sine sweep, correct records with the "
-                    "zero-phase filter, and evaluate it on blind tests.")
+        description="Dynamic calibration of Gillis (2013): fit a model of reference(f) / "
+                    "sensor(f) (the thesis' Y = A log(f + 1) + 1, a rational response with "
+                    "resonances, or the measured correction; each with a delay) on sine "
+                    "sweeps, in the band where they carried coherent energy; correct records "
+                    "with its filter, and evaluate it on blind tests at the fitted clock.")
     actions = p.add_subparsers(dest="action", metavar="ACTION", required=True)
     for action in (_dynamic_fit, _dynamic_apply, _dynamic_evaluate):
         action.register(actions)

@@ -1,14 +1,16 @@
 """``tactilecal dynamic apply``: correct a time-series CSV or every sensel of a recording."""
 
-import sys
 from functools import partial
 
-from tactilecal.cli._common import info, progress
+from tactilecal.cli._common import info, progress_for
+from tactilecal.cli._dynamic_options import add_option
 from tactilecal.cli._types import positive_int
 
 
 def register(sub):
     """Add the ``apply`` action to the ``dynamic`` command's actions."""
+    from tactilecal.dynamic import filter_recording
+
     a = sub.add_parser("apply", help="correct a record or every sensel of a recording",
                        description="INPUT a time-series CSV (output CSV with the same "
                                    "columns, every value column filtered) or a Tekscan "
@@ -17,51 +19,40 @@ def register(sub):
     a.add_argument("filter", metavar="FILTER.json")
     a.add_argument("input", metavar="INPUT")
     a.add_argument("--out", required=True, metavar="OUTPUT")
-    a.add_argument("--chunk-frames", type=positive_int, default=65536,
-                   help="frames per chunk when streaming NetCDF (default 65536)")
-    a.add_argument("--causal", action="store_true",
-                   help="apply a rational filter's causal inverse (IIR, second-order "
-                        "sections; streaming) instead of the offline one over the whole "
-                        "record; a zero-phase (log) filter has no causal form")
-    a.add_argument("--method", default="auto", choices=["auto", "direct"],
-                   help="auto (default): multirate when the correction is band-limited "
-                        "well below Nyquist, else direct; direct: the FIR at the full rate")
-    a.add_argument("--dtype", default="float64", choices=["float64", "float32"],
-                   help="type of the corrected values (default float64; float32 halves "
-                        "the output and is the fastest path for a float32 recording)")
+    add_option(a, "--chunk-frames", filter_recording, "chunk_frames", type=positive_int,
+               help="frames per chunk when streaming NetCDF")
+    add_option(a, "--causal", filter_recording, "causal",
+               help="apply a rational filter's causal inverse (IIR, second-order sections; "
+                    "streaming) instead of the offline one over the whole record; a "
+                    "zero-phase (log) filter has no causal form")
+    add_option(a, "--method", filter_recording, "method",
+               help="auto: multirate when the correction is band-limited well below "
+                    "Nyquist, else direct; direct: the FIR at the full rate")
+    add_option(a, "--dtype", filter_recording, "dtype", choices=("float64", "float32"),
+               help="type of the corrected values (float32 halves the output and is the "
+                    "fastest path for a float32 recording)")
     a.set_defaults(func=run)
 
 
 def run(args):
     """Run ``tactilecal dynamic apply``."""
+    from tactilecal._progress import dask_progress
     from tactilecal.dynamic import CorrectionFilter, filter_recording, filter_timeseries_csv
-    from tactilecal.io import recording_format
+    from tactilecal.io import recording_format, write_netcdf
 
     filt = CorrectionFilter.from_json(args.filter)
     options = {"method": args.method, "causal": args.causal, "dtype": args.dtype,
-               "progress": partial(progress, desc="filtering", quiet=args.quiet)}
+               "progress": partial(progress_for(args), desc="filtering")}
     if recording_format(args.input) is None:  # a time-series CSV
         columns, rows = filter_timeseries_csv(filt, args.input, args.out, **options)
         what = f"{columns} column(s) x {rows} rows"
     else:
         out = filter_recording(filt, args.input, chunk_frames=args.chunk_frames, **options)
-        _write(out, args)
+        with dask_progress(desc="filtering", quiet=args.quiet or out.chunks is None):
+            write_netcdf(out, args.out)
         what = f"{out.shape[0]} frames x {out[0].size} sensels{_jitter(out.attrs)}"
     info(args, f"{args.input}: {what} corrected with {args.filter} -> {args.out}")
     return 0
-
-
-def _write(out, args):
-    """Write the NetCDF, with dask's progress bar while a lazy recording is computed."""
-    from tactilecal.io import write_netcdf
-
-    if out.chunks is not None and not args.quiet:
-        from dask.diagnostics import ProgressBar
-
-        with ProgressBar(out=sys.stderr):
-            write_netcdf(out, args.out)
-    else:
-        write_netcdf(out, args.out)
 
 
 def _jitter(attrs):

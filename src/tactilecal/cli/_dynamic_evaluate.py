@@ -3,18 +3,31 @@
 from functools import partial
 
 from tactilecal._atomic import make_folder
-from tactilecal.cli._common import print_json, progress
+from tactilecal.cli._common import print_json, progress_for
+from tactilecal.cli._dynamic_options import add_option
 
 
 def register(sub):
     """Add the ``evaluate`` action to the ``dynamic`` command's actions."""
+    from tactilecal.dynamic import evaluate
+
     e = sub.add_parser("evaluate", help="error before/after correction, figures",
-                       description="Amplitude error against frequency and RMS error of the "
-                                   "dynamic part before and after correction; with --out, "
-                                   "evaluation.json and the figures (thesis Figs 4.9-4.14).")
+                       description="RMS error of the dynamic part and amplitude and phase "
+                                   "error against frequency, before and after correction, "
+                                   "at the clock the filter was fitted with (or a known one: "
+                                   "--lag); with --out, evaluation.json and the figures "
+                                   "(thesis Figs 4.9-4.14).")
     e.add_argument("filter", metavar="FILTER.json")
     e.add_argument("sensor", metavar="SENSOR")
     e.add_argument("reference", metavar="REFERENCE")
+    add_option(e, "--lag", evaluate, "lag_s", type=float, metavar="S",
+               help="the records' known clock offset in s (added to the reference's times; "
+                    "default: found as the fit found the filter's)")
+    add_option(e, "--realign", evaluate, "realign",
+               help="also report the error at the lag that aligns the corrected record best "
+                    "(what a perfectly re-timed record would give), labelled as such")
+    add_option(e, "--causal", evaluate, "causal",
+               help="evaluate a rational filter's causal inverse")
     e.add_argument("--json", action="store_true", help="print the result as JSON")
     e.add_argument("--out", metavar="DIR", help="folder for evaluation.json and PNG figures")
     e.set_defaults(func=run)
@@ -22,25 +35,17 @@ def register(sub):
 
 def run(args):
     """Run ``tactilecal dynamic evaluate``."""
-    import numpy as np
-
     from tactilecal.dynamic import CorrectionFilter, evaluate, read_record
 
     filt = CorrectionFilter.from_json(args.filter)
     ev = evaluate(filt, read_record(args.sensor), read_record(args.reference),
-                  progress=partial(progress, desc="filtering", quiet=args.quiet))
-    result = {**ev.to_dict(), "filter": args.filter, "sensor": args.sensor,
-              "reference": args.reference}
+                  lag_s=args.lag_s, realign=args.realign, causal=args.causal,
+                  progress=partial(progress_for(args), desc="filtering"))
+    ev.inputs = {"filter": args.filter, "sensor": args.sensor, "reference": args.reference}
     if args.out:
-        result = ev.save(make_folder(args.out, what="--out"), filt,
-                         extra={k: result[k] for k in ("filter", "sensor", "reference")})
+        ev.save(make_folder(args.out, what="--out"), filt)
     if args.json:
-        print_json(result)
+        print_json(ev.to_dict())
     else:
         print(ev.summary())
-        if ev.f_hz.size:
-            print(f"amplitude error over {ev.f_hz.size} coherent bins "
-                  f"({ev.f_hz.min():g}..{ev.f_hz.max():g} Hz): median |error| "
-                  f"{np.median(np.abs(ev.error_before_pct)):.3g} % before, "
-                  f"{np.median(np.abs(ev.error_after_pct)):.3g} % after")
     return 0

@@ -18,24 +18,34 @@ def print_warning(command, parser, message, category, filename, lineno, file=Non
 
 
 def _flags(parser):
-    """Map each option's keyword (``scale_by_working``) to its flag (``--scale-by-working``)."""
+    """Map each option's keyword (``scale_by_working``) to its flag (``--scale-by-working``).
+
+    A switch (an option that takes no value, like ``--force``) maps to ``(flag, True)``.
+    """
     flags, todo = {}, [parser]
     while todo:
         for action in todo.pop()._actions:
             if isinstance(action, argparse._SubParsersAction):
                 todo.extend(action.choices.values())
             elif action.option_strings and action.option_strings[-1].startswith("--"):
-                flags.setdefault(action.dest, action.option_strings[-1])
+                flags.setdefault(action.dest, (action.option_strings[-1], action.nargs == 0))
     return flags
 
 
 def _as_flags(text, flags):
     """Say ``--max-lag 3`` where the library's message says ``max_lag=3``.
 
-    The library names its keyword arguments; a command-line user typed flags.
+    The library names its keyword arguments; a command-line user typed flags. A switch is
+    said alone: ``force=True`` is ``--force``.
     """
-    return re.sub(r"\b([a-z][a-z0-9_]*)=(?=\S)",
-                  lambda m: f"{flags[m.group(1)]} " if m.group(1) in flags else m.group(0), text)
+    def flag(match):
+        name, switch_on = match.group(1), match.group(2)
+        if name not in flags:
+            return match.group(0)
+        text, switch = flags[name]
+        return text if switch and switch_on else f"{text} "
+
+    return re.sub(r"\b([a-z][a-z0-9_]*)=(?:(True)\b|(?=\S))", flag, text)
 
 
 def _one_line(exc):

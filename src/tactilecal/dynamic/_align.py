@@ -181,9 +181,11 @@ def _lag_xcorr(t_sens, x_sens, fs_sens, t_ref, x_ref, fs_ref, max_lag_s, where, 
                               f"shorter record (max_lag_s={max_lag_s}); expected records of the "
                               "same loading that overlap")
     if not corr[i] >= MIN_CORRELATION:
-        raise TactilecalError(f"{where}: records do not overlap in time (best correlation "
-                              f"{corr[i]:.3g} at lag {lag_s[i]:.6g} s); expected records of the "
-                              f"same loading (correlation >= {MIN_CORRELATION})")
+        raise TactilecalError(f"{where}: the records correlate at best {corr[i]:.3g} (at lag "
+                              f"{lag_s[i]:.6g} s): they do not show the same loading, or the "
+                              "sensor's response distorts it too much to align them (a lightly "
+                              "damped resonance); expected records of the same loading "
+                              f"(correlation >= {MIN_CORRELATION})")
     window = corr[max(i - 1, 0):i + 2]
     offset = _parabolic_offset(window, 1) if window.size == 3 and np.all(
         np.isfinite(window)) else 0.0

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from tactilecal._atomic import atomic_path
-from tactilecal._jsonutil import write_json
+from tactilecal._errors import TactilecalError
 from tactilecal._provenance import provenance_attr, provenance_of, write_sidecar
 from tactilecal.dynamic._apply import apply_filter
 from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
@@ -40,6 +40,11 @@ def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progr
     -------
     tuple of int
         ``(columns, rows)``: how many value columns were filtered, over how many rows.
+
+    Raises
+    ------
+    TactilecalError
+        A value the filter made non-finite (nothing is written).
     """
     import pandas as pd
     import xarray as xr
@@ -56,7 +61,14 @@ def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progr
                         coords={"time": series["time"].values}, attrs={"source": str(path)})
     filtered = apply_filter(data, filt, progress=progress, method=method, causal=causal,
                             dtype=dtype)
-    table[value_cols] = np.asarray(filtered.values)
+    values = np.asarray(filtered.values)
+    bad = ~np.isfinite(values) & np.isfinite(data.values)
+    if bad.any():  # never write a cell the filter could not compute
+        row, col = (int(k[0]) for k in np.nonzero(bad))
+        raise TactilecalError(f"{path}: filtering column {value_cols[col]!r} with the filter "
+                              f"gave a non-finite value at row {row + 2}; expected finite "
+                              "values (is the filter file damaged?)")
+    table[value_cols] = values
     with atomic_path(out) as tmp:
         table.to_csv(tmp, index=False, float_format="%.10g")
     options = {"method": method, "causal": causal, "dtype": str(filtered.dtype)}
@@ -102,26 +114,24 @@ def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=Fa
     return out
 
 
-def write_evaluation(evaluation, filt, folder, *, extra=None):
+def write_evaluation(evaluation, filt, folder):
     """Write ``evaluation.json`` and the figures of an evaluation into ``folder``.
 
     Parameters
     ----------
     evaluation : Evaluation
-        From :func:`evaluate`.
+        From :func:`evaluate`; its ``figures`` become the names written.
     filt : CorrectionFilter
         The evaluated filter (its transfer-function figure).
     folder : str or os.PathLike
-        An existing folder; ``time.png``, ``spectra.png``, ``error.png``,
-        ``transfer.png`` and ``evaluation.json`` are written atomically.
-    extra : dict, optional
-        More keys for the JSON (e.g. the input file names).
+        An existing folder; ``time.png`` (the whole record and a zoomed window),
+        ``spectra.png``, ``error.png``, ``transfer.png`` and ``evaluation.json`` are
+        written atomically.
 
     Returns
     -------
-    dict
-        What ``evaluation.json`` holds: :meth:`Evaluation.to_dict`, ``extra`` and
-        ``figures`` (the figure file names).
+    Evaluation
+        ``evaluation``, with ``figures`` set.
     """
     folder = Path(folder)
     figures = {"time.png": plot_time(evaluation), "spectra.png": plot_spectra(evaluation),
@@ -129,6 +139,6 @@ def write_evaluation(evaluation, filt, folder, *, extra=None):
     for name, fig in figures.items():
         with atomic_path(folder / name) as tmp:
             fig.savefig(tmp, dpi=120)
-    result = {**evaluation.to_dict(), **(extra or {}), "figures": sorted(figures)}
-    write_json(folder / "evaluation.json", result)
-    return result
+    evaluation.figures = tuple(sorted(figures))
+    evaluation.to_json(folder / "evaluation.json")
+    return evaluation

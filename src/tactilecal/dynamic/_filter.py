@@ -16,8 +16,10 @@ Target ``G(f)`` (:meth:`CorrectionFilter.target`):
 * from 0 Hz to the top of the calibrated band ``band_hz[1]``: the model (equal to 1 at 0 Hz,
   so static calibrations are untouched) or the measured response;
 * above the band, ``outside="taper"`` (default): the deviation from 1 at the band's top,
-  ``G(hi) - 1``, falls to 0 with a raised cosine over ``taper_hz``: frequencies the
-  calibration never saw are **not amplified** (left as recorded); ``outside="hold"``:
+  ``G(hi) - 1``, falls to 0 with a raised cosine over ``taper_hz`` (for a complex ``G``, its
+  log-magnitude and phase do, so the gain never passes through 0 on the way, as a straight
+  line from a correction near -2 to 1 would): frequencies the calibration never saw are
+  **not amplified** (left as recorded); ``outside="hold"``:
   ``G(hi)`` held to the Nyquist frequency (amplifies noise there by ``|G(hi)|``; only for
   records known to carry signal above the band).
 """
@@ -28,10 +30,11 @@ import numpy as np
 from scipy import fft, signal
 
 from tactilecal._errors import TactilecalError
+from tactilecal._jsonutil import to_jsonable
 from tactilecal._result import SavedResult
 from tactilecal._validate import check_number, check_numbers, check_type, require_keys
 from tactilecal.dynamic import _plots
-from tactilecal.dynamic._fit import MODELS, TransferFit, model_gain
+from tactilecal.dynamic._fit import MAX_PARAM, MODELS, TransferFit, model_gain
 from tactilecal.dynamic._rational import RationalModel
 
 __all__ = ["CorrectionFilter", "load_filter", "FORMAT", "zero_phase_fir", "centred_fir",
@@ -44,6 +47,11 @@ FORMAT = "tactilecal-dynamic-filter/1"
 _OUTSIDE = ("taper", "hold")
 #: Models whose correction is complex (they undo the sensor's phase as well as its gain).
 PHASE_MODELS = ("rational", "wiener")
+#: Largest gain a filter (file) may apply anywhere: no sensor is a thousandfold out, so a
+#: larger one is a damaged file; it would only write absurd or non-finite values.
+MAX_GAIN = 1e3
+#: Largest sampling rate (Hz) and FIR length (taps) a filter file may hold.
+MAX_FS_HZ, MAX_TAPS = 1e7, 1 << 22
 
 
 def _odd(n):
@@ -267,11 +275,17 @@ class CorrectionFilter(SavedResult):
 
     # -- frequency response -------------------------------------------------------------
     def sos(self):
-        """Second-order sections of the causal inverse (``model="rational"`` only)."""
+        """Second-order sections of the causal inverse (``model="rational"`` only).
+
+        An improper inverse (a response with more poles than zeros, e.g. a resonance)
+        rolls off with real poles at the taper's top (below 0.45 ``fs_hz``); see
+        :meth:`RationalModel.inverse_sos`.
+        """
         if self.rational is None:
             raise TactilecalError(f"a {self.model!r} filter has no causal (IIR) form; expected a "
                                   "rational model (tactilecal dynamic fit --model rational|auto)")
-        return self.rational.inverse_sos(self.fs_hz)
+        rolloff_hz = min(self.band_hz[1] + self.taper_hz, 0.45 * self.fs_hz)
+        return self.rational.inverse_sos(self.fs_hz, rolloff_hz=rolloff_hz)
 
     @property
     def has_phase(self):
@@ -302,7 +316,10 @@ class CorrectionFilter(SavedResult):
         if self.outside == "hold":
             return inside
         x = np.clip((f_hz - hi) / self.taper_hz, 0.0, 1.0)
-        return 1.0 + (inside - 1.0) * 0.5 * (1.0 + np.cos(np.pi * x))
+        weight = 0.5 * (1.0 + np.cos(np.pi * x))
+        if np.iscomplexobj(inside):  # log-magnitude and phase to 0: never through 0 gain
+            return np.exp(weight * np.log(inside))
+        return 1.0 + (inside - 1.0) * weight
 
     def gain(self, f_hz):
         """Return the magnitude of the correction, ``|G(f)|`` (see :meth:`target`)."""
@@ -310,10 +327,25 @@ class CorrectionFilter(SavedResult):
 
     @property
     def taps(self):
-        """The centred FIR (length ``n_taps``) realising :meth:`target`, with no delay."""
+        """The centred FIR (length ``n_taps``) realising :meth:`target`, with no delay.
+
+        Raises
+        ------
+        TactilecalError
+            A correction that is not finite or larger than ``MAX_GAIN`` somewhere: the
+            filter could only write non-finite or absurd values.
+        """
         if self._taps is None:
             grid = np.linspace(0.0, self.fs_hz / 2, 8 * self.n_taps + 1)
-            self._taps = centred_fir(self.n_taps, grid, self.target(grid), self.fs_hz)
+            with np.errstate(all="ignore"):
+                target = self.target(grid)
+            bad = ~np.isfinite(target) | (np.abs(target) > MAX_GAIN)
+            if bad.any():
+                k = int(np.flatnonzero(bad)[0])
+                raise TactilecalError(f"the {self.model} filter's correction is {target[k]:.3g} at "
+                                      f"{grid[k]:.4g} Hz; expected a finite gain up to "
+                                      f"{MAX_GAIN:g}")
+            self._taps = centred_fir(self.n_taps, grid, target, self.fs_hz)
         return self._taps
 
     def realised_gain(self, f_hz):
@@ -339,8 +371,8 @@ class CorrectionFilter(SavedResult):
 
     # -- JSON ---------------------------------------------------------------------------
     def _to_dict(self):
-        """Return the FILTER.json content (keys of the CLI contract first)."""
-        return {
+        """Return the FILTER.json content (keys of the CLI contract first), JSON-ready."""
+        return to_jsonable({
             "model": self.model,
             "A": self.params.get("A"),
             "log_base": MODELS[self.model][0] if self.model in MODELS else None,
@@ -359,7 +391,7 @@ class CorrectionFilter(SavedResult):
             "forced_reason": self.forced,
             "rational": None if self.rational is None else self.rational.to_dict(),
             "correction": self._correction_grid(),
-        }
+        })
 
     def _correction_grid(self, n_points=256):
         """Return the correction on a grid up to the taper's top (FILTER.json ``correction``)."""
@@ -390,14 +422,22 @@ class CorrectionFilter(SavedResult):
         gain = None if not response else np.asarray(response["gain"], float)
         if "phase_rad" in response:
             gain = gain * np.exp(1j * np.asarray(response["phase_rad"], float))
+        fit = d.get("fit")
         filt = cls(d["model"], dict(d["params"]), float(d["fs_hz"]), tuple(d["band_hz"]),
                    d["outside"], float(d["taper_hz"]), int(d["n_taps"]),
                    None if not response else np.asarray(response["f_hz"], float), gain,
-                   None if d.get("fit") is None else TransferFit.from_dict(d["fit"]),
+                   None if fit is None else TransferFit.from_dict(fit, f"key 'fit' of {where}"),
                    d.get("lag_s"), d.get("forced_reason"),
                    None if d.get("rational") is None else RationalModel.from_dict(d["rational"]))
         _check_correction(filt, where)
         return filt
+
+    def __eq__(self, other):
+        if type(other) is not type(self):
+            return NotImplemented
+        return to_jsonable(self.to_dict()) == to_jsonable(other.to_dict())
+
+    __hash__ = None
 
     def save(self, path):
         """Write FILTER.json atomically (the same as :meth:`to_json`)."""
@@ -411,95 +451,137 @@ class CorrectionFilter(SavedResult):
     plot_transfer = _plots.plot_transfer  # thesis Figure 4.9
 
     def summary(self):
-        """Return a one-line description."""
-        pars = ", ".join(f"{k} = {v:.5g}" for k, v in self.params.items())
-        return (f"{self.model} filter ({pars}) for {self.fs_hz:g} Hz, band "
-                f"{self.band_hz[0]:g}..{self.band_hz[1]:g} Hz, above: {self.outside}, "
-                f"{self.n_taps} taps ({self.length_s:.3g} s)"
-                + (f"; FORCED: {self.forced}" if self.forced else ""))
+        """Return the filter and the fit it came from as readable lines."""
+        pars = (self.rational.describe() if self.rational is not None else
+                ", ".join(f"{k} = {v:.5g}" for k, v in self.params.items()))
+        above = (f"tapers to 1 by {self.band_hz[1] + self.taper_hz:g} Hz"
+                 if self.outside == "taper" else "holds the band's top gain")
+        lines = []
+        fit = self.fit
+        if fit is not None:
+            if self.model in MODELS:
+                lines.append(f"fit: {fit.summary()}")
+            if fit.band_note:
+                lines.append(f"band: {fit.band_note}")
+            if fit.model_choice is not None:
+                lines.append(f"model choice: {fit.model_choice.summary()}")
+            delay = fit.model_choice.delay_s if fit.model_choice is not None else fit.delay_s
+            if self.lag_s is not None:
+                lines.append(f"clock: lag {self.lag_s:.6f} s added to the reference's times "
+                             f"(the alignment's lag minus the model's delay "
+                             f"{1e3 * delay:.3g} ms); static factor {fit.static_factor:.6g}")
+            if fit.amplitude is not None:
+                lines.append(f"amplitude: {fit.amplitude.summary()}")
+        lines.append(f"filter: {self.model} ({pars}) for {self.fs_hz:g} Hz, band "
+                     f"{self.band_hz[0]:g}..{self.band_hz[1]:g} Hz, above it {above}; "
+                     f"{self.n_taps} taps ({self.length_s:.3g} s)")
+        if self.forced:
+            lines.append(f"FORCED: {self.forced}")
+        return "\n".join(lines)
 
 
 def _check_filter_dict(d, where):
-    """Types and ranges of a FILTER.json's keys, before any is used (names the key)."""
-    key = f"key '{{}}' of {where}"
-    fs_hz = check_number(d["fs_hz"], key.format("fs_hz"), minimum=0.0, min_inclusive=False)
-    band = check_type(d["band_hz"], list | tuple, key.format("band_hz"),
-                      expected="[low, high] in Hz")
+    """Types and ranges of a FILTER.json's keys, before any is used (names the file and key).
+
+    Every number is finite and bounded: a rate up to ``MAX_FS_HZ``, at most ``MAX_TAPS``
+    taps, parameters within ``MAX_PARAM``, measured gains in ``(1 / MAX_GAIN, MAX_GAIN]``,
+    poles and zeros in the left half-plane below the Nyquist frequency.
+    """
+    key = f"key '{{}}' of {where}".format
+    fs_hz = check_number(d["fs_hz"], key("fs_hz"), minimum=0.0, min_inclusive=False,
+                         maximum=MAX_FS_HZ)
+    band = check_type(d["band_hz"], list | tuple, key("band_hz"), expected="[low, high] in Hz")
     if len(band) != 2:
-        raise TactilecalError(f"{key.format('band_hz')} has {len(band)} values; expected [low, "
-                              f"high]")
-    low, high = (check_number(v, key.format("band_hz"), minimum=0.0, maximum=fs_hz / 2)
-                 for v in band)
+        raise TactilecalError(f"{key('band_hz')} has {len(band)} values; expected [low, high]")
+    low, high = (check_number(v, key("band_hz"), minimum=0.0, maximum=fs_hz / 2) for v in band)
     if not low < high:
-        raise TactilecalError(f"{key.format('band_hz')} is {band}; expected low < high")
+        raise TactilecalError(f"{key('band_hz')} is {band}; expected low < high")
     if d["model"] not in (*MODELS, "response", *PHASE_MODELS):
-        raise TactilecalError(f"{key.format('model')} is {d['model']!r}; expected one of "
+        raise TactilecalError(f"{key('model')} is {str(d['model'])[:40]!r}; expected one of "
                               f"{[*MODELS, 'response', *PHASE_MODELS]}")
     if d["model"] == "rational" or d.get("rational") is not None:
-        rational = check_type(d.get("rational"), dict, key.format("rational"),
-                              expected="the zeros, poles and gain of a rational model")
-        require_keys(rational, ("zeros_rad_s", "poles_rad_s", "gain"), key.format("rational"),
-                     expected="a rational model")
-        for name in ("zeros_rad_s", "poles_rad_s"):
-            for pair in check_type(rational[name], list, key.format(f"rational.{name}"),
-                                   expected="a list of [re, im] pairs"):
-                if not isinstance(pair, list) or len(pair) != 2:
-                    raise TactilecalError(f"{key.format(f'rational.{name}')} holds {pair!r}; "
-                                          "expected [re, im] pairs")
-                check_number(pair[0], key.format(f"rational.{name}"), maximum=0.0,
-                             max_inclusive=False)
-                check_number(pair[1], key.format(f"rational.{name}"))
-        check_number(rational["gain"], key.format("rational.gain"), minimum=0.0,
-                     min_inclusive=False)
-    for name, value in check_type(d["params"], dict, key.format("params"),
+        _check_rational(d.get("rational"), key, fs_hz)
+    for name, value in check_type(d["params"], dict, key("params"),
                                   expected="an object of numbers").items():
-        check_number(value, key.format(f"params.{name}"))
+        check_number(value, key(f"params.{name}"), minimum=-MAX_PARAM, maximum=MAX_PARAM)
     if d["model"] in MODELS:
-        require_keys(d["params"], MODELS[d["model"]][1], key.format("params"),
+        require_keys(d["params"], MODELS[d["model"]][1], key("params"),
                      expected=f"the parameters of the {d['model']} model")
     if d["outside"] not in ("taper", "hold"):
-        raise TactilecalError(f"{key.format('outside')} is {d['outside']!r}; expected 'taper' or "
-                              "'hold'")
-    check_number(d["taper_hz"], key.format("taper_hz"), minimum=0.0, min_inclusive=False)
+        raise TactilecalError(f"{key('outside')} is {str(d['outside'])[:40]!r}; expected 'taper' "
+                              "or 'hold'")
+    check_number(d["taper_hz"], key("taper_hz"), minimum=0.0, min_inclusive=False,
+                 maximum=MAX_FS_HZ)
     if d.get("fit") is not None:
-        require_keys(check_type(d["fit"], dict, key.format("fit"), expected="an object"),
-                     ("model", "log_base", "params", "stderr", "r2", "rmse", "f_hz",
-                      "measured", "fitted", "residuals"), key.format("fit"),
-                     expected="a transfer-function fit")
-    check_number(d["n_taps"], key.format("n_taps"), minimum=1, integer=True)
-    check_number(d.get("lag_s"), key.format("lag_s"), allow_none=True)
+        check_type(d["fit"], dict, key("fit"), expected="an object")
+    check_number(d["n_taps"], key("n_taps"), minimum=1, maximum=MAX_TAPS, integer=True)
+    check_number(d.get("lag_s"), key("lag_s"), minimum=-86400.0, maximum=86400.0,
+                 allow_none=True)
+    _check_response(d, key, fs_hz)
+
+
+def _check_rational(rational, key, fs_hz):
+    """Check a rational model: roots in the left half-plane below Nyquist, a positive gain."""
+    check_type(rational, dict, key("rational"),
+               expected="the zeros, poles and gain of a rational model")
+    require_keys(rational, ("zeros_rad_s", "poles_rad_s", "gain"), key("rational"),
+                 expected="a rational model")
+    nyquist_rad_s = np.pi * fs_hz
+    for name in ("zeros_rad_s", "poles_rad_s"):
+        where = key(f"rational.{name}")
+        for pair in check_type(rational[name], list, where, expected="a list of [re, im] pairs"):
+            if not isinstance(pair, list) or len(pair) != 2:
+                raise TactilecalError(f"{where} holds {str(pair)[:40]}; expected [re, im] pairs")
+            check_number(pair[0], where, minimum=-nyquist_rad_s, maximum=0.0,
+                         max_inclusive=False)
+            check_number(pair[1], where, minimum=-nyquist_rad_s, maximum=nyquist_rad_s)
+    check_number(rational["gain"], key("rational.gain"), minimum=0.0, min_inclusive=False)
+
+
+def _check_response(d, key, fs_hz):
+    """Check a response: lists of one length, increasing frequencies, bounded gains."""
     response = d.get("response") or {}
-    check_type(response, dict, key.format("response"), expected="an object")
+    check_type(response, dict, key("response"), expected="an object")
     if d["model"] in ("response", "wiener") and not response:
-        raise TactilecalError(f"{key.format('response')} is missing; a {d['model']!r} filter "
-                              "needs its measured response")
-    if response:
-        require_keys(response, ("f_hz", "gain"), key.format("response"),
-                     expected="a response")
-        lengths = set()
-        for name in ("f_hz", "gain", "phase_rad"):
-            if name == "phase_rad" and name not in response:
-                continue
-            lengths.add(len(check_numbers(response[name], key.format(f"response.{name}"))))
-        if len(lengths) > 1 or min(lengths) < 2:
-            raise TactilecalError(f"{key.format('response')} has lists of lengths "
-                                  f"{sorted(lengths)}; "
-                                  "expected f_hz, gain (and phase_rad) of one length >= 2")
-        if np.any(np.diff(response["f_hz"]) <= 0):
-            raise TactilecalError(f"{key.format('response.f_hz')} does not increase; expected "
-                                  "increasing frequencies")
+        raise TactilecalError(f"{key('response')} is missing; a {d['model']!r} filter needs its "
+                              "measured response")
+    if not response:
+        return
+    require_keys(response, ("f_hz", "gain"), key("response"), expected="a response")
+    lengths = set()
+    for name in ("f_hz", "gain", "phase_rad"):
+        if name == "phase_rad" and name not in response:
+            continue
+        lengths.add(len(check_numbers(response[name], key(f"response.{name}"))))
+    if len(lengths) > 1 or min(lengths) < 2:
+        raise TactilecalError(f"{key('response')} has lists of lengths {sorted(lengths)}; "
+                              "expected f_hz, gain (and phase_rad) of one length >= 2")
+    f_hz, gain = np.asarray(response["f_hz"], float), np.asarray(response["gain"], float)
+    if np.any(np.diff(f_hz) <= 0) or f_hz[0] < 0 or f_hz[-1] > fs_hz / 2:
+        raise TactilecalError(f"{key('response.f_hz')} runs from {f_hz[0]:g} to {f_hz[-1]:g} Hz "
+                              f"or does not increase; expected increasing frequencies within "
+                              f"0..{fs_hz / 2:g} Hz")
+    bad = np.flatnonzero(~((gain > 1.0 / MAX_GAIN) & (gain <= MAX_GAIN)))
+    if bad.size:
+        raise TactilecalError(f"{key('response.gain')} holds {gain[bad[0]]:.3g} at "
+                              f"{f_hz[bad[0]]:g} Hz; expected gains in ({1 / MAX_GAIN:g}, "
+                              f"{MAX_GAIN:g}]")
 
 
 def _check_correction(filt, where):
-    """Refuse parameters whose correction is not finite, or not positive, inside the band."""
+    """Refuse parameters whose correction is not finite, positive and bounded in the band."""
     grid = np.linspace(0.0, filt.band_hz[1], 65)
     with np.errstate(all="ignore"):
         target = filt.target(grid)
-    bad = ~np.isfinite(target) | (np.abs(target) <= 0 if filt.has_phase else target <= 0)
+    size = np.abs(target) if filt.has_phase else target
+    bad = ~np.isfinite(target) | (size <= 0) | (size > MAX_GAIN)
     if bad.any():
         k = int(np.flatnonzero(bad)[0])
-        raise TactilecalError(f"{where}: the correction its parameters give is {target[k]:.3g} at "
-                              f"{grid[k]:.3g} Hz; expected a finite, positive gain in the band")
+        source = {"rational": "rational", "wiener": "response", "response": "response"}.get(
+            filt.model, "params")
+        raise TactilecalError(f"key '{source}' of {where}: the correction it gives is "
+                              f"{target[k]:.3g} at {grid[k]:.3g} Hz; expected a finite, positive "
+                              f"gain up to {MAX_GAIN:g} in the band")
 
 
 def load_filter(path):

@@ -1,17 +1,24 @@
-"""Fit rational (pole-zero) sensor responses to a complex transfer function, choose the order.
+"""Fit rational (pole-zero) sensor responses to a complex transfer function, choose the structure.
 
-A linear viscoelastic sensor (creep, compliant foam or mounting) relaxes with real time
-constants, so its response ``H = sensor / reference`` is a ratio of first-order factors,
-``H(f) = prod(1 + j f / fz_i) / prod(1 + j f / fp_i)`` with real positive corner
-frequencies and unit gain at 0 Hz (the sweep was scaled statically): minimum-phase and
-stable by construction, so ``1 / H`` is a stable causal
-correction (METHOD-NOTES D: the standard linear solid is the first-order case). The corners
-are fitted in log-frequency by :func:`scipy.optimize.least_squares` on the real and
-imaginary parts of ``C - 1 / H`` over the coherent bins (``C`` = reference / sensor, the
-measured correction), weighted by ``sqrt(coherence / (1 - coherence))`` (the inverse of the
-bins' random error, Bendat & Piersol). Orders 1-4 are tried; the order is chosen by the
-error on held-out blocks of bins (cross-validation, :func:`held_out_score`), and a higher
-order must lower it by at least 10 % to be kept.
+A linear sensor's response ``H = sensor / reference`` with unit gain at 0 Hz (the sweep was
+scaled statically) is a product of sections, each 1 at 0 Hz:
+
+* real corners of a viscoelastic solid, ``(1 + j f/fz)`` over ``(1 + j f/fp)`` (creep,
+  compliant foam or mounting relax with real time constants; METHOD-NOTES D);
+* complex pairs, second-order sections ``1 - (f/fn)^2 + 2 j zeta f/fn`` with natural
+  frequency ``fn`` and damping ``zeta`` in (0, 1): a pair of poles is a mounting resonance, a
+  pair of zeros an anti-resonance (METHOD-NOTES G).
+
+Every corner and pair lies in the left half-plane, so ``H`` is minimum-phase and stable and
+``1 / H`` a stable causal correction. ``H`` may have more poles than zeros (a resonance): its
+inverse is then improper, which the correction filter handles by tapering to 1 above the
+band. Each section's parameters (log corner frequencies, damping) are fitted with
+:func:`scipy.optimize.least_squares` on the real and imaginary parts of ``(C - 1/H e^{-j 2 pi
+f tau}) / (e |C|)`` over the coherent bins, jointly with a delay ``tau`` (``C`` the measured
+correction reference / sensor, ``e`` each bin's random error, Bendat & Piersol eq. 9.90).
+The structures of :data:`STRUCTURES` are tried; the structure is chosen by the error on
+held-out blocks of bins (cross-validation, :func:`held_out_score`), the one with the fewest
+parameters within ``MIN_IMPROVEMENT`` of the best.
 """
 
 from dataclasses import dataclass
@@ -23,14 +30,39 @@ from tactilecal._errors import TactilecalError
 from tactilecal.dynamic._fit import complex_r2
 from tactilecal.dynamic._rational import RationalModel
 
-__all__ = ["RationalFit", "fit_rational", "choose_rational"]
+__all__ = ["Structure", "STRUCTURES", "RationalFit", "fit_rational", "choose_rational",
+           "held_out_bins", "held_out_score", "delayed", "section_bounds_hz", "at_edge"]
 
-ORDERS = (1, 2, 3, 4)
 HELD_OUT_EVERY = 4
 #: Consecutive bins held out together: Welch's Hann window spreads a tone over about four
 #: bins, so neighbouring bins are correlated and a single held-out bin would be "predicted"
 #: by its own leakage into the bins beside it (which flatters an interpolating model).
 HELD_OUT_BLOCK = 4
+#: A structure with more parameters must lower the held-out error by this share to be kept.
+MIN_IMPROVEMENT = 0.10
+#: Highest corner or natural frequency, as a share of the Nyquist frequency (a causal,
+#: bilinear inverse can still place it).
+MAX_CORNER_NYQUIST = 0.8
+#: Corners and natural frequencies stay within this factor of the fitted bins' range: a
+#: section far outside the band is not identified by the sweep; inside the band its
+#: phase is nearly proportional to frequency, a delay, and it would trade off with the
+#: delay fitted jointly (a pole pair at 343 Hz, damping 0.82, stood in for the thesis' log
+#: law on a 1-148 Hz sweep and moved the clock by 0.8 ms).
+SECTION_MARGIN = 2.0
+#: A held-out error below this (1 % of the correction, about the resolution of an 8-bit
+#: sensel at mid-range) is immaterial: a model this good is not replaced by one with more
+#: parameters, however much better that one fits a long, clean sweep (which resolves 0.1 %).
+MATERIAL_ERROR = 0.01
+#: Bounds of the delay fitted jointly with a model: the clocks were aligned by
+#: cross-correlation, which takes part of the sensor's group delay for clock offset.
+MAX_DELAY_MS = 20.0
+#: A section within this share of its bounds is at the edge (:func:`at_edge`).
+EDGE = 0.02
+#: Most residual evaluations of one least-squares fit (a structure with more sections than
+#: the response needs wanders among poles that cancel zeros; 300 keep the others' fits).
+MAX_EVALUATIONS = 300
+#: Damping of a complex pair: above 0 (stable) and below 1 (a pair, not two real roots).
+DAMPING_BOUNDS = (0.005, 0.995)
 
 
 def held_out_score(measured, predicted, gain_error):
@@ -50,16 +82,110 @@ def held_out_bins(n_bins):
     """Mask of the held-out bins: every ``HELD_OUT_EVERY``-th block of ``HELD_OUT_BLOCK``."""
     block = np.arange(n_bins) // HELD_OUT_BLOCK
     return block % HELD_OUT_EVERY == HELD_OUT_EVERY // 2
-MIN_IMPROVEMENT = 0.10
-#: Highest corner frequency, as a share of the Nyquist frequency (see :func:`fit_rational`).
-MAX_CORNER_NYQUIST = 0.8
-#: A held-out error below this (1 % of the correction, about the resolution of an 8-bit
-#: sensel at mid-range) is immaterial: a model this good is not replaced by one with more
-#: parameters, however much better that one fits a long, clean sweep (which resolves 0.1 %).
-MATERIAL_ERROR = 0.01
 
 
-@dataclass
+def delayed(correction, delay_s, f_hz):
+    """``correction`` times the delay ``exp(-j 2 pi f delay_s)``: a model's measured ``C``.
+
+    The measured correction ``C`` of records aligned at lag ``L`` is that of records aligned
+    at the clock offset ``L - delay_s`` times this factor.
+    """
+    return correction * np.exp(-2j * np.pi * np.asarray(f_hz, float) * delay_s)
+
+
+@dataclass(frozen=True)
+class Structure:
+    """Sections of a rational response: real zeros and poles, complex pairs of each.
+
+    Examples
+    --------
+    >>> Structure(poles=1, zeros=1).label, Structure(pole_pairs=1).n_params
+    ('1 zero, 1 pole', 2)
+    """
+
+    zeros: int = 0
+    poles: int = 0
+    zero_pairs: int = 0
+    pole_pairs: int = 0
+
+    @property
+    def n_params(self):
+        """Number of parameters (a corner each, a frequency and a damping per pair)."""
+        return self.zeros + self.poles + 2 * (self.zero_pairs + self.pole_pairs)
+
+    @property
+    def label(self):
+        """The structure in words (``"1 zero, 1 pole, 1 pole pair"``)."""
+        words = [(self.zeros, "zero"), (self.poles, "pole"), (self.zero_pairs, "zero pair"),
+                 (self.pole_pairs, "pole pair")]
+        return ", ".join(f"{n} {w}{'s' if n > 1 else ''}" for n, w in words if n)
+
+    def as_params(self):
+        """Return the structure as a filter's ``params`` (numbers, for FILTER.json)."""
+        return {"zeros": self.zeros, "poles": self.poles, "zero_pairs": self.zero_pairs,
+                "pole_pairs": self.pole_pairs}
+
+    def split(self, x):
+        """Split ``[delay_ms, log fz.., log fp.., (log fn, zeta)..]`` into its parts.
+
+        Returns the delay (ms), the real zero and pole corners (Hz), and the zero and pole
+        pairs as ``(fn_hz, damping)`` rows.
+        """
+        x = np.asarray(x, dtype=float)
+        a, b = 1 + self.zeros, 1 + self.zeros + self.poles
+        c = b + 2 * self.zero_pairs
+        zp, pp = x[b:c].reshape(-1, 2), x[c:].reshape(-1, 2)
+        return (x[0], np.exp(x[1:a]), np.exp(x[a:b]),
+                np.column_stack([np.exp(zp[:, 0]), zp[:, 1]]),
+                np.column_stack([np.exp(pp[:, 0]), pp[:, 1]]))
+
+    def model(self, x):
+        """:class:`RationalModel` (unit gain at 0 Hz) and delay (s) of a parameter vector."""
+        delay_ms, fz, fp, zero_pairs, pole_pairs = self.split(x)
+        return RationalModel.from_corners_hz(
+            zeros_hz=fz, poles_hz=fp, zero_pairs=[tuple(p) for p in zero_pairs],
+            pole_pairs=[tuple(p) for p in pole_pairs]), float(delay_ms) * 1e-3
+
+    def correction(self, x, f_hz, *, jacobian=False):
+        """Return the delayed correction ``e^{-j 2 pi f tau} / H`` of the parameters.
+
+        With ``jacobian=True`` also the derivatives of its logarithm with respect to each
+        parameter (rows: parameters of ``x``, columns: bins): ``dC/dx = C d ln C/dx``.
+        """
+        delay_ms, fz, fp, zero_pairs, pole_pairs = self.split(x)
+        jf = 1j * f_hz
+        c = np.exp(-2e-3j * np.pi * f_hz * delay_ms)
+        rows = [-2e-3j * np.pi * f_hz]
+        for f in fz:  # C divides by (1 + j f / fz); d/d ln fz of -ln(1 + j f/fz)
+            term = jf / f
+            c = c / (1 + term)
+            rows.append(term / (1 + term))
+        for f in fp:  # C multiplies by (1 + j f / fp)
+            term = jf / f
+            c = c * (1 + term)
+            rows.append(-term / (1 + term))
+        for sign, pairs in ((-1.0, zero_pairs), (1.0, pole_pairs)):
+            for fn, zeta in pairs:
+                u = f_hz / fn
+                q = 1 - u**2 + 2j * zeta * u
+                c = c * q if sign > 0 else c / q
+                rows += [sign * (2 * u**2 - 2j * zeta * u) / q, sign * 2j * u / q]
+        return (c, np.array(rows)) if jacobian else c
+
+
+#: The structures :func:`choose_rational` tries, by number of parameters: real corners
+#: (orders 1-4 of zeros = poles), a single pole, a resonance (pole pair), an anti-resonance
+#: (zero pair), a corner pair with a resonance, a resonance with an anti-resonance.
+STRUCTURES = (
+    Structure(poles=1), Structure(zeros=1, poles=1), Structure(pole_pairs=1),
+    Structure(zero_pairs=1),
+    Structure(zeros=2, poles=2), Structure(zeros=1, poles=1, pole_pairs=1),
+    Structure(zero_pairs=1, pole_pairs=1), Structure(zeros=3, poles=3),
+    Structure(zeros=2, poles=2, pole_pairs=1), Structure(zeros=4, poles=4),
+)
+
+
+@dataclass(frozen=True)
 class RationalFit:
     """A rational model fitted to a measured complex correction.
 
@@ -67,145 +193,190 @@ class RationalFit:
     ----------
     model : RationalModel
         The sensor response ``H`` (its :meth:`~RationalModel.correction` is the fitted ``C``).
-    order : int
-        Number of zeros (= number of poles).
+    structure : Structure
+        Its sections.
     r2_complex : float
         Share of the complex correction explained on all used bins (:func:`complex_r2`).
     held_out_error : float
         :func:`held_out_score` of the held-out bins (the model was fitted without them).
     candidates : dict
-        ``{order: held_out_error}`` of every order tried (``inf`` when its fit failed).
+        ``{structure label: held_out_error}`` of every structure tried (``inf`` when its
+        fit failed).
     delay_s : float
-        The sensor's own delay that the clock alignment had absorbed (fitted jointly).
+        The delay fitted jointly: the part of the sensor's group delay that the clock
+        alignment took for clock offset.
     """
 
     model: RationalModel
-    order: int
+    structure: Structure
     r2_complex: float
     held_out_error: float
     candidates: dict
     delay_s: float = 0.0
 
     def summary(self):
-        """Return a one-line description with the corner frequencies."""
-        zeros = ", ".join(f"{-z.real / (2 * np.pi):.4g}" for z in self.model.zeros_rad_s)
-        poles = ", ".join(f"{-p.real / (2 * np.pi):.4g}" for p in self.model.poles_rad_s)
-        return (f"rational order {self.order}: zeros at {zeros} Hz, poles at {poles} Hz, "
-                f"gain {self.model.gain:.4g}, delay {1e3 * self.delay_s:.3g} ms; complex R2 "
-                f"{self.r2_complex:.4f}, held-out error {self.held_out_error:.3g}")
+        """Return a one-line description with the sections."""
+        return (f"rational ({self.structure.label}): {self.model.describe()}, delay "
+                f"{1e3 * self.delay_s:.3g} ms; complex R2 {self.r2_complex:.4f}, held-out "
+                f"error {self.held_out_error:.2%}")
 
 
-def _model(x, order):
-    """RationalModel from parameters ``[delay_ms, log fz_1..n, log fp_1..n]`` (Hz).
-
-    Unit gain at 0 Hz: the sweep was scaled statically (mean reference / mean sensor), so
-    ``H(0) = 1``, and a correction must leave a static calibration untouched.
-    """
-    fz, fp = np.exp(x[1:order + 1]), np.exp(x[order + 1:])
-    return RationalModel.from_corners_hz(zeros_hz=fz, poles_hz=fp)
-
-
-def _delayed_correction(model, delay_s, f_hz):
-    """``1/H`` times the residual clock delay ``exp(-j 2 pi f delay)``: the fitted ``C``."""
-    return model.correction(f_hz) * np.exp(-2j * np.pi * f_hz * delay_s)
-
-
-def _correction(x, order, f_hz):
-    """:func:`_delayed_correction` of the parameters ``x`` (``x[0]``: the delay in ms)."""
-    return _delayed_correction(_model(x, order), x[0] * 1e-3, f_hz)
-
-
-def _residuals(x, order, f_hz, measured, weight):
-    diff = weight * (measured - _correction(x, order, f_hz))
+def _residuals(x, structure, f_hz, measured, weight):
+    diff = weight * (measured - structure.correction(x, f_hz))
     return np.concatenate([diff.real, diff.imag])
 
 
-def fit_rational(f_hz, correction, coherence, order, *, fit_mask=None, max_delay_ms=5.0,
-                 fs_hz=None):
-    """Fit a rational response of ``order`` zeros and poles to a measured correction.
+def _jacobian(x, structure, f_hz, measured, weight):
+    """Return the derivatives of :func:`_residuals` (rows: real, then imaginary parts)."""
+    c, dlog = structure.correction(x, f_hz, jacobian=True)
+    d = -(weight * c) * dlog  # parameters x bins
+    return np.concatenate([d.real, d.imag], axis=1).T
+
+
+def section_bounds_hz(f_hz, fs_hz=None):
+    """Range of corners and natural frequencies: the bins' range widened by ``SECTION_MARGIN``.
+
+    Capped at ``MAX_CORNER_NYQUIST`` of the Nyquist frequency when ``fs_hz`` is given.
+    """
+    low = max(float(np.min(f_hz)), 1e-3) / SECTION_MARGIN
+    high = float(np.max(f_hz)) * SECTION_MARGIN
+    if fs_hz is not None:
+        high = min(high, MAX_CORNER_NYQUIST * fs_hz / 2)
+    return low, high
+
+
+def _starts(structure, f_hz, measured, lo, hi, delay_ms):
+    """Return starting vectors: corners spread over the band, pairs at the extremes of |C|.
+
+    A pole pair starts at the bin where ``|C|`` is smallest (the resonance reads high), a zero
+    pair where it is largest, with dampings 0.05 and 0.3.
+    """
+    n_real = structure.zeros + structure.poles
+    dip, peak = (np.log(f_hz[np.argmin(np.abs(measured))]),
+                 np.log(f_hz[np.argmax(np.abs(measured))]))
+    starts = []
+    for shift in (0.0, 0.5):
+        grid = np.linspace(lo, hi, 2 * max(n_real, 1) + 2)[1:-1]
+        grid = grid + shift * (grid[1] - grid[0])
+        corners = grid[:n_real]
+        zeros, poles = corners[1::2][:structure.zeros], corners[0::2][:structure.poles]
+        if zeros.size < structure.zeros or poles.size < structure.poles:  # poles alone
+            poles = corners[:structure.poles]
+            zeros = corners[structure.poles:]
+        for zeta in ((0.05, 0.3) if structure.zero_pairs + structure.pole_pairs else (None,)):
+            pairs = [[peak, zeta]] * structure.zero_pairs + [[dip, zeta]] * structure.pole_pairs
+            starts.append(np.concatenate([[delay_ms], zeros, poles, *pairs]))
+    return starts
+
+
+def fit_rational(f_hz, correction, gain_error, structure, *, fit_mask=None, fs_hz=None,
+                 delay_s=0.0):
+    """Fit a rational response of one structure to a measured correction.
 
     Parameters
     ----------
-    f_hz, correction, coherence : array_like
-        Used bins: frequency, measured complex ``C`` = reference / sensor, coherence.
-    order : int
-        Zeros = poles = ``order`` (1-4).
+    f_hz, correction, gain_error : array_like
+        Used bins: frequency, measured complex ``C`` = reference / sensor, its normalised
+        random error (:class:`TransferFunction` ``.gain_error``).
+    structure : Structure
     fit_mask : array_like of bool, optional
         Bins to fit (the rest are held out); default all.
-    max_delay_ms : float
-        Bound of the residual delay fitted jointly with the model: the clocks were aligned
-        by cross-correlation, which takes the sensor's own group delay for clock offset.
     fs_hz : float, optional
-        Sampling rate: corners are kept below ``MAX_CORNER_NYQUIST`` of its Nyquist
-        frequency, where a causal (bilinear) inverse can still place them; a corner beyond
-        would only mimic a gain that keeps rising, and its inverse would amplify the noise
-        far above the band.
+        Sampling rate: corners and natural frequencies are kept below
+        ``MAX_CORNER_NYQUIST`` of its Nyquist frequency, and within ``SECTION_MARGIN`` of
+        the bins' range (:func:`section_bounds_hz`).
+    delay_s : float
+        Starting delay (within ``MAX_DELAY_MS`` of which the delay is fitted).
 
     Returns
     -------
     (RationalModel, float)
-        The sensor response and the residual delay in s (the sensor's group delay that the
-        alignment absorbed: the clock offset is the alignment's lag minus it).
+        The sensor response and the delay in s fitted jointly with it.
     """
     f_hz = np.asarray(f_hz, dtype=float)
     measured = np.asarray(correction, dtype=complex)
-    coherence = np.clip(np.asarray(coherence, dtype=float), 0.0, 0.999)
-    weight = np.sqrt(coherence / (1 - coherence))
+    weight = 1.0 / (np.maximum(np.asarray(gain_error, dtype=float), 1e-6) * np.abs(measured))
     mask = np.ones(f_hz.size, bool) if fit_mask is None else np.asarray(fit_mask, bool)
-    lo, hi = np.log(max(f_hz.min(), 1e-3) / 4), np.log(f_hz.max() * 4)
-    top = hi + 2 if fs_hz is None else min(hi + 2, np.log(MAX_CORNER_NYQUIST * fs_hz / 2))
-    hi = min(hi, top)
+    low, high = section_bounds_hz(f_hz, fs_hz)
+    lo, hi = np.log(low), np.log(high)
+    n_real, n_pairs = structure.zeros + structure.poles, structure.zero_pairs + structure.pole_pairs
+    lower = np.r_[1e3 * delay_s - MAX_DELAY_MS, [lo] * n_real, [lo, DAMPING_BOUNDS[0]] * n_pairs]
+    upper = np.r_[1e3 * delay_s + MAX_DELAY_MS, [hi] * n_real, [hi, DAMPING_BOUNDS[1]] * n_pairs]
     best = None
-    for shift in (0.0, 0.5):  # two spreads of starting corners; keep the better fit
-        corners = np.linspace(lo, hi, 2 * order + 2)[1:-1]
-        corners = corners + shift * (corners[1] - corners[0]) if order > 0 else corners
-        zeros, poles = corners[1::2], corners[0::2]  # poles below zeros: a falling gain
-        start = np.concatenate([[0.0], zeros, poles])
+    for start in _starts(structure, f_hz[mask], measured[mask], lo, hi, 1e3 * delay_s):
         sol = optimize.least_squares(
-            _residuals, start, args=(order, f_hz[mask], measured[mask], weight[mask]),
-            bounds=(np.r_[-max_delay_ms, [lo - 2] * 2 * order],
-                    np.r_[max_delay_ms, [top] * 2 * order]))
+            _residuals, np.clip(start, lower + 1e-9, upper - 1e-9), jac=_jacobian,
+            args=(structure, f_hz[mask], measured[mask], weight[mask]), bounds=(lower, upper),
+            max_nfev=MAX_EVALUATIONS)
         if best is None or sol.cost < best.cost:
             best = sol
-    return _model(best.x, order), float(best.x[0]) * 1e-3
+    return structure.model(best.x)
 
 
-def choose_rational(f_hz, correction, coherence, gain_error, *, orders=ORDERS, fs_hz=None):
-    """Fit every order, choose by held-out bins; return the :class:`RationalFit`.
+def choose_rational(f_hz, correction, gain_error, *, structures=STRUCTURES, fs_hz=None,
+                    delay_s=0.0):
+    """Fit every structure, choose by held-out bins; return the :class:`RationalFit`.
 
     Every ``HELD_OUT_EVERY``-th block of bins is held out (:func:`held_out_bins`); each
-    order is fitted on the others and scored on the held-out ones by
-    :func:`held_out_score` (``gain_error``: each bin's). The lowest order within
-    ``MIN_IMPROVEMENT`` of the best score wins (a higher order must earn its parameters);
-    it is then refitted on all bins.
-
-    ``fs_hz`` bounds the corners (see :func:`fit_rational`).
+    structure is fitted on the others and scored on the held-out ones by
+    :func:`held_out_score`. A structure with a section at the edge of the band
+    (:func:`at_edge`) is not a candidate. Of the structures within ``MIN_IMPROVEMENT`` of
+    the best score, the one with the fewest parameters wins (the lower score on a tie); it is
+    then refitted on all bins (and dropped if its sections then reach the edge). ``fs_hz``
+    bounds the corners, ``delay_s`` starts the delay (see :func:`fit_rational`).
 
     Raises
     ------
-    ValueError
-        Fewer than ``4 * (max order + 1)`` bins.
+    TactilecalError
+        Fewer than ``4 * (largest parameter count + 1)`` bins.
     """
     f_hz = np.asarray(f_hz, dtype=float)
     correction = np.asarray(correction, dtype=complex)
     gain_error = np.asarray(gain_error, dtype=float)
-    need = max(4 * (max(orders) + 1), HELD_OUT_EVERY * HELD_OUT_BLOCK)
+    need = max(4 * (max(s.n_params for s in structures) + 1), HELD_OUT_EVERY * HELD_OUT_BLOCK)
     if f_hz.size < need:
-        raise TactilecalError(f"{f_hz.size} coherent bins; a rational fit of order up to "
-                              f"{max(orders)} needs at least {need}")
+        raise TactilecalError(f"{f_hz.size} coherent bins; a rational fit with up to "
+                              f"{max(s.n_params for s in structures)} parameters needs at "
+                              f"least {need}")
     held = held_out_bins(f_hz.size)
+    bounds = section_bounds_hz(f_hz, fs_hz)
     scores = {}
-    for order in orders:
+    for structure in structures:
         try:
-            model, delay_s = fit_rational(f_hz, correction, coherence, order, fit_mask=~held,
-                                           fs_hz=fs_hz)
+            model, delay = fit_rational(f_hz, correction, gain_error, structure,
+                                        fit_mask=~held, fs_hz=fs_hz, delay_s=delay_s)
         except (ValueError, np.linalg.LinAlgError):
-            scores[order] = float("inf")
+            scores[structure] = float("inf")
             continue
-        predicted = _delayed_correction(model, delay_s, f_hz[held])
-        scores[order] = held_out_score(correction[held], predicted, gain_error[held])
-    best = min(scores.values())
-    order = min(o for o, s in scores.items() if s <= best * (1 + MIN_IMPROVEMENT))
-    model, delay_s = fit_rational(f_hz, correction, coherence, order, fs_hz=fs_hz)
-    r2 = complex_r2(correction, _delayed_correction(model, delay_s, f_hz))
-    return RationalFit(model, order, r2, scores[order], scores, delay_s)
+        predicted = delayed(model.correction(f_hz[held]), delay, f_hz[held])
+        scores[structure] = (float("inf") if at_edge(model, *bounds) else
+                             held_out_score(correction[held], predicted, gain_error[held]))
+    while np.isfinite(best := min(scores.values())):
+        good = [s for s in structures if scores[s] <= best * (1 + MIN_IMPROVEMENT)]
+        chosen = min(good, key=lambda s: (s.n_params, scores[s]))
+        model, delay = fit_rational(f_hz, correction, gain_error, chosen, fs_hz=fs_hz,
+                                    delay_s=delay_s)
+        if not at_edge(model, *bounds):
+            r2 = complex_r2(correction, delayed(model.correction(f_hz), delay, f_hz))
+            return RationalFit(model, chosen, r2, scores[chosen],
+                               {s.label: scores[s] for s in structures}, delay)
+        scores[chosen] = float("inf")  # refitted on every bin, it went to the edge
+    raise TactilecalError(f"no rational structure could be fitted to the {f_hz.size} coherent "
+                          "bins with its sections inside the band")
+
+
+def at_edge(model, low_hz, high_hz):
+    """Return True when a section of ``model`` sits at the edge of what the band identifies.
+
+    A corner or natural frequency within ``EDGE`` of ``low_hz`` or ``high_hz``
+    (:func:`section_bounds_hz`), or a damping within ``EDGE`` of its bounds: the fit wanted
+    it further out, where the sweep says nothing about it, and inside the band it only
+    stands in for something else (a delay, a slowly rising gain).
+    """
+    sections = model.sections()
+    frequencies = [*sections["zeros_hz"], *sections["poles_hz"],
+                   *(f for f, _ in sections["zero_pairs"] + sections["pole_pairs"])]
+    dampings = [z for _, z in sections["zero_pairs"] + sections["pole_pairs"]]
+    return (any(f <= low_hz * (1 + EDGE) or f >= high_hz / (1 + EDGE) for f in frequencies)
+            or any(z <= DAMPING_BOUNDS[0] * (1 + EDGE) or z >= DAMPING_BOUNDS[1] / (1 + EDGE)
+                   for z in dampings))

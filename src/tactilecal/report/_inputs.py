@@ -1,7 +1,8 @@
 """Recognise and load the inputs of a report.
 
-Calibration and validation JSON, FILTER.json, blind-test JSON (``tactilecal dynamic
-evaluate``) and recordings.
+Calibration and validation JSON, FILTER.json, evaluation JSON (``tactilecal dynamic
+evaluate``), all read by their format tag as :func:`tactilecal.load` reads them, and
+recordings.
 """
 
 from pathlib import Path
@@ -14,41 +15,27 @@ from tactilecal._provenance import file_provenance
 
 __all__ = ["load_input"]
 
-_FILTER_KEYS = ("model", "fs_hz", "band_hz")
-_EVALUATION_KEYS = ("rms_before_N", "rms_after_N", "fs_hz")
+#: Saved kinds a report shows, by their class's ``FORMAT_KIND``.
+_KINDS = {"calibration": "calibration", "validation": "validation",
+          "dynamic-filter": "filter", "dynamic-evaluation": "evaluation"}
 
 
 def _classify_dict(data, where):
-    """Return ``(kind, object)`` of a JSON object by its format tag (or an untagged filter's keys).
+    """Return ``(kind, object)`` of a saved result's JSON object, by its format tag.
 
-    The tag is that of :mod:`tactilecal._result` (``tactilecal.load``); a FILTER.json is
-    passed on as its dict, a calibration as a CalibrationResult.
+    The class comes from the tag, as :func:`tactilecal.load` finds it; only the kinds a
+    report shows are accepted.
     """
+    import tactilecal.calibration  # noqa: F401  (their saved kinds register on import)
+    import tactilecal.dynamic  # noqa: F401
     from tactilecal._result import result_class
-    from tactilecal.calibration import CalibrationResult, ValidationResult
-    from tactilecal.dynamic import CorrectionFilter
 
-    if "format" not in data and all(k in data for k in _FILTER_KEYS):
-        return "filter", data  # a filter's dict built in memory, without the tag
-    try:
-        cls = result_class(data, where)
-    except ValueError:
-        cls = None
-    if cls is CorrectionFilter:
-        return "filter", data
-    if cls is CalibrationResult:
-        return "calibration", CalibrationResult.from_dict(data, source=where)
-    if cls is ValidationResult:
-        return "validation", ValidationResult.from_dict(data, source=where)
-    if "format" not in data and all(k in data for k in _EVALUATION_KEYS):
-        return "evaluation", data  # tactilecal dynamic evaluate's JSON (untagged)
-    found = f"format {data['format']!r}" if "format" in data else \
-        f"keys {sorted(data)[:8]}"
-    raise TactilecalError(f"{where}: JSON with {found} is neither a calibration (format "
-                          f"{CalibrationResult.format_tag()!r}), a validation (format "
-                          f"{ValidationResult.format_tag()!r}), a dynamic filter (format "
-                          f"{CorrectionFilter.format_tag()!r}, or keys {list(_FILTER_KEYS)}) nor "
-                          f"a blind test (keys {list(_EVALUATION_KEYS)})")
+    cls = result_class(data, where)
+    if cls.FORMAT_KIND not in _KINDS:
+        raise TactilecalError(f"{where} is {cls.DESCRIPTION} (format {data['format']!r}); "
+                              "expected a calibration, a validation, a dynamic filter or an "
+                              "evaluation of one")
+    return _KINDS[cls.FORMAT_KIND], cls.from_dict(data, source=where)
 
 
 def load_input(item, *, what="report input"):
@@ -65,7 +52,7 @@ def load_input(item, *, what="report input"):
     Returns
     -------
     kind : {"calibration", "validation", "filter", "evaluation", "recording"}
-    obj : CalibrationResult, ValidationResult, dict (FILTER.json or blind-test content) or
+    obj : CalibrationResult, ValidationResult, CorrectionFilter, Evaluation or
         xarray.DataArray
     provenance : dict
         For a file, :func:`file_provenance` plus ``input``; for an object, what it is.
@@ -81,19 +68,17 @@ def load_input(item, *, what="report input"):
     if isinstance(item, xr.DataArray):
         return "recording", item, {"input": "DataArray in memory",
                                    "source": str(item.attrs.get("source", ""))}
-    if hasattr(item, "to_dict") and getattr(item, "FORMAT_KIND", None) == "validation":
-        return "validation", item, {"input": "ValidationResult in memory"}
+    kind = _KINDS.get(getattr(item, "FORMAT_KIND", None))
+    if kind is not None and hasattr(item, "to_dict"):  # a saved kind in memory
+        return kind, item, {"input": f"{type(item).__name__} in memory",
+                            **({"created": item.created} if hasattr(item, "created") else {})}
     if isinstance(item, dict):
         kind, obj = _classify_dict(item, "dict input")
         return kind, obj, {"input": f"{kind} dict in memory"}
-    if hasattr(item, "apply") and hasattr(item, "to_dict") and hasattr(item, "method"):
-        return "calibration", item, {"input": "CalibrationResult in memory",
-                                     "created": getattr(item, "created", "")}
-    if hasattr(item, "to_dict") and hasattr(item, "fs_hz"):
-        return "filter", item.to_dict(), {"input": "CorrectionFilter in memory"}
     if not isinstance(item, str | Path):
         raise TactilecalError(f"{what} of type {type(item).__name__}; expected a file path, "
-                              "a CalibrationResult, a filter, a dict or a DataArray")
+                              "a CalibrationResult, a ValidationResult, a CorrectionFilter, "
+                              "an Evaluation, a dict or a DataArray")
     from tactilecal.io import open_recording, recording_format
 
     path = Path(item)
@@ -104,7 +89,7 @@ def load_input(item, *, what="report input"):
         raise FileNotFoundError(f"{what} {path} does not exist or is not a file")
     prov = {"input": str(item), **file_provenance(path)}
     if path.suffix.lower() == ".json":
-        data = read_json_object(path, "a calibration JSON or a FILTER.json")
+        data = read_json_object(path, "a tactilecal result JSON")
         kind, obj = _classify_dict(data, str(path))
         return kind, obj, prov
     return "recording", open_recording(path), prov

@@ -188,47 +188,64 @@ def _zvyagin_blocks(zvyagin, label):
 
 
 # ---------------------------------------------------------------- dynamic filter
-def filter_blocks(data, label):
-    """Parameters and transfer-function figure of a dynamic filter (FILTER.json content)."""
-    from tactilecal.dynamic import CorrectionFilter
-
+def filter_blocks(filt, label):
+    """Show the parameters, fit and transfer function of a dynamic filter."""
     keys = ("model", "A", "log_base", "lag_s", "fs_hz", "band_hz", "outside", "n_taps")
-    blocks = [table_html([(k, data.get(k)) for k in keys if k in data],
-                         header=("key", "value"))]
-    if data.get("forced"):
+    data = filt.to_dict()
+    blocks = [table_html([(k, data.get(k)) for k in keys], header=("key", "value"))]
+    if filt.forced:
         blocks.append(note_html(f"{label} was written with --force although its model was "
-                                f"refused: {data.get('forced_reason')}"))
-    fit = data.get("fit")
-    if fit:
-        excluded = fit.get("excluded") or {}
-        rows = [(k, fit.get(k)) for k in ("r2", "rmse", "method", "r2_complex")]
-        rows += [(k, excluded[k]) for k in ("model_choice", "model_r2_complex", "rational",
-                                            "sensor_delay_s") if k in excluded]
-        blocks.append(table_html(rows, header=("fit", "value")))
+                                f"refused: {filt.forced}"))
+    fit = filt.fit
+    if fit is not None:
+        rows = [("r2", fit.r2), ("rmse", fit.rmse), ("method", fit.method),
+                ("r2_complex", fit.r2_complex), ("band", fit.band_note)]
+        if fit.model_choice is not None:
+            rows += [("model_choice", fit.model_choice.summary()),
+                     ("model_r2_complex", fit.model_choice.r2_complex),
+                     ("model_delay_s", fit.model_choice.delay_s)]
+        if filt.rational is not None:
+            rows.append(("rational", filt.rational.describe()))
+        if fit.amplitude is not None:
+            rows.append(("amplitude", fit.amplitude.summary()))
+        blocks.append(table_html(rows, header=("fit", "value"), wide=True))
     else:
         blocks.append(note_html(f"{label} stores no fitted transfer function (made from a "
                                 "model, not a sweep): the figure shows the filter's gain only"))
     blocks.append(figure_html(
-        CorrectionFilter.from_dict(data, where=label).plot_transfer(),
+        filt.plot_transfer(),
         f"{label}: transfer function, fitted model and filter gain (Gillis 2013, Fig. 4.9)",
-        "Grey points are the measured ratio load cell / sensor per frequency, the line the "
-        "fitted model, red the filter's gain: the filter multiplies each frequency by it, so "
-        "it should follow the points inside the band and fall off outside."))
+        "Grey points are the measured ratio load cell / sensor per frequency, the black line "
+        "the fitted model, red the filter's gain: the filter multiplies each frequency by it, "
+        "so it should follow the points inside the band (grey verticals) and fall back to 1 "
+        "above it."))
     return blocks
 
 
-def evaluation_blocks(data, label):
-    """Blind test of a dynamic filter (``tactilecal dynamic evaluate`` output)."""
-    from tactilecal.dynamic import Evaluation
-
-    ev = Evaluation.from_dict(data, where=label)  # checks every key the report shows
+def evaluation_blocks(ev, label):
+    """Show the evaluation of a dynamic filter (``tactilecal dynamic evaluate``)."""
     rows = [("RMS error of the dynamic part before the filter [N]", ev.rms_before_N),
             ("RMS error after the filter [N]", ev.rms_after_N),
             ("improvement (before / after)", ev.improvement),
-            ("lag of the reference [s]", data.get("lag_s")),
-            ("static factor", data.get("static_factor")),
-            ("sampling rate [Hz]", ev.fs_hz)]
-    blocks = [table_html(rows, header=("blind test", "value"))]
+            ("clock", f"{ev.clock} (lag {ev.lag_s:.6g} s)"),
+            ("timing error [ms]", 1e3 * ev.timing_error_s),
+            ("share of the dynamic power above the band", ev.above_band_share),
+            ("static factor", ev.static_factor), ("sampling rate [Hz]", ev.fs_hz)]
+    if ev.rms_after_realigned_N == ev.rms_after_realigned_N:  # not NaN: asked for
+        rows.append(("RMS error after, re-aligned (not what the filter delivers) [N]",
+                     ev.rms_after_realigned_N))
+    blocks = [table_html(rows, header=("evaluation", "value"))]
+    if ev.window:
+        blocks.append(figure_html(
+            ev.plot_time(), f"{label}: records in a zoomed window (Gillis 2013, Figs 4.10, "
+            "4.13a)", "Black is the reference, orange the sensor with its static calibration "
+            "only, blue after the dynamic filter, at the evaluated clock: a good filter lays "
+            "the blue line on the black one, in amplitude and in time."))
+    if ev.spectra:
+        blocks.append(figure_html(
+            ev.plot_spectra(), f"{label}: Fourier amplitude spectra (Gillis 2013, Figs 4.11, "
+            "4.13b)", "The blue spectrum should follow the black one inside the band (to the "
+            "grey line); above it the sensor is left as recorded."))
     if not ev.f_hz.size:
         return blocks + [note_html(f"{label} holds no per-frequency errors, so the gain and "
                                    "phase figure is not drawn")]
@@ -236,9 +253,9 @@ def evaluation_blocks(data, label):
         ev.plot_error(),
         f"{label}: amplitude and phase error before and after the filter (Gillis 2013, "
         "Fig. 4.12)",
-        "Each point is one coherent frequency of the blind test: orange is the sensor with "
-        "its static calibration only, blue after the dynamic filter; a good filter brings "
-        "the blue points to 0 % and 0 degrees across the band.")]
+        "Each point is one coherent frequency of the test: orange is the sensor with its "
+        "static calibration only, blue after the dynamic filter; a good filter brings the "
+        "blue points to 0 % and 0 degrees across the band.")]
 
 
 # ---------------------------------------------------------------- recording
