@@ -312,6 +312,6 @@ def test_report_tells_inputs_apart_by_their_tag(calibrations, tmp_path):
     assert kind == "filter" and obj["params"] == {"A": 0.11}
     with pytest.raises(ValueError, match=r"eq.json: JSON with format "
                                          r"'tactilecal-equilibration/1' is neither a "
-                                         r"calibration .* a dynamic filter .* nor a blind "
+                                         r"calibration, .* a dynamic filter .* nor a blind "
                                          r"test"):
         load_input(tmp_path / "eq.json")

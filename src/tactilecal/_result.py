@@ -171,10 +171,21 @@ class SavedResult(ShortRepr):
 
     @classmethod
     def from_dict(cls, data, *, source=None):
-        """Rebuild from :meth:`to_dict` output (``source`` names it in error messages)."""
+        """Rebuild from :meth:`to_dict` output (``source`` names it in error messages).
+
+        A value that the kind's own checks let through but that fails to build the result
+        (a ``ValueError``, ``TypeError`` or ``OverflowError`` from NumPy, say) is still bad
+        input: it is raised as :class:`TactilecalError` naming ``source``.
+        """
         source = source or cls.FORMAT_KIND
         cls.check_format(data, source)
-        result = cls._from_dict(data, source)
+        try:
+            result = cls._from_dict(data, source)
+        except TactilecalError:
+            raise
+        except (ValueError, TypeError, OverflowError) as exc:  # a value no check foresaw
+            raise TactilecalError(f"{source}: {type(exc).__name__}: {exc}; expected "
+                                  f"{cls.DESCRIPTION} as tactilecal writes it") from exc
         if data.get("provenance") is not None and not result.provenance:
             result.provenance = check_type(data["provenance"], dict,
                                            f"key 'provenance' of {source}",

@@ -18,6 +18,7 @@ FORMATS = ("tekscan", "netcdf", "zarr")
 _SNIFF_BYTES = 1 << 16
 _NETCDF_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
 _ZARR_METADATA = ("zarr.json", ".zgroup", ".zarray")
+_UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
 
 
 def is_zarr_store(path):
@@ -46,6 +47,8 @@ def recording_format(path):
     ------
     FileNotFoundError
         ``path`` does not exist.
+    ValueError
+        ``path`` is a device, pipe or socket (``/dev/null``), not a file.
 
     Examples
     --------
@@ -59,14 +62,19 @@ def recording_format(path):
     path = Path(path)
     if path.is_dir():
         return "zarr" if is_zarr_store(path) else None
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: no such file")
+    if not path.is_file():
+        raise TactilecalError(f"{path} is not a regular file (a device, pipe or socket); "
+                              "expected a recording (Tekscan export, NetCDF file or Zarr store)")
     if path.suffix.lower() in NETCDF_SUFFIXES:
         return "netcdf"
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: no such file")
     with path.open("rb") as fh:
         head = fh.read(_SNIFF_BYTES)
     if head.startswith(_NETCDF_MAGIC):
         return "netcdf"
+    if head.startswith(_UTF16_BOMS):  # UTF-16 text: ASCII_DATA spelt in 2-byte units
+        head = head[:len(head) // 2 * 2].decode("utf-16", errors="replace").encode("utf-8")
     return "tekscan" if b"ASCII_DATA" in head.upper() else None
 
 
@@ -121,6 +129,10 @@ def open_recording(path, *, chunks=None):
         return read_netcdf(path)
     if kind in ("netcdf", "zarr"):
         return _open_lazy(path, kind, chunks)
+    if Path(path).is_dir():
+        raise TactilecalError(f"{path} is a folder without Zarr metadata "
+                              f"({', '.join(_ZARR_METADATA)}); expected a recording file or a "
+                              "Zarr store")
     raise TactilecalError(f"{path}: not a recording: no 'ASCII_DATA' line in its first 64 KiB "
                           "(Tekscan export), not NetCDF, not a Zarr store; expected one of these")
 

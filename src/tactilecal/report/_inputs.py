@@ -44,11 +44,9 @@ def _classify_dict(data, where):
         return "evaluation", data  # tactilecal dynamic evaluate's JSON (untagged)
     found = f"format {data['format']!r}" if "format" in data else \
         f"keys {sorted(data)[:8]}"
-    raise TactilecalError(f"{where}: JSON with {found} is neither a calibration (format "
-                          f"{CalibrationResult.format_tag()!r}), a validation (format "
-                          f"{ValidationResult.format_tag()!r}), a dynamic filter (format "
-                          f"{CorrectionFilter.format_tag()!r}, or keys {list(_FILTER_KEYS)}) nor "
-                          f"a blind test (keys {list(_EVALUATION_KEYS)})")
+    found = found if len(found) <= 60 else found[:57] + "..."
+    raise TactilecalError(f"{where}: JSON with {found} is neither a calibration, a validation, a "
+                          "dynamic filter (FILTER.json) nor a blind test (dynamic evaluate's JSON)")
 
 
 def load_input(item, *, what="report input"):
