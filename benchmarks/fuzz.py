@@ -394,11 +394,13 @@ def _run_cli(argv):
     return done.returncode, done.stderr.strip()
 
 
-def run_cli(n, seed=0, folder=None):
+def run_cli(n, seed=0, folder=None, run=None, keep=None):
     """Run ``n`` mutants through the CLI commands that read them; return the failures.
 
     Each command runs in its own process (``python -m tactilecal``), as a user runs it: the
     exit code and standard error are the real ones (benchmarks do not import the CLI).
+    ``run(argv) -> (exit code, stderr)`` replaces the process (the tests run the commands in
+    their own process, in seconds); ``keep(argv)`` chooses the command lines run (all).
 
     A failure is an exit code other than 0/1/2, a traceback, or an error (exit 1) that takes
     more than one line. Returns ``(n_runs, [(kind, mutation, argv, stderr), ...])``.
@@ -420,8 +422,8 @@ def run_cli(n, seed=0, folder=None):
             mutant = source.parent / f"mutant{source.suffix}" if kind == "manifest" else \
                 folder / f"mutant_{k % 20}{source.suffix}"
             mutant.write_bytes(mutated)
-            for argv in _cli_commands(kind, mutant, good, folder / f"out_{k % 20}"):
-                code, text = _run_cli(argv)
+            for argv in filter(keep, _cli_commands(kind, mutant, good, folder / f"out_{k % 20}")):
+                code, text = (run or _run_cli)(argv)
                 runs += 1
                 errors = [line for line in text.splitlines() if ": warning: " not in line
                           and not line.startswith("removed ")]

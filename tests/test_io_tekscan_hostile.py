@@ -199,3 +199,13 @@ def test_uneven_increasing_frame_times_read(tmp_path):
 def test_file_without_units_is_read_as_raw_and_says_so(tmp_path):
     data = read_tekscan(_file(tmp_path, drop=("UNITS",)))
     assert data.attrs["units"] == "raw" and "no UNITS line" in data.attrs["units_note"]
+
+
+@pytest.mark.parametrize("chunks", [None, 1])
+def test_single_frame_raw_value_outside_0_255_is_an_error(tmp_path, chunks):
+    """Found by the property tests: the NumPy reader skipped the check for a single frame."""
+    path = tmp_path / "single.csv"
+    path.write_text("ROWS 2\nCOLS 1\nUNITS raw\nASCII_DATA @@\n256\n0\n@@\n")
+    with pytest.raises(ValueError, match=r"line 5 of .*single.csv, value 1: 256; expected a "
+                                         r"whole number 0..255"):
+        read_tekscan(path, chunks=chunks).compute()

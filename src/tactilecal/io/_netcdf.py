@@ -15,6 +15,7 @@ from tactilecal._atomic import (
 )
 from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps
+from tactilecal._validate import shorten
 
 __all__ = ["read_netcdf", "write_netcdf"]
 
@@ -32,7 +33,8 @@ def write_netcdf(data, path):
 
     Attributes that NetCDF cannot hold (dicts, lists, ``None``, booleans) are written as
     JSON text and listed in the ``tactilecal_json_attrs`` attribute, so
-    :func:`read_netcdf` restores them.
+    :func:`read_netcdf` restores them. Numeric variables carry a Fletcher-32 checksum
+    (NetCDF4 with h5py), so that a damaged file is refused when read, not misread.
 
     Parameters
     ----------
@@ -61,16 +63,17 @@ def write_netcdf(data, path):
     if encoded:
         out.attrs[_JSON_ATTRS] = ",".join(encoded)
     engine = _engine()
+    options = {"engine": engine, "encoding": _checksums(out) if engine == "h5netcdf" else None}
     with atomic_path(path, suffix=".nc") as tmp:
         try:
             # the temporary file is removed only after every block stopped writing
             client = distributed_client() if out.chunks is not None else None
             if client is not None:
-                compute_drained(client, out.to_netcdf(tmp, engine=engine, compute=False))
+                compute_drained(client, out.to_netcdf(tmp, compute=False, **options))
             else:
                 with dask_tasks_finished() if out.chunks is not None else \
                         contextlib.nullcontext():
-                    out.to_netcdf(tmp, engine=engine)
+                    out.to_netcdf(tmp, **options)
         except ValueError as exc:
             if engine != "scipy":
                 raise
@@ -78,6 +81,17 @@ def write_netcdf(data, path):
                                   f"the scipy engine is used): {exc}; expected values NetCDF3 "
                                   "can hold (e.g. int64 within the int32 range): install h5py "
                                   "or convert to float64") from None
+
+
+def _checksums(data):
+    """Return the encoding that stores a Fletcher-32 checksum with each numeric variable.
+
+    A damaged byte of the values is then a read error, not a different value.
+    """
+    name = data.name if data.name is not None else "__xarray_dataarray_variable__"
+    variables = {name: data.variable, **{k: v.variable for k, v in data.coords.items()}}
+    return {key: {"fletcher32": True} for key, variable in variables.items()
+            if np.issubdtype(variable.dtype, np.number) and variable.ndim > 0}
 
 
 def read_netcdf(path):
@@ -106,16 +120,45 @@ def read_netcdf(path):
 
     if not Path(path).is_file():
         raise FileNotFoundError(f"{path}: no such file; expected a NetCDF file (.nc)")
-    try:
-        data = xr.load_dataarray(path, decode_times=False, decode_timedelta=False)
-    except (ValueError, OSError) as exc:
-        raise TactilecalError(f"{path}: not a NetCDF file with one data variable "
-                              f"({str(exc).splitlines()[0][:200]}); expected a file written by "
-                              "write_netcdf or DataArray.to_netcdf") from None
+    data = open_store(lambda: xr.load_dataarray(path, decode_times=False,
+                                                decode_timedelta=False),
+                      path, "NetCDF file", "write_netcdf or DataArray.to_netcdf")
     for name in _INT_COORDS:
         if name in data.coords and np.issubdtype(data[name].dtype, np.integer):
             data = data.assign_coords({name: data[name].astype(np.int64)})
     names = data.attrs.pop(_JSON_ATTRS, "")
     for key in filter(None, str(names).split(",")):
-        data.attrs[key] = json.loads(data.attrs[key])
+        try:
+            data.attrs[key] = json.loads(data.attrs[key])
+        except (KeyError, TypeError, ValueError, RecursionError):
+            raise TactilecalError(f"{path}: attribute {shorten(key)} is listed in "
+                                  f"{_JSON_ATTRS} but holds no JSON; expected a file written by "
+                                  "write_netcdf") from None
     return data
+
+
+def open_store(function, path, what, writer):
+    """Return ``function()`` (which opens ``path``); turn any failure into one line naming it.
+
+    A damaged file makes HDF5 or Zarr raise whatever their parsers meet (``KeyError`` for a
+    bad metadata checksum, ``RuntimeError``, ``OSError``...): all of it is bad input. The
+    half-built file objects that the failure leaves are collected here, with Python's report
+    of their failing clean-up silenced, so that nothing but the one line reaches the user.
+    """
+    import gc
+    import sys
+
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: None
+    try:
+        try:
+            return function()
+        except Exception as exc:  # noqa: BLE001 - a parser's failure on a damaged file
+            detail = " ".join(str(exc).split())
+            detail = detail if len(detail) <= 120 else detail[:117] + "..."
+            message = (f"{path}: not a {what} with one data variable ({type(exc).__name__}: "
+                       f"{detail}); expected a file written by {writer}")
+        gc.collect()  # the failure's frames are gone: collect what they held, silently
+        raise TactilecalError(message)
+    finally:
+        sys.unraisablehook = hook

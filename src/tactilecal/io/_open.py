@@ -141,13 +141,11 @@ def _open_lazy(path, kind, chunks):
     """Open a NetCDF file or Zarr store lazily (dask) in blocks of ``chunks`` frames."""
     import xarray as xr
 
+    from tactilecal.io._netcdf import open_store
+
     options = {"engine": "zarr"} if kind == "zarr" else {}
-    try:
-        data = xr.open_dataarray(path, chunks={} if chunks is None else {"frame": chunks},
-                                 decode_times=False, decode_timedelta=False, **options)
-    except (ValueError, OSError) as exc:
-        raise TactilecalError(f"{path}: not a {kind} store with one data variable "
-                              f"({str(exc).splitlines()[0][:200]}); expected a file written by "
-                              "write_netcdf or convert") from None
+    data = open_store(lambda: xr.open_dataarray(
+        path, chunks={} if chunks is None else {"frame": chunks}, decode_times=False,
+        decode_timedelta=False, **options), path, f"{kind} store", "write_netcdf or convert")
     data.attrs.setdefault("source", str(path))
     return data

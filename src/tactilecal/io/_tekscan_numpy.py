@@ -83,7 +83,7 @@ def _read(f, name, head):
         raise _NotPlain  # more values than the file has room for (a value and a comma each)
     values = np.empty((max(n_frames, 1), head.rows, head.cols))
     flat = values.reshape(-1)
-    raw = head.attrs.get("units") in (None, "raw") and n_frames > 0
+    raw = head.attrs.get("units") in (None, "raw")
     f.seek(head.body)
     parts = _in_order(lambda job: _Block(head, flat, raw, n_frames == 0, *job),
                       _jobs(f, head, n_frames))
