@@ -84,8 +84,8 @@ def test_filter_json_round_trip(filt, tmp_path):
     np.testing.assert_allclose(back.taps, filt.taps)
     assert back.fit.A == filt.fit.A and back.lag_s == filt.lag_s
     resp = CorrectionFilter.from_response(filt.fit.f_hz, filt.fit.measured, fs_hz=1000.0)
-    resp.save(path)
-    back = CorrectionFilter.from_json(path)
+    resp.save(tmp_path / "RESPONSE.json")  # save, like to_json, replaces no file
+    back = CorrectionFilter.from_json(tmp_path / "RESPONSE.json")
     np.testing.assert_allclose(back.gain(f), resp.gain(f))
 
 

@@ -8,6 +8,7 @@ the real exports and runs the mutants through every command, also as separate pr
 (``@pytest.mark.slow``: what a user's terminal shows, interpreter messages included).
 """
 
+import os
 import random
 
 import pytest
@@ -63,6 +64,8 @@ def test_mutated_inputs_through_every_reading_command_fail_in_one_line(fuzz, tmp
 
 
 @pytest.mark.slow
+@pytest.mark.skipif(os.environ.get("TACTILECAL_HYPOTHESIS") != "long",
+                    reason="minutes (a process per command): run with TACTILECAL_HYPOTHESIS=long")
 def test_mutated_inputs_through_every_command_as_processes_fail_in_one_line(fuzz, tmp_path):
     """The same as a user runs them: ``python -m tactilecal`` (a process each, 1-2 s)."""
     runs, failures = fuzz.run_cli(14, seed=3, folder=tmp_path)

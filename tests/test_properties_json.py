@@ -214,7 +214,7 @@ def _loads_or_clean_error(folder, path):
         return None
     again = _path(folder)  # what loaded is written, and reads back the same
     loaded.to_json(again)
-    tactilecal.load(again).to_json(path)
+    tactilecal.load(again).to_json(path, overwrite=True)
     assert path.read_text() == again.read_text()
     return loaded
 

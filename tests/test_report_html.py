@@ -13,7 +13,7 @@ import pytest
 from tactilecal.calibration import calibrate, points_from_frames
 from tactilecal.dynamic import CorrectionFilter, fit_transfer
 from tactilecal.dynamic._transfer import TransferFunction
-from tactilecal.io import write_netcdf
+from tactilecal.io import read_netcdf, write_netcdf
 from tactilecal.report import build_report, load_input, write_report
 from tactilecal.simulate import deadweight_session, make_sensor
 
@@ -179,22 +179,25 @@ def test_errors_and_atomic_write(files, tmp_path):
     bad = tmp_path / "other.json"
     bad.write_text('{"hello": 1}')
     out = tmp_path / "r.html"
-    out.write_text("previous report")
+    out.write_text("<!DOCTYPE html>previous report")
+    with pytest.raises(ValueError, match=r"r.html exists; expected a new path"):
+        write_report([files / "cal.json"], out)
     with pytest.raises(ValueError, match=r"other.json: JSON with keys \['hello'\] is neither"):
-        write_report([bad], out)
-    assert out.read_text() == "previous report"  # untouched on failure
+        write_report([bad], out, overwrite=True)
+    assert out.read_text() == "<!DOCTYPE html>previous report"  # untouched on failure
     with pytest.raises(ValueError, match="not valid JSON"):
         (tmp_path / "broken.json").write_text("{")
-        write_report([tmp_path / "broken.json"], out)
+        write_report([tmp_path / "broken.json"], out, overwrite=True)
     with pytest.raises(FileNotFoundError, match="report input .*missing.csv does not exist"):
-        write_report([tmp_path / "missing.csv"], out)
+        write_report([tmp_path / "missing.csv"], out, overwrite=True)
     with pytest.raises(ValueError, match="no report inputs"):
-        write_report([], out)
+        write_report([], out, overwrite=True)
     with pytest.raises(ValueError, match=r"calibration= \(--cal\) FILTER.json is a filter; "
                                          "expected a calibration JSON"):
-        write_report([files / "patch.nc"], out, calibration=files / "FILTER.json")
+        write_report([files / "patch.nc"], out, calibration=files / "FILTER.json",
+                     overwrite=True)
     with pytest.raises(ValueError, match="report input of type int"):
-        write_report([3], out)
+        write_report([3], out, overwrite=True)
     with pytest.raises(FileNotFoundError, match="cannot write .*r.html: folder .*nope does not"):
         write_report([files / "cal.json"], tmp_path / "nope" / "r.html")
 
@@ -267,3 +270,20 @@ def test_zvyagin_file_without_intermediates_says_so(session):
     text = build_report([result])
     assert "holds no Zvyagin intermediates" in text
     assert not any("Zvyagin (2022) " in alt for alt, _ in images(text))
+
+
+def test_a_calibration_is_not_shown_as_applied_to_a_calibrated_recording(files, tmp_path):
+    """Issue 31: --cal on an already calibrated recording was ignored silently."""
+    from tactilecal.calibration import load_calibration
+
+    calibrated = load_calibration(files / "cal.json").apply(read_netcdf(files / "patch.nc"))
+    write_netcdf(calibrated, tmp_path / "kpa.nc")
+    with pytest.raises(ValueError, match=r"calibration= \(--cal\) applies to raw recordings, "
+                                         r"but kpa.nc is already calibrated \(units 'kPa'\)"):
+        write_report([tmp_path / "kpa.nc"], tmp_path / "r.html", calibration=files / "cal.json")
+    assert not (tmp_path / "r.html").exists()
+    text = write_report([files / "cal.json", tmp_path / "kpa.nc"],
+                        tmp_path / "r.html").read_text()
+    assert "kpa.nc is already calibrated (units kPa): the calibration among the inputs is not " \
+           "applied to it" in text
+    assert "raw readings calibrated with method" not in text

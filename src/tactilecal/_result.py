@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tactilecal._atomic import write_text_atomic
+from tactilecal._atomic import check_target, write_text_atomic
 from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps, read_json_object
 from tactilecal._validate import check_type
@@ -196,8 +196,13 @@ class SavedResult(ShortRepr):
         """Return the JSON text of :meth:`to_dict`."""
         return dumps(self.to_dict())
 
-    def to_json(self, path):
-        """Write the JSON atomically to ``path`` (a reader never sees a partial file)."""
+    def to_json(self, path, *, overwrite=False):
+        """Write the JSON atomically to ``path`` (a reader never sees a partial file).
+
+        An existing ``path`` is replaced only with ``overwrite=True``, and only if it is a
+        JSON file (never a recording or a table).
+        """
+        check_target(path, overwrite=overwrite, kind="json")
         write_text_atomic(path, self.to_json_text() + "\n")
 
     @classmethod

@@ -5,6 +5,7 @@ from pathlib import Path
 from tactilecal._errors import TactilecalError
 from tactilecal.cli._calibrate_options import add_fit_options, fit_options
 from tactilecal.cli._common import info, info_grouped, print_json, progress_for
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_float
 
 
@@ -26,7 +27,7 @@ def register(subparsers):
     p.add_argument("--lag", type=float, help="--movie: known lag in s (skip cross-correlation)")
     p.add_argument("--max-lag", type=positive_float,
                    help="--movie: search lags up to this many seconds (periodic loadings)")
-    p.add_argument("--out", metavar="CAL.json", help="write the calibration JSON here")
+    add_output(p, "--out", kind="json", metavar="CAL.json", help="write the calibration JSON here")
     p.add_argument("--json", action="store_true", help="print the calibration JSON")
     p.set_defaults(func=run)
 
@@ -61,7 +62,7 @@ def run(args):
         if "non_working_sensels" in result.details:
             info(args, NonWorkingSensels.report_dict(result.details["non_working_sensels"]))
     if args.out:
-        result.to_json(Path(args.out))
+        result.to_json(Path(args.out), overwrite=args.overwrite)
         info(args, f"calibration written to {args.out}")
     if args.json:
         print_json(result.to_dict())

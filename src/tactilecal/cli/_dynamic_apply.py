@@ -4,6 +4,7 @@ import sys
 from functools import partial
 
 from tactilecal.cli._common import info, progress
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_int
 
 
@@ -16,7 +17,7 @@ def register(sub):
                                    "NetCDF out; NetCDF is streamed in chunks).")
     a.add_argument("filter", metavar="FILTER.json")
     a.add_argument("input", metavar="INPUT")
-    a.add_argument("--out", required=True, metavar="OUTPUT")
+    add_output(a, "--out", kind=_kind, required=True, metavar="OUTPUT")
     a.add_argument("--chunk-frames", type=positive_int, default=65536,
                    help="frames per chunk when streaming NetCDF (default 65536)")
     a.add_argument("--causal", action="store_true",
@@ -30,6 +31,16 @@ def register(sub):
                    help="type of the corrected values (default float64; float32 halves "
                         "the output and is the fastest path for a float32 recording)")
     a.set_defaults(func=run)
+
+
+def _kind(args):
+    """Return the output's kind: a CSV for a time-series input, else NetCDF."""
+    from tactilecal.io import recording_format
+
+    try:
+        return "csv" if recording_format(args.input) is None else "netcdf"
+    except (OSError, ValueError):  # a missing input: the command says so when it reads it
+        return "csv"
 
 
 def run(args):
@@ -59,9 +70,9 @@ def _write(out, args):
         from dask.diagnostics import ProgressBar
 
         with ProgressBar(out=sys.stderr):
-            write_netcdf(out, args.out)
+            write_netcdf(out, args.out, overwrite=args.overwrite)
     else:
-        write_netcdf(out, args.out)
+        write_netcdf(out, args.out, overwrite=args.overwrite)
 
 
 def _jitter(attrs):

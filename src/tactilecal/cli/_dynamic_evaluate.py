@@ -4,6 +4,7 @@ from functools import partial
 
 from tactilecal._atomic import make_folder
 from tactilecal.cli._common import print_json, progress
+from tactilecal.cli._outputs import add_output
 
 
 def register(sub):
@@ -16,7 +17,8 @@ def register(sub):
     e.add_argument("sensor", metavar="SENSOR")
     e.add_argument("reference", metavar="REFERENCE")
     e.add_argument("--json", action="store_true", help="print the result as JSON")
-    e.add_argument("--out", metavar="DIR", help="folder for evaluation.json and PNG figures")
+    add_output(e, "--out", kind="evaluation", metavar="DIR",
+               help="folder for evaluation.json and PNG figures")
     e.set_defaults(func=run)
 
 

@@ -3,6 +3,7 @@
 import sys
 
 from tactilecal.cli._common import info, print_json
+from tactilecal.cli._outputs import add_output
 
 
 def register(sub):
@@ -14,7 +15,7 @@ def register(sub):
                                    "and start times: they are aligned first.")
     f.add_argument("sensor", metavar="SENSOR")
     f.add_argument("reference", metavar="REFERENCE")
-    f.add_argument("--out", required=True, metavar="FILTER.json")
+    add_output(f, "--out", kind="json", required=True, metavar="FILTER.json")
     f.add_argument("--json", action="store_true", help="print the result as JSON")
     f.add_argument("--model", default="auto",
                    choices=["auto", "log", "log10", "log-quadratic", "rational", "wiener"],
@@ -46,7 +47,7 @@ def run(args):
                       method=args.method, outside=args.outside, force=args.force)
     if filt.forced:
         print(f"warning: written with --force: {filt.forced}", file=sys.stderr)
-    filt.save(args.out)
+    filt.to_json(args.out, overwrite=args.overwrite)
     if args.json:
         print_json(filt.to_dict())
     else:

@@ -9,6 +9,7 @@ import xarray as xr
 
 from tactilecal._atomic import (
     atomic_path,
+    check_target,
     compute_drained,
     dask_tasks_finished,
     distributed_client,
@@ -28,13 +29,12 @@ def _engine():
     return "h5netcdf" if importlib.util.find_spec("h5py") else "scipy"
 
 
-def write_netcdf(data, path):
+def write_netcdf(data, path, *, overwrite=False):
     """Write a DataArray to NetCDF atomically; non-scalar attributes are stored as JSON.
 
     Attributes that NetCDF cannot hold (dicts, lists, ``None``, booleans) are written as
     JSON text and listed in the ``tactilecal_json_attrs`` attribute, so
-    :func:`read_netcdf` restores them. Numeric variables carry a Fletcher-32 checksum
-    (NetCDF4 with h5py), so that a damaged file is refused when read, not misread.
+    :func:`read_netcdf` restores them.
 
     Parameters
     ----------
@@ -42,6 +42,8 @@ def write_netcdf(data, path):
         Any recording or result.
     path : str or os.PathLike
         Output file.
+    overwrite : bool, keyword-only
+        Replace an existing ``path`` (only a NetCDF file; default False: an error).
 
     Examples
     --------
@@ -54,6 +56,7 @@ def write_netcdf(data, path):
     >>> read_netcdf(out).identical(a)
     True
     """
+    check_target(path, overwrite=overwrite, kind="netcdf")
     out = data.copy(deep=False)
     encoded = []
     for key, value in data.attrs.items():
@@ -63,7 +66,7 @@ def write_netcdf(data, path):
     if encoded:
         out.attrs[_JSON_ATTRS] = ",".join(encoded)
     engine = _engine()
-    options = {"engine": engine, "encoding": _checksums(out) if engine == "h5netcdf" else None}
+    options = {"engine": engine}
     with atomic_path(path, suffix=".nc") as tmp:
         try:
             # the temporary file is removed only after every block stopped writing
@@ -81,17 +84,6 @@ def write_netcdf(data, path):
                                   f"the scipy engine is used): {exc}; expected values NetCDF3 "
                                   "can hold (e.g. int64 within the int32 range): install h5py "
                                   "or convert to float64") from None
-
-
-def _checksums(data):
-    """Return the encoding that stores a Fletcher-32 checksum with each numeric variable.
-
-    A damaged byte of the values is then a read error, not a different value.
-    """
-    name = data.name if data.name is not None else "__xarray_dataarray_variable__"
-    variables = {name: data.variable, **{k: v.variable for k, v in data.coords.items()}}
-    return {key: {"fletcher32": True} for key, variable in variables.items()
-            if np.issubdtype(variable.dtype, np.number) and variable.ndim > 0}
 
 
 def read_netcdf(path):
@@ -153,6 +145,8 @@ def open_store(function, path, what, writer):
     try:
         try:
             return function()
+        except Warning:  # a warning turned into an error (python -W error) stays itself
+            raise
         except Exception as exc:  # noqa: BLE001 - a parser's failure on a damaged file
             detail = " ".join(str(exc).split())
             detail = detail if len(detail) <= 120 else detail[:117] + "..."

@@ -8,23 +8,13 @@ Zarr store (written by :func:`tactilecal.io.convert`).
 from pathlib import Path
 
 from tactilecal._errors import TactilecalError
+from tactilecal._sniff import ZARR_METADATA, sniff
 
 __all__ = ["open_recording", "recording_format", "NETCDF_SUFFIXES", "FORMATS"]
 
 NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf")
 FORMATS = ("tekscan", "netcdf", "zarr")
 """What :func:`recording_format` recognises."""
-
-_SNIFF_BYTES = 1 << 16
-_NETCDF_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
-_ZARR_METADATA = ("zarr.json", ".zgroup", ".zarray")
-_UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
-
-
-def is_zarr_store(path):
-    """Return True if the folder ``path`` holds Zarr metadata (format 2 or 3)."""
-    path = Path(path)
-    return path.is_dir() and any((path / name).is_file() for name in _ZARR_METADATA)
 
 
 def recording_format(path):
@@ -60,22 +50,17 @@ def recording_format(path):
     ('tekscan', None)
     """
     path = Path(path)
-    if path.is_dir():
-        return "zarr" if is_zarr_store(path) else None
-    if not path.exists():
+    kind = sniff(path)
+    if kind is None:
         raise FileNotFoundError(f"{path}: no such file")
-    if not path.is_file():
+    if kind == "special":
         raise TactilecalError(f"{path} is not a regular file (a device, pipe or socket); "
                               "expected a recording (Tekscan export, NetCDF file or Zarr store)")
+    if kind == "folder":
+        return None
     if path.suffix.lower() in NETCDF_SUFFIXES:
         return "netcdf"
-    with path.open("rb") as fh:
-        head = fh.read(_SNIFF_BYTES)
-    if head.startswith(_NETCDF_MAGIC):
-        return "netcdf"
-    if head.startswith(_UTF16_BOMS):  # UTF-16 text: ASCII_DATA spelt in 2-byte units
-        head = head[:len(head) // 2 * 2].decode("utf-16", errors="replace").encode("utf-8")
-    return "tekscan" if b"ASCII_DATA" in head.upper() else None
+    return kind if kind in FORMATS else None
 
 
 def open_recording(path, *, chunks=None):
@@ -131,7 +116,7 @@ def open_recording(path, *, chunks=None):
         return _open_lazy(path, kind, chunks)
     if Path(path).is_dir():
         raise TactilecalError(f"{path} is a folder without Zarr metadata "
-                              f"({', '.join(_ZARR_METADATA)}); expected a recording file or a "
+                              f"({', '.join(ZARR_METADATA)}); expected a recording file or a "
                               "Zarr store")
     raise TactilecalError(f"{path}: not a recording: no 'ASCII_DATA' line in its first 64 KiB "
                           "(Tekscan export), not NetCDF, not a Zarr store; expected one of these")

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from tactilecal._atomic import write_text_atomic
+from tactilecal._atomic import check_target, write_text_atomic
 from tactilecal._errors import TactilecalError
 from tactilecal._units import (
     _HINT,
@@ -185,7 +185,7 @@ def _convert_values(values, column, name):
     return values, unit
 
 
-def write_timeseries(series, path):
+def write_timeseries(series, path, *, overwrite=False):
     r"""Write a 1-D time series as a CSV that :func:`read_timeseries` reads back exactly.
 
     The header is ``Time (s),<name> (<units>)``: ``<name>`` is the series' ``column``
@@ -200,6 +200,8 @@ def write_timeseries(series, path):
         returned by :func:`read_timeseries` or the simulators.
     path : str or os.PathLike
         Output CSV, written atomically (the folder must exist).
+    overwrite : bool, keyword-only
+        Replace an existing ``path`` (only a CSV table; default False: an error).
 
     Returns
     -------
@@ -221,6 +223,7 @@ def write_timeseries(series, path):
     ('Time (s),Load (N)', [1500.0, 2000.0])
     """
     path = Path(path)
+    check_target(path, overwrite=overwrite, kind="csv")
     name = str(series.attrs.get("source", series.name or "series"))
     if series.ndim != 1 or "time" not in series.coords:
         raise TactilecalError(f"{name}: dims {tuple(series.dims)} without a 'time' coordinate; "
