@@ -2,6 +2,7 @@
 
 import base64
 import hashlib
+import json
 import os
 import re
 import shutil
@@ -287,3 +288,27 @@ def test_a_calibration_is_not_shown_as_applied_to_a_calibrated_recording(files, 
     assert "kpa.nc is already calibrated (units kPa): the calibration among the inputs is not " \
            "applied to it" in text
     assert "raw readings calibrated with method" not in text
+
+
+EVALUATION = {"lag_s": 0.01, "static_factor": 1.2, "fs_hz": 100.0, "rms_before_N": 3.0,
+              "rms_after_N": 1.0, "f_hz": [1.0, 2.0], "error_before_pct": [-1.0, -3.0],
+              "error_after_pct": [0.1, -0.2], "phase_before_deg": [-1.0, -2.0],
+              "phase_after_deg": [0.0, 0.1]}
+
+
+def test_a_blind_test_json_is_checked_before_it_is_drawn(tmp_path):
+    path = tmp_path / "evaluation.json"
+    path.write_text(json.dumps({**EVALUATION, "f_hz": [1.0, "x"]}))
+    with pytest.raises(TypeError, match=r"key 'f_hz' of .*evaluation.json"):
+        write_report([path], tmp_path / "r.html")
+
+
+@pytest.mark.xfail(strict=True, reason="dynamic/_calibrate.py: Evaluation.from_dict accepts "
+                                       "an amplitude error of 1e308 %, whose figure overflows "
+                                       "in matplotlib (a RuntimeWarning reaches the user); "
+                                       "owner: dynamic")
+def test_an_absurd_blind_test_error_is_refused_naming_the_key(tmp_path):
+    path = tmp_path / "evaluation.json"
+    path.write_text(json.dumps({**EVALUATION, "error_before_pct": [-1.0, 1e308]}))
+    with pytest.raises(ValueError, match=r"key 'error_before_pct' of .*evaluation.json"):
+        write_report([path], tmp_path / "r.html")
