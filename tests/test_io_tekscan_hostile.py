@@ -209,3 +209,20 @@ def test_single_frame_raw_value_outside_0_255_is_an_error(tmp_path, chunks):
     with pytest.raises(ValueError, match=r"line 5 of .*single.csv, value 1: 256; expected a "
                                          r"whole number 0..255"):
         read_tekscan(path, chunks=chunks).compute()
+
+
+def test_a_line_of_40_mb_without_end_is_refused_before_it_is_held(tmp_path):
+    """Memory of a read stays bounded whatever the file (issue 31): 32 MiB a line at most."""
+    path = tmp_path / "line.csv"
+    with open(path, "wb") as out:
+        out.write(b"ROWS 1\nCOLS 3\nASCII_DATA @@\nFrame 1\n")
+        out.write(b"1," * (20 * 2**20))
+    match = r"line 5 of .*line.csv: more than 33554432 bytes without a line end; expected rows"
+    with pytest.raises(ValueError, match=match):
+        read_tekscan(path)  # the first read also loads numba's kernels: measured on the second
+    tracemalloc.start()
+    with pytest.raises(ValueError, match=match):
+        read_tekscan(path)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < 100e6  # 3 x the array (none) + 100 MB; the index's buffer grows to 32 MiB

@@ -12,7 +12,6 @@ type (a JSON string where a number belongs); :class:`OSError` comes from the ope
 """
 
 import csv
-import io
 import math
 import numbers
 import re
@@ -130,12 +129,11 @@ def check_line_ends(text, name):
     ...
     tactilecal.TactilecalError: line 2 of m.csv: a carriage return (CR) inside the line; ...
     """
-    unix = text.replace("\r\n", "\n")
-    lone = unix.find("\r")
-    if lone >= 0:
-        raise TactilecalError(f"line {unix.count(chr(10), 0, lone) + 1} of {name}: a carriage "
-                              "return (CR) inside the line; expected CR only before the line feed "
-                              "(CRLF line ends)")
+    lone = _LONE_CR.search(text)  # no copy of the text (memory of a read is bounded)
+    if lone:
+        raise TactilecalError(f"line {text.count(chr(10), 0, lone.start()) + 1} of {name}: a "
+                              "carriage return (CR) inside the line; expected CR only before "
+                              "the line feed (CRLF line ends)")
 
 
 def csv_rows(text, name):
@@ -154,7 +152,7 @@ def csv_rows(text, name):
     tactilecal.TactilecalError: line 2 of m.csv has 3 values; expected 2, one per column ['a', 'b']
     """
     check_line_ends(text, name)
-    reader = csv.reader(io.StringIO(text, newline=""))
+    reader = csv.reader(_lines(text))  # line by line: no copy of the whole text
     width = None
     for cells in _csv_lines(reader, name):
         if not any(cell.strip() for cell in cells):
@@ -166,6 +164,19 @@ def csv_rows(text, name):
             raise TactilecalError(f"line {reader.line_num} of {name} has {len(cells)} values; "
                                   f"expected {width}, one per column {header}")
         yield reader.line_num, cells
+
+
+_LONE_CR = re.compile("\r(?!\n)")
+
+
+def _lines(text):
+    """Yield the lines of ``text`` with their line ends, one at a time."""
+    start, size = 0, len(text)
+    while start < size:
+        end = text.find("\n", start)
+        end = size if end < 0 else end + 1
+        yield text[start:end]
+        start = end
 
 
 def _csv_lines(reader, name):

@@ -25,6 +25,15 @@ __all__ = ["BLOCK_BYTES", "Index", "index_export", "line_text"]
 BLOCK_BYTES = 16 * 2**20
 """Bytes read at a time while indexing, and bytes of frames parsed at a time when eager."""
 
+
+def max_line_bytes(cols):
+    """Longest line a file of ``cols`` values a row may have: 32 bytes a value, 32 MiB at least.
+
+    A longer line is an error before it is held in memory whole (memory of any read stays
+    within 3x its array + 100 MB, whatever the file).
+    """
+    return max(2**25, 32 * cols)
+
 _FRAME = re.compile(r"Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,]*?)[ \t]*(?:,|$))")
 _RAW_SUM = re.compile(r"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)")
 _COLUMNS = {"starts": np.int64, "lines": np.int64, "counts": np.int64, "numbers": np.int64,
@@ -75,6 +84,10 @@ def _scan(f, offset, first_line, cols, name):
         lf = np.flatnonzero(buf[:n] == 10)
         if not final and lf.size == 0:  # no whole line yet: read on (a longer buffer if full)
             if n == buf.size:
+                if n >= max_line_bytes(cols):
+                    raise TactilecalError(f"line {state[_STATE['line']]} of {name}: more than {n} "
+                                          "bytes without a line end; expected rows of "
+                                          f"{cols} values (COLS)")
                 buf = np.concatenate((buf, np.empty_like(buf)))
             carry = n
             continue

@@ -124,8 +124,11 @@ def _jobs(f, head, n_frames):
     """
     carry, base, k, line = b"", head.body, 0, head.first_line
     per_frame = head.rows * head.cols
+    largest = 17 * per_frame + 2 * head.rows + 2**20  # a plain frame: 15 digits and a comma
     while True:
         chunk = f.read(BLOCK_BYTES)
+        if len(carry) > largest:
+            raise _NotPlain  # more bytes than a plain frame holds: the numba reader says why
         data = carry + chunk
         if not chunk:
             if data:
