@@ -41,9 +41,6 @@ def _classify_dict(data, where):
     if cls is ValidationResult:
         return "validation", ValidationResult.from_dict(data, source=where)
     if "format" not in data and all(k in data for k in _EVALUATION_KEYS):
-        from tactilecal.dynamic import Evaluation
-
-        Evaluation.from_dict(data, where=where)  # its keys checked before they are drawn
         return "evaluation", data  # tactilecal dynamic evaluate's JSON (untagged)
     found = f"format {data['format']!r}" if "format" in data else \
         f"keys {sorted(data)[:8]}"
