@@ -108,7 +108,7 @@ def make_seeds(folder):
     equilibrate([np.full((2, 3, 3), 100.0) + np.eye(3) * 10]).to_json(eq)
     seeds.append(("equilibration", eq))
     filt = folder / "FILTER.json"
-    CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000, band_hz=(1, 140)).save(filt)
+    CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000, band_hz=(1, 140)).to_json(filt)
     seeds.append(("filter", filt))
     for name, phase_filter in (  # the filters with phase: a rational model, a measured one
             ("RATIONAL.json", CorrectionFilter("rational", {"zeros": 1, "poles": 1}, 1000.0,
@@ -118,7 +118,7 @@ def make_seeds(folder):
             ("WIENER.json", CorrectionFilter("wiener", {"bins": 3}, 1000.0, (1.0, 100.0),
                                              response_f_hz=np.array([10.0, 50.0, 100.0]),
                                              response_gain=np.array([1.1, 1.5 + 0.3j, 2j])))):
-        phase_filter.save(folder / name)
+        phase_filter.to_json(folder / name)
         seeds.append(("filter", folder / name))
     evaluation = folder / "evaluation.json"
     f_hz = [1.0, 2.0, 5.0, 10.0]
@@ -399,11 +399,13 @@ def _run_cli(argv):
     return done.returncode, done.stderr.strip()
 
 
-def run_cli(n, seed=0, folder=None):
+def run_cli(n, seed=0, folder=None, run=None, keep=None):
     """Run ``n`` mutants through the CLI commands that read them; return the failures.
 
     Each command runs in its own process (``python -m tactilecal``), as a user runs it: the
     exit code and standard error are the real ones (benchmarks do not import the CLI).
+    ``run(argv) -> (exit code, stderr)`` replaces the process (the tests run the commands in
+    their own process, in seconds); ``keep(argv)`` chooses the command lines run (all).
 
     A failure is an exit code other than 0/1/2, a traceback, or an error (exit 1) that takes
     more than one line. Returns ``(n_runs, [(kind, mutation, argv, stderr), ...])``.
@@ -425,8 +427,8 @@ def run_cli(n, seed=0, folder=None):
             mutant = source.parent / f"mutant{source.suffix}" if kind == "manifest" else \
                 folder / f"mutant_{k % 20}{source.suffix}"
             mutant.write_bytes(mutated)
-            for argv in _cli_commands(kind, mutant, good, folder / f"out_{k % 20}"):
-                code, text = _run_cli(argv)
+            for argv in filter(keep, _cli_commands(kind, mutant, good, folder / f"out_{k % 20}")):
+                code, text = (run or _run_cli)(argv)
                 runs += 1
                 errors = [line for line in text.splitlines() if ": warning: " not in line
                           and not line.startswith("removed ")]

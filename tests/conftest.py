@@ -9,9 +9,20 @@ import os
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
 
 REPO = Path(__file__).resolve().parents[1]
 REALDATA = Path(os.environ.get("TACTILECAL_REALDATA", REPO.parent / "shared" / "realdata"))
+
+# Property-based tests (Hypothesis): the "fast" profile runs in the suite, each test a second
+# or two, the same examples every run; TACTILECAL_HYPOTHESIS=long runs many more, random ones
+# (minutes: python -m pytest tests/test_properties_*.py with TACTILECAL_HYPOTHESIS=long).
+settings.register_profile("fast", max_examples=30, deadline=None, derandomize=True,
+                          database=None, print_blob=True,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.register_profile("long", max_examples=2000, deadline=None, print_blob=True,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile(os.environ.get("TACTILECAL_HYPOTHESIS", "fast"))
 
 
 @pytest.fixture(scope="session")

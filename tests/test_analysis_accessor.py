@@ -104,11 +104,49 @@ def _run(code):
 def test_registration_without_slowing_import_tactilecal():
     # import tactilecal alone does not load xarray (it would cost ~30 times the import)
     assert _run("import sys, tactilecal; print('xarray' in sys.modules)") == ["False"]
-    # xarray already loaded: registered at import
-    assert _run("import xarray, tactilecal; print(hasattr(xarray.DataArray, 'tactile'))") \
-        == ["True"]
-    # a recording read through the top-level names: registered
-    assert _run("import tactilecal, xarray; tactilecal.read_tekscan; "
-                "print(hasattr(xarray.DataArray, 'tactile'))") == ["True"]
-    assert _run("import tactilecal.analysis, xarray; "
-                "print(hasattr(xarray.DataArray, 'tactile'))") == ["True"]
+    # either order of the imports registers it (isort puts tactilecal first), and the
+    # analysis is imported on the first use of .tactile only
+    use = ("a = xarray.DataArray([[[50.0]]], dims=('frame', 'row', 'col'), "
+           "attrs={'units': 'kPa', 'sensel_area_mm2': 2.0}); "
+           "print('tactilecal.analysis' in sys.modules, float(a.tactile.force()[0]), "
+           "'tactilecal.analysis' in sys.modules)")
+    for imports in ("import sys, tactilecal, xarray", "import sys, xarray, tactilecal",
+                    "import sys, tactilecal.analysis, xarray"):
+        analysis_first = imports.endswith("analysis, xarray")
+        # one registration (xarray warns when an accessor is registered again), one factory
+        code = (f"import warnings; warnings.simplefilter('error'); {imports}; {use}; "
+                "import tactilecal.analysis; print(xarray.DataArray.tactile.__name__)")
+        assert _run(code) == [str(analysis_first), "0.1", "True", "_tactile"], imports
+
+
+def test_frames_are_the_files_numbers_positions_only_where_a_parameter_says_so():
+    """One convention (issue 31): plot_pressure_map(frame=9) took a position, titled +1."""
+    rec = patch().assign_coords(frame=np.arange(10, 14))  # the file's frames 10..13
+    summary = rec.tactile.frame_summary()
+    assert analysis.peak_frame(summary) == 13  # the last frame carries the most force
+    by_number = rec.tactile.plot_pressure_map(frame=11)
+    by_position = rec.tactile.plot_pressure_map(position=1)
+    assert by_number.get_title() == by_position.get_title() == "frame 11"
+    np.testing.assert_array_equal(by_number.images[0].get_array(),
+                                  by_position.images[0].get_array())
+    np.testing.assert_array_equal(by_number.images[0].get_array().filled(np.nan),
+                                  rec.sel(frame=11).values)
+    rows, _ = rec.tactile.plot_profiles(frame=13)
+    rows_by_position, _ = rec.tactile.plot_profiles(position=3)
+    np.testing.assert_array_equal(rows.lines[0].get_xdata(), rows_by_position.lines[0].get_xdata())
+    with pytest.raises(ValueError, match=r"frame=9 is not a frame of the recording \(frames "
+                                         r"10..13\); expected one of its frame numbers"):
+        rec.tactile.plot_pressure_map(frame=9)
+    with pytest.raises(ValueError, match=r"frame=11 and position=1; expected one of them"):
+        rec.tactile.plot_pressure_map(frame=11, position=1)
+    with pytest.raises(ValueError, match=r"no frame given; expected frame="):
+        rec.tactile.plot_profiles()
+
+
+def test_a_calibration_is_never_silently_ignored_on_a_calibrated_recording(raw_and_cal):
+    _, cal = raw_and_cal
+    with pytest.raises(ValueError, match=r"patch: units are 'kPa', already calibrated; expected "
+                                         r"a raw recording with a calibration"):
+        patch("kPa").tactile.force(calibration=cal)
+    with pytest.raises(ValueError, match=r"already calibrated"):
+        patch("kPa").tactile.frame_table(calibration=cal)

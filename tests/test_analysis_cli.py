@@ -42,3 +42,19 @@ def test_analyze_exit_codes(iscan_csv, tmp_path, capsys):
     with pytest.raises(SystemExit) as usage:
         main(["analyze"])
     assert usage.value.code == 2
+
+
+def test_analyze_cal_on_a_calibrated_recording_is_an_error(fscan_asf, tmp_path, capsys):
+    """Issue 31: the calibration was ignored silently (the F-Scan export is in kPa)."""
+    from tactilecal.calibration import calibrate, points_from_frames
+
+    frames = np.zeros((3, 4, 4))
+    for k, level in enumerate((20, 60, 120)):
+        frames[k, 1:3, 1:3] = level
+    cal = tmp_path / "cal.json"
+    calibrate(points_from_frames(frames, [4 * 0.0035 * v ** 1.2 for v in (20, 60, 120)],
+                                 sensel_area_mm2=1.6129), method="power").to_json(cal)
+    assert main(["-q", "analyze", str(fscan_asf), "--cal", str(cal)]) == 1
+    err = capsys.readouterr().err
+    assert "footPress_FrasP01L.asf: units are 'kPa', already calibrated; expected a raw " \
+           "recording with a calibration" in err and len(err.strip().splitlines()) == 1

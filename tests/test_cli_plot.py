@@ -50,7 +50,7 @@ def test_plot_bad_arguments(cal_files, tmp_path, capsys):
     afile = tmp_path / "x.txt"
     afile.write_text("x")
     assert main(["plot", str(cal_files["power"]), "--out", str(afile)]) == 1
-    assert "is a file; expected a folder" in capsys.readouterr().err
+    assert "is a text file; expected a folder" in capsys.readouterr().err
     assert main(["plot", str(cal_files["power"]), "--out", str(tmp_path), "--dpi", "0"]) == 1
     assert "argument --dpi: '0'; expected a finite number > 0" in capsys.readouterr().err
     assert CalibrationResult.from_json(cal_files["power"]).method_result is None

@@ -84,7 +84,7 @@ def test_output_folder_that_is_a_file_is_an_error(tmp_path, argv, capsys):
     existing = tmp_path / "existing"
     existing.write_text("keep me")
     assert main(["-q", *[a.format(f=existing) for a in argv]]) == 1
-    _one_line_error(capsys, f"{existing} is a file; expected a folder")
+    _one_line_error(capsys, f"{existing} is a text file; expected a folder")
     assert existing.read_text() == "keep me"
 
 

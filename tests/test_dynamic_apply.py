@@ -176,7 +176,7 @@ def test_real_iscan_movie_is_accepted_by_dynamic_apply(iscan_csv, tmp_path, caps
 
     filt = tmp_path / "f.json"
     CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=309 / 31.1 * 308 / 309,
-                                band_hz=(0.1, 2), n_taps=31).save(filt)
+                                band_hz=(0.1, 2), n_taps=31).to_json(filt)
     assert main(["dynamic", "apply", str(filt), str(iscan_csv), "--out",
                  str(tmp_path / "o.nc")]) == 0
     assert re.search(r"off a uniform 9.90\d* Hz grid", capsys.readouterr().err)

@@ -179,7 +179,7 @@ def test_apply_method_direct_matches_auto(files):
     filt = CorrectionFilter.from_model(("log", {"A": 0.05}), fs_hz=1000.0, band_hz=(1, 40))
     assert plan_multirate(filt).factor == 5  # 1000 / (4 (40 + 10)): auto is multirate
     filter_json = files["d"] / "narrow.json"
-    filt.save(filter_json)
+    filt.to_json(filter_json)
     auto, direct = files["d"] / "auto.csv", files["d"] / "direct.csv"
     for method, out in (("auto", auto), ("direct", direct)):
         assert main(["-q", "dynamic", "apply", str(filter_json), files["blind_sensor"],

@@ -112,7 +112,7 @@ def test_results_compare_by_value_and_round_trip_through_load(narrow, tmp_path):
     again = fit_filter(s.sweeps[0].sensor, s.sweeps[0].reference)
     assert again == filt and again.fit == filt.fit and again.fit.model_choice == \
         filt.fit.model_choice
-    filt.save(tmp_path / "F.json")
+    filt.to_json(tmp_path / "F.json")
     back = tactilecal.load(tmp_path / "F.json")
     assert back == filt and back.fit.band_note == filt.fit.band_note
     ev = evaluate(filt, s.blind.sensor, s.blind.reference)

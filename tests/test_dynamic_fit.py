@@ -77,15 +77,15 @@ def test_blind_test_rms_error_drops(filt):
 
 def test_filter_json_round_trip(filt, tmp_path):
     path = tmp_path / "FILTER.json"
-    filt.save(path)
+    filt.to_json(path)
     back = CorrectionFilter.from_json(path)
     f = np.linspace(0, 500, 101)
     np.testing.assert_allclose(back.gain(f), filt.gain(f))
     np.testing.assert_allclose(back.taps, filt.taps)
     assert back.fit.A == filt.fit.A and back.lag_s == filt.lag_s
     resp = CorrectionFilter.from_response(filt.fit.f_hz, filt.fit.measured, fs_hz=1000.0)
-    resp.save(path)
-    back = CorrectionFilter.from_json(path)
+    resp.to_json(tmp_path / "RESPONSE.json")
+    back = CorrectionFilter.from_json(tmp_path / "RESPONSE.json")
     np.testing.assert_allclose(back.gain(f), resp.gain(f))
 
 

@@ -41,7 +41,7 @@ def test_forced_filter_is_marked_in_filter_json(viscoelastic, tmp_path):
     filt = fit_filter(*viscoelastic, model="log", force=True)
     assert "zero-phase model" in filt.forced and "FORCED" in filt.summary()
     path = tmp_path / "FILTER.json"
-    filt.save(path)
+    filt.to_json(path)
     saved = json.loads(path.read_text())
     assert saved["forced"] is True and saved["fit"]["r2_complex"] < 0.9
     assert CorrectionFilter.from_json(path).forced == filt.forced

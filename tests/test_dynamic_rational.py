@@ -123,13 +123,13 @@ def test_dask_and_in_memory_causal_filtering_agree(visco1):
 def test_rational_filter_json_round_trip_and_cli(visco1, tmp_path, capsys):
     filt = visco1
     path = tmp_path / "FILTER.json"
-    filt.save(path)
+    filt.to_json(path)
     assert json.loads(path.read_text())["rational"]["gain"] == pytest.approx(filt.rational.gain)
     back = CorrectionFilter.from_json(path)
     assert back == filt  # by value, fit and model choice included
     np.testing.assert_allclose(back.sos(), filt.sos())
     log_filter = tmp_path / "LOG.json"
-    fit_filter(*_sweep(VISCO1), model="log", force=True).save(log_filter)
+    fit_filter(*_sweep(VISCO1), model="log", force=True).to_json(log_filter)
     series = tmp_path / "s.csv"
     series.write_text("t,x\n" + "".join(f"{k / 1000},{np.sin(k / 50)}\n" for k in range(3000)))
     assert main(["-q", "dynamic", "apply", str(log_filter), str(series), "--out",

@@ -63,7 +63,7 @@ def test_the_shrinkage_leaves_clear_deviations_and_drops_those_within_the_error(
 def test_wiener_filter_json_round_trip_keeps_the_phase(creep_sweep, tmp_path):
     filt = fit_filter(*creep_sweep, model="wiener")
     path = tmp_path / "FILTER.json"
-    filt.save(path)
+    filt.to_json(path)
     stored = json.loads(path.read_text())
     assert stored["model"] == "wiener" and len(stored["response"]["phase_rad"]) > 100
     assert set(stored["correction"]) == {"f_hz", "gain", "phase_deg"}
@@ -140,7 +140,7 @@ def test_figures_show_the_phase_of_the_correction_and_of_the_errors(creep_sweep,
     stored_fig = back.plot_error()  # what the report draws from evaluation.json
     np.testing.assert_allclose(stored_fig.axes[1].lines[0].get_ydata(),
                                error_fig.axes[1].lines[0].get_ydata(), rtol=1e-12)
-    filt.save(tmp_path / "FILTER.json")
+    filt.to_json(tmp_path / "FILTER.json")
     html = write_report([tmp_path / "FILTER.json"], tmp_path / "r.html").read_text()
     assert "transfer function, fitted model and filter gain" in html and "<img" in html
 
@@ -150,11 +150,11 @@ def test_the_report_says_a_filter_was_forced_and_how_its_model_was_chosen(tmp_pa
 
     sweep = sine_sweep(seed=0, response=VISCO_SENSOR, step_hz=2, cycles_high=10, **RATES)
     forced = fit_filter(sweep.sensor, sweep.reference, model="log", force=True)
-    forced.save(tmp_path / "FILTER.json")
+    forced.to_json(tmp_path / "FILTER.json")
     html = write_report([tmp_path / "FILTER.json"], tmp_path / "r.html").read_text()
     assert "written with --force although its model was refused" in html
     auto = fit_filter(sweep.sensor, sweep.reference, model="auto")
-    auto.save(tmp_path / "AUTO.json")
+    auto.to_json(tmp_path / "AUTO.json")
     html = write_report([tmp_path / "AUTO.json"], tmp_path / "a.html").read_text()
     assert "model_choice" in html and "-&gt; rational" in html and "forced" not in html
 
@@ -177,7 +177,7 @@ def test_a_sweep_shorter_than_a_few_cycles_of_its_lowest_frequency_is_refused():
 def test_a_filter_file_whose_parameters_give_no_usable_correction_is_refused(
         tmp_path, params, match):
     path = tmp_path / "FILTER.json"
-    CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=1000, band_hz=(1, 100)).save(path)
+    CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=1000, band_hz=(1, 100)).to_json(path)
     stored = json.loads(path.read_text())
     stored["params"] = params
     path.write_text(json.dumps(stored))

@@ -2,16 +2,22 @@
 
 The engine is ``benchmarks/fuzz.py`` (its command line runs 10,000 mutations); here a few
 hundred run in seconds, on the real exports when ``../shared/realdata`` is present and on
-files tactilecal writes itself either way.
+files tactilecal writes itself either way. The property-based tests
+(``tests/test_properties_*.py``) generate the files and their edits; this engine mutates
+the real exports and runs the mutants through every command, also as separate processes
+(``@pytest.mark.slow``: what a user's terminal shows, interpreter messages included).
 """
 
+import os
 import random
+
+import pytest
 
 from tactilecal.cli import main
 
 
 def test_mutated_inputs_give_documented_errors_or_valid_data(fuzz, tmp_path):
-    outcomes = fuzz.run(600, seed=11, folder=tmp_path)
+    outcomes = fuzz.run(200, seed=11, folder=tmp_path)
     failing = [o for o in outcomes if o[2] in fuzz.FAILING]
     assert not failing, fuzz.report(outcomes)
     classes = {o[2] for o in outcomes}
@@ -40,6 +46,27 @@ def test_mutated_recordings_through_the_cli_exit_0_or_1_with_one_line(fuzz, tmp_
     assert 1 in codes  # the mutations did break files
 
 
-def test_mutated_inputs_through_every_reading_command_fail_in_one_line(fuzz, tmp_path):
-    runs, failures = fuzz.run_cli(14, seed=3, folder=tmp_path)  # ~40 runs, a few seconds
+def _run_in_process(argv, capsys):
+    code = main(["-q", *argv])
+    return code, capsys.readouterr().err.strip()
+
+
+def test_mutated_inputs_through_every_reading_command_fail_in_one_line(fuzz, tmp_path, capsys):
+    """Each command in this process (``tactilecal.cli.main``): 30 runs in seconds.
+
+    ``report`` of a mutated recording (3 s each, drawing its figures) runs only in the slow
+    test; ``info``, ``analyze`` and ``apply`` read those recordings here.
+    """
+    runs, failures = fuzz.run_cli(
+        14, seed=3, folder=tmp_path, run=lambda argv: _run_in_process(argv, capsys),
+        keep=lambda argv: argv[0] != "report" or argv[1].endswith(".json"))
+    assert runs >= 30 and not failures, failures[:3]
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(os.environ.get("TACTILECAL_HYPOTHESIS") != "long",
+                    reason="minutes (a process per command): run with TACTILECAL_HYPOTHESIS=long")
+def test_mutated_inputs_through_every_command_as_processes_fail_in_one_line(fuzz, tmp_path):
+    """The same as a user runs them: ``python -m tactilecal`` (a process each, 1-2 s)."""
+    runs, failures = fuzz.run_cli(14, seed=3, folder=tmp_path)
     assert runs > 30 and not failures, failures[:3]

@@ -96,3 +96,14 @@ def test_loadcell_in_windows_encodings_reads(tmp_path, encoding):
 def test_loadcell_bad_row_names_file_and_line(tmp_path, text, match):
     with pytest.raises(ValueError, match=match):
         read_timeseries(_loadcell(tmp_path, text))
+
+
+@pytest.mark.parametrize(("text", "match"), [
+    ("\nTime (ms),Load (N)\n10,0\n2,0\n", r"line 4 of .*lc.csv: time 0.002 s follows 0.01 s"),
+    ("\nTime (ms),Load (N)\n..0,0\n2,0\n", r"line 3 of .*lc.csv, column 'Time \(ms\)': '..0'"),
+    ("\n\nt,x\n0,1\n\n1,1_0\n", r"line 6 of .*lc.csv, column 'x': '1_0'; expected a finite"),
+])
+def test_loadcell_lines_are_counted_past_blank_lines(tmp_path, text, match):
+    """Found by the property tests: IndexError and KeyError after a leading blank line."""
+    with pytest.raises(ValueError, match=match):
+        read_timeseries(_loadcell(tmp_path, text))

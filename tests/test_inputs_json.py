@@ -108,7 +108,7 @@ def test_ragged_gain_table_is_an_error(tmp_path):
 
 def _filter_json(tmp_path):
     path = tmp_path / "FILTER.json"
-    CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000, band_hz=(1, 140)).save(path)
+    CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=4000, band_hz=(1, 140)).to_json(path)
     return path
 
 

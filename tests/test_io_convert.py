@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from tactilecal import TactilecalError
 from tactilecal.cli import main
 from tactilecal.io import _tekscan_index, convert, read_netcdf, read_tekscan
 
@@ -81,10 +82,13 @@ def test_memory_is_bounded_by_the_blocks_not_the_recording(tmp_path, monkeypatch
     assert peak < 0.5 * 2000 * 20 * 20 * 8
 
 
-def test_existing_store_is_replaced(tmp_path):
+def test_existing_store_is_replaced_only_with_overwrite(tmp_path):
     convert(_export(tmp_path, n=3, name="a.csv"), tmp_path / "out.zarr")
     source = _export(tmp_path, n=5, seed=1, name="b.csv")
-    convert(source, tmp_path / "out.zarr")
+    with pytest.raises(TactilecalError, match=r"out.zarr exists; expected a new path \(pass "
+                                              r"overwrite=True to replace it\)"):
+        convert(source, tmp_path / "out.zarr")
+    convert(source, tmp_path / "out.zarr", overwrite=True)
     with _open_zarr(tmp_path / "out.zarr") as stored:
         assert _traced(stored.load(), source).identical(read_tekscan(source))
     assert _leftovers(tmp_path, {"a.csv", "b.csv", "out.zarr"}) == []
@@ -155,7 +159,7 @@ def test_bad_value_in_a_late_block_leaves_no_output_and_keeps_the_old_one(tmp_pa
     lines = source.read_text().split("\n")
     lines[-4] = "1,2,x,4,5,6"  # a row of the last frame
     source.write_text("\n".join(lines))
-    _fails(["convert", str(source), str(out), "--chunks", "5"], capsys,
+    _fails(["convert", str(source), str(out), "--chunks", "5", "--overwrite"], capsys,
            f"line {len(lines) - 3} of {source}, value 3: 'x' is not a finite number")
     after = sorted(p.name for p in out.rglob("*")) if out.is_dir() else out.read_bytes()
     assert after == before
@@ -170,13 +174,16 @@ def test_unwritable_output_is_one_line_naming_it(tmp_path, capsys):
 @pytest.mark.parametrize("out, match", [
     ("out.csv", "ends in '.csv'; expected .zarr (Zarr store) or .nc (NetCDF)"),
     ("out", "has no suffix; expected .zarr (Zarr store) or .nc (NetCDF)"),
-    ("folder.zarr", "exists and is no Zarr store; expected a new path"),
+    ("folder.zarr", "folder.zarr exists; expected a new path (add --overwrite to replace it)"),
+    ("folder.zarr --overwrite", "folder.zarr is a folder, not a Zarr store written before; "
+                                "expected a new path"),
 ])
 def test_output_that_is_not_zarr_or_netcdf_is_refused(tmp_path, capsys, out, match):
     source = _export(tmp_path)
     (tmp_path / "folder.zarr").mkdir()
     (tmp_path / "folder.zarr" / "notes.txt").write_text("mine")
-    _fails(["convert", str(source), str(tmp_path / out)], capsys, match)
+    out, *flags = out.split()
+    _fails(["convert", str(source), str(tmp_path / out), *flags], capsys, match)
     assert (tmp_path / "folder.zarr" / "notes.txt").read_text() == "mine"
 
 
@@ -286,3 +293,13 @@ def test_write_netcdf_on_a_distributed_client_waits_for_running_tasks_after_a_fa
                 write_netcdf(_failing_recording(n_blocks=6), folder / "out.nc")
             time.sleep(0.5)  # the other blocks sleep 0.3 s: they have ended by now
             assert _leftovers(folder, set()) == []
+
+
+def test_stale_temporary_folder_of_a_name_with_brackets_is_removed(tmp_path, capsys):
+    """Folders go through tactilecal._atomic as files do (glob.escape of the name kept)."""
+    stale = tmp_path / ".out[1].zarr.tmp999999999.x"  # a writer that was killed
+    stale.mkdir()
+    (stale / ".zgroup").write_text("{}")
+    convert(_export(tmp_path), tmp_path / "out[1].zarr", chunks=10)
+    assert not stale.exists() and "left by an interrupted write" in capsys.readouterr().err
+    assert _leftovers(tmp_path, {"movie.csv", "out[1].zarr"}) == []

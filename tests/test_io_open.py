@@ -65,7 +65,7 @@ def test_unknown_format_is_one_line_naming_the_file(tmp_path):
     folder = tmp_path / "plain"
     folder.mkdir()
     assert recording_format(folder) is None
-    with pytest.raises(ValueError, match=r"plain: not a recording") as info:
+    with pytest.raises(ValueError, match=r"plain is a folder without Zarr metadata") as info:
         open_recording(folder)
     assert "\n" not in str(info.value)
 
@@ -112,3 +112,18 @@ def test_cli_apply_reads_netcdf_without_suffix(files, tmp_path, capsys):
                      "--out", str(out)]) == 0
         expected = cal.apply(open_recording(files["tekscan"]))
         np.testing.assert_allclose(open_recording(out).values, expected.values, rtol=1e-12)
+
+
+def test_a_device_is_no_recording_and_no_missing_file():
+    """A manifest naming /dev/null used to say "/dev/null: no such file" (issue 31)."""
+    with pytest.raises(ValueError, match=r"/dev/null is not a regular file \(a device, pipe or "
+                                         r"socket\); expected a recording"):
+        open_recording("/dev/null")
+
+
+def test_a_utf16_export_is_sniffed_and_read(tmp_path, files):
+    path = tmp_path / "utf16.csv"
+    path.write_bytes(files["tekscan"].read_text().encode("utf-16"))
+    assert recording_format(path) == "tekscan"
+    assert open_recording(path).drop_attrs().identical(
+        open_recording(files["tekscan"]).drop_attrs())

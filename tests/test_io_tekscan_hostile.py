@@ -128,19 +128,65 @@ def test_start_or_end_frame_disagreeing_with_the_frames_is_an_error(tmp_path, ke
 @pytest.mark.parametrize(("times", "frame"), [([0, 0.1, 0.1], 3), ([0, 0.2, 0.1], 3),
                                               ([0, -1, 0.2], 2)])
 def test_frame_times_that_repeat_or_go_backwards_are_an_error(tmp_path, times, frame):
-    with pytest.raises(ValueError, match=rf"frame {frame} of .*hostile.csv \(line \d+\): time "
-                                         r".* does not come after"):
-        read_tekscan(_file(tmp_path, times=times))
-
-
-@pytest.mark.parametrize("time", ["inf", "nan"])
-def test_frame_time_not_finite_is_an_error(tmp_path, time):
-    path = _file(tmp_path, times=[0, time, 0.2])
-    match = r"frame 2 of .*hostile.csv \(line \d+\): time .*; expected a finite time"
-    if time == "nan":  # NaN reads as "no time in the frame line"; then the index time is used
-        assert read_tekscan(path).time.values[1] == pytest.approx(0.1)
-        return
+    path = _file(tmp_path, times=times)
+    line = _line_of(path, f"Frame {frame}, {times[frame - 1]},,")
+    match = (rf"line {line} of .*hostile.csv: frame {frame} has the time .* s, not after frame "
+             rf"{frame - 1}'s .* s; expected increasing frame times" if times[frame - 1] >= 0 else
+             rf"line {line} of .*hostile.csv: frame {frame} has the time -1 s; expected a finite "
+             r"time >= 0 s")
     with pytest.raises(ValueError, match=match):
+        read_tekscan(path)
+
+
+@pytest.mark.parametrize("time", ["inf", "nan", "-inf", "1e999", "1_0", "-"])
+def test_frame_time_not_a_finite_number_is_an_error(tmp_path, time):
+    path = _file(tmp_path, times=[0, time, 0.2])
+    line = _line_of(path, f"Frame 2, {time},,")
+    with pytest.raises(ValueError, match=rf"line {line} of .*hostile.csv: the frame time is "):
+        read_tekscan(path)
+
+
+@pytest.mark.parametrize("layout", ["F-Scan (no times)", "I-Scan (times)"])
+def test_a_time_on_some_frame_lines_only_is_an_error(tmp_path, layout):
+    """F-Scan ``Frame 96, -5`` (issue 31): one frame line with a time among lines without."""
+    times = None if layout.startswith("F") else [0, 0.1, 0.2]
+    path = _file(tmp_path, times=times)
+    text = path.read_text()
+    old = "Frame 2" if times is None else "Frame 2, 0.1,,"
+    new = "Frame 2, -5" if times is None else "Frame 2"
+    path.write_text(text.replace(old + "\n", new + "\n"))
+    has, other = ("a time", "none") if times is None else ("no time", "one")
+    with pytest.raises(ValueError, match=rf"line {_line_of(path, new)} of .*hostile.csv: frame 2 "
+                                         rf"has {has} in its frame line but frame 1 has {other}"):
+        read_tekscan(path)
+
+
+@pytest.mark.parametrize("times", [None, [0, 0.1, 0.2]])
+def test_a_deleted_frame_block_is_an_error_in_either_layout(tmp_path, times):
+    path = _file(tmp_path, times=times)
+    lines = path.read_text().split("\n")
+    start = next(k for k, line in enumerate(lines) if line.startswith("Frame 2"))
+    path.write_text("\n".join(lines[:start] + lines[start + 4:]))
+    with pytest.raises(ValueError, match=r"line \d+ of .*hostile.csv: frame 3 follows frame 1 "
+                                         r"\(frames missing or out of order\); expected frame 2"):
+        read_tekscan(path)
+
+
+@pytest.mark.parametrize(("start", "end", "key"), [("1", "4", "END_FRAME"),
+                                                    ("0", "2", "START_FRAME")])
+def test_a_frame_count_that_disagrees_with_the_header_is_an_error(tmp_path, start, end, key):
+    path = _file(tmp_path, {"START_FRAME": start, "END_FRAME": end})
+    with pytest.raises(ValueError, match=rf"line \d+ of .*hostile.csv: {key} is '\d' but the "
+                                         r"(first|last) frame is \d \(3 frames: frames missing"):
+        read_tekscan(path)
+
+
+def test_a_single_frame_with_a_movie_range_is_an_error(tmp_path):
+    path = tmp_path / "single.csv"
+    path.write_text("ROWS 1\nCOLS 2\nUNITS raw\nSTART_FRAME 1\nEND_FRAME 309\nASCII_DATA @@\n"
+                    "1,2\n@@\n")
+    with pytest.raises(ValueError, match=r"line 5 of .*single.csv: END_FRAME is '309' but the last "
+                                         r"frame is 1 \(1 frames"):
         read_tekscan(path)
 
 
@@ -153,3 +199,30 @@ def test_uneven_increasing_frame_times_read(tmp_path):
 def test_file_without_units_is_read_as_raw_and_says_so(tmp_path):
     data = read_tekscan(_file(tmp_path, drop=("UNITS",)))
     assert data.attrs["units"] == "raw" and "no UNITS line" in data.attrs["units_note"]
+
+
+@pytest.mark.parametrize("chunks", [None, 1])
+def test_single_frame_raw_value_outside_0_255_is_an_error(tmp_path, chunks):
+    """Found by the property tests: the NumPy reader skipped the check for a single frame."""
+    path = tmp_path / "single.csv"
+    path.write_text("ROWS 2\nCOLS 1\nUNITS raw\nASCII_DATA @@\n256\n0\n@@\n")
+    with pytest.raises(ValueError, match=r"line 5 of .*single.csv, value 1: 256; expected a "
+                                         r"whole number 0..255"):
+        read_tekscan(path, chunks=chunks).compute()
+
+
+def test_a_line_of_40_mb_without_end_is_refused_before_it_is_held(tmp_path):
+    """Memory of a read stays bounded whatever the file (issue 31): 32 MiB a line at most."""
+    path = tmp_path / "line.csv"
+    with open(path, "wb") as out:
+        out.write(b"ROWS 1\nCOLS 3\nASCII_DATA @@\nFrame 1\n")
+        out.write(b"1," * (20 * 2**20))
+    match = r"line 5 of .*line.csv: more than 33554432 bytes without a line end; expected rows"
+    with pytest.raises(ValueError, match=match):
+        read_tekscan(path)  # the first read also loads numba's kernels: measured on the second
+    tracemalloc.start()
+    with pytest.raises(ValueError, match=match):
+        read_tekscan(path)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < 100e6  # 3 x the array (none) + 100 MB; the index's buffer grows to 32 MiB

@@ -74,13 +74,13 @@ def _write(tmp_path, text, name="x.csv", newline="\n"):
 TINY = ("DATA_TYPE MOVIE\nROWS 2\nCOLS 3\nROW_SPACING 2 mm\nCOL_SPACING 3 mm\nUNITS raw\n"
         "SECONDS_PER_FRAME 0.25\nASCII_DATA @@\n\n"
         "Frame 7, 1.5,, 1/1/2020 1:00:00.00PM,,,Raw Sum=,,8\n0,5,B\n1,2,0\n\n"
-        "Frame 9, 2.0,, 1/1/2020 1:00:00.50PM,,,Raw Sum=,,255\n255,0,B\n0,0,0\n@@\n")
+        "Frame 8, 2.0,, 1/1/2020 1:00:00.50PM,,,Raw Sum=,,255\n255,0,B\n0,0,0\n@@\n")
 
 
 @pytest.mark.parametrize("newline", ["\n", "\r\n"])
 def test_tiny_file_lf_and_crlf(tmp_path, newline):
     data = read_tekscan(_write(tmp_path, TINY, newline=newline))
-    assert data.frame.values.tolist() == [7, 9]
+    assert data.frame.values.tolist() == [7, 8]
     assert data.time.values.tolist() == [1.5, 2.0]
     assert data.attrs["sensel_area_mm2"] == 6.0  # derived from the spacings
     np.testing.assert_array_equal(

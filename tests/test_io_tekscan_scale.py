@@ -183,14 +183,29 @@ def test_lazy_read_writes_to_netcdf_like_the_eager_read(tmp_path):
 
 @pytest.mark.parametrize("frame_line, time_s", [
     ("Frame 1, 0.5,, 12 févr. 2019 18:21,,,Raw Sum=,,8", 0.5),  # not ASCII: parsed by regex
-    ("Frame 1,0.5", 0.5), ("Frame\t1 , 1_5 ,x", 15.0), ("Frame 1, nan", 0.0),
-    ("Frame 1,, 5", 0.0), ("Frame 1x, 2", 0.0), ("Frame 01, 5e-1,,,Raw Sum = ,, 8.", 0.5),
+    ("Frame 1,0.5", 0.5), ("Frame\t1 , 15 ,x", 15.0), ("Frame 1", 0.0),
+    ("Frame 1,, 5", 0.0), ("Frame 1 ", 0.0), ("Frame 01, 5e-1,,,Raw Sum = ,, 8.", 0.5),
 ])
 def test_frame_line_forms_give_number_time_and_raw_sum(tmp_path, frame_line, time_s):
     text = f"ROWS 1\nCOLS 3\nUNITS raw\nASCII_DATA @@\n{frame_line}\n1,2,5\n@@\n"
     (tmp_path / "f.csv").write_bytes(text.encode())
     data = read_tekscan(tmp_path / "f.csv")
     assert data.frame.values.tolist() == [1] and data.time.values.tolist() == [time_s]
+
+
+@pytest.mark.parametrize("frame_line, match", [
+    ("Frame\t1 , 1_5 ,x", r"the frame time is '1_5'; expected a number"),  # was read as 15
+    ("Frame 1, nan", r"the frame time is 'nan'; expected a number"),  # was read as no time
+    ("Frame 1x, 2", r"'Frame 1x, 2'; expected 'Frame N' optionally"),  # was read as frame 1
+    ("Frame 1 -5", r"'Frame 1 -5'; expected 'Frame N' optionally"),
+    ("Frame 1, 0,,,Raw Sum=,,8x", r"Raw Sum is '8x'; expected the sum"),
+    ("Frame 1, 0,, févr.,,,Raw Sum=,,x", r"Raw Sum is 'x'; expected the sum"),
+])
+def test_frame_line_forms_once_misread_are_errors(tmp_path, frame_line, match):
+    text = f"ROWS 1\nCOLS 3\nUNITS raw\nASCII_DATA @@\n{frame_line}\n1,2,5\n@@\n"
+    (tmp_path / "f.csv").write_bytes(text.encode())
+    with pytest.raises(ValueError, match=r"line 5 of .*f.csv: " + match):
+        read_tekscan(tmp_path / "f.csv")
 
 
 def test_raw_sum_of_a_frame_line_outside_ascii_is_checked(tmp_path):

@@ -92,12 +92,31 @@ def test_changed_attrs_rewrite_the_header(iscan_csv, tmp_path):
 
 def test_write_is_atomic_on_error(tmp_path):
     out = tmp_path / "keep.csv"
-    out.write_text("old")
-    bad = _simulated(np.random.default_rng(1))
+    good = _simulated(np.random.default_rng(1))
+    write_tekscan(good, out)
+    old = out.read_bytes()
+    bad = good.copy(deep=True)
     bad.values[2, 3, 1] = np.inf
     with pytest.raises(ValueError, match=r"frame 5 holds infinite values; expected finite"):
-        write_tekscan(bad, out)
-    assert out.read_text() == "old" and len(list(tmp_path.iterdir())) == 1
+        write_tekscan(bad, out, overwrite=True)
+    assert out.read_bytes() == old and len(list(tmp_path.iterdir())) == 1
+
+
+def test_an_existing_file_is_replaced_only_if_asked_and_only_an_export(tmp_path):
+    data = _simulated(np.random.default_rng(1))
+    out = tmp_path / "e.csv"
+    out.write_text("time,load\n0,1\n")
+    with pytest.raises(ValueError, match=r"e.csv exists; expected a new path \(pass "
+                                         r"overwrite=True to replace it\)"):
+        write_tekscan(data, out)
+    with pytest.raises(ValueError, match=r"e.csv is a text file, not a Tekscan export written "
+                                         "before; expected a new path"):
+        write_tekscan(data, out, overwrite=True)
+    assert out.read_text() == "time,load\n0,1\n"
+    out.unlink()
+    write_tekscan(data, out)
+    write_tekscan(data.isel(frame=slice(0, 2)), out, overwrite=True)
+    assert read_tekscan(out).sizes["frame"] == 2
 
 
 def test_writer_bad_input(tmp_path):
@@ -123,7 +142,7 @@ def test_netcdf_round_trip(iscan_csv, tmp_path):
     assert back.frame.dtype == np.int64
     fitted = data.isel(frame=0).assign_attrs(calibration={"A": 0.1, "b": [1.2, None]},
                                              ok=True)
-    write_netcdf(fitted, out)
+    write_netcdf(fitted, out, overwrite=True)
     xr.testing.assert_identical(read_netcdf(out), fitted)
 
 

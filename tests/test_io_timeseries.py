@@ -98,7 +98,7 @@ def test_write_timeseries_round_trips_exactly(tmp_path):
 
     sweep = sine_sweep(f_stop_hz=5, seed=0)
     for series in (sweep.reference, sweep.sensor):
-        path = write_timeseries(series, tmp_path / "s.csv")
+        path = write_timeseries(series, tmp_path / "s.csv", overwrite=True)
         back = read_timeseries(path)
         np.testing.assert_array_equal(back["time"].values, series["time"].values)
         np.testing.assert_array_equal(back.values, series.values)
@@ -112,20 +112,23 @@ def test_write_timeseries_refuses_what_it_cannot_read_back(tmp_path):
     from tactilecal.io import write_timeseries
 
     out = tmp_path / "s.csv"
-    out.write_text("previous")
+    out.write_text("previous,table")
 
     def series(values, times, **attrs):
         return xr.DataArray(values, dims="time", coords={"time": times},
                             attrs={"source": "lc", **attrs})
 
     with pytest.raises(ValueError, match=r"lc: value at position 1 is nan; expected finite"):
-        write_timeseries(series([1.0, np.nan], [0.0, 1.0]), out)
+        write_timeseries(series([1.0, np.nan], [0.0, 1.0]), out, overwrite=True)
     with pytest.raises(ValueError, match=r"lc: time 0.5 s at position 2 follows 1 s; expected"):
-        write_timeseries(series([1.0, 2.0, 3.0], [0.0, 1.0, 0.5]), out)
+        write_timeseries(series([1.0, 2.0, 3.0], [0.0, 1.0, 0.5]), out, overwrite=True)
     with pytest.raises(ValueError, match=r"lc: 1 samples; expected at least 2"):
-        write_timeseries(series([1.0], [0.0]), out)
+        write_timeseries(series([1.0], [0.0]), out, overwrite=True)
     with pytest.raises(ValueError, match=r"dims \('a', 'b'\) without a 'time' coordinate"):
-        write_timeseries(xr.DataArray(np.zeros((2, 2)), dims=("a", "b")), out)
-    assert out.read_text() == "previous"  # never replaced by a failed write
-    write_timeseries(series([1.0, 2.0], [0.0, 1.0], units="unknown", column="Load"), out)
+        write_timeseries(xr.DataArray(np.zeros((2, 2)), dims=("a", "b")), out, overwrite=True)
+    assert out.read_text() == "previous,table"  # never replaced by a failed write
+    with pytest.raises(ValueError, match=r"s.csv exists; expected a new path"):
+        write_timeseries(series([1.0, 2.0], [0.0, 1.0]), out)
+    write_timeseries(series([1.0, 2.0], [0.0, 1.0], units="unknown", column="Load"), out,
+                     overwrite=True)
     assert out.read_text().splitlines()[0] == "Time (s),Load"

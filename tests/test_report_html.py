@@ -2,6 +2,7 @@
 
 import base64
 import hashlib
+import json
 import os
 import re
 import shutil
@@ -14,7 +15,7 @@ from tactilecal._text import number
 from tactilecal.calibration import calibrate, points_from_frames
 from tactilecal.dynamic import CorrectionFilter, fit_transfer
 from tactilecal.dynamic._transfer import TransferFunction
-from tactilecal.io import write_netcdf
+from tactilecal.io import read_netcdf, write_netcdf
 from tactilecal.report import build_report, load_input, write_report
 from tactilecal.simulate import deadweight_session, make_sensor
 
@@ -32,7 +33,7 @@ def files(session, tmp_path_factory):
     f = np.arange(0.0, 140.0)
     tf = TransferFunction(f, 1 + 0.11 * np.log10(f + 1), np.ones_like(f), f > 0, "h2",
                           4000.0, 400, 0.9)
-    CorrectionFilter.from_model(fit_transfer(tf, model="log10"), fs_hz=4000.0).save(
+    CorrectionFilter.from_model(fit_transfer(tf, model="log10"), fs_hz=4000.0).to_json(
         folder / "FILTER.json")
     write_netcdf(session.recording(0), folder / "patch.nc")
     return folder
@@ -188,23 +189,26 @@ def test_errors_and_atomic_write(files, tmp_path):
     bad = tmp_path / "other.json"
     bad.write_text('{"hello": 1}')
     out = tmp_path / "r.html"
-    out.write_text("previous report")
+    out.write_text("<!DOCTYPE html>previous report")
+    with pytest.raises(ValueError, match=r"r.html exists; expected a new path"):
+        write_report([files / "cal.json"], out)
     with pytest.raises(ValueError, match=r"other.json has no key 'format'; expected a "
                                          "tactilecal result JSON"):
-        write_report([bad], out)
-    assert out.read_text() == "previous report"  # untouched on failure
+        write_report([bad], out, overwrite=True)
+    assert out.read_text() == "<!DOCTYPE html>previous report"  # untouched on failure
     with pytest.raises(ValueError, match="not valid JSON"):
         (tmp_path / "broken.json").write_text("{")
-        write_report([tmp_path / "broken.json"], out)
+        write_report([tmp_path / "broken.json"], out, overwrite=True)
     with pytest.raises(FileNotFoundError, match="report input .*missing.csv does not exist"):
-        write_report([tmp_path / "missing.csv"], out)
+        write_report([tmp_path / "missing.csv"], out, overwrite=True)
     with pytest.raises(ValueError, match="no report inputs"):
-        write_report([], out)
+        write_report([], out, overwrite=True)
     with pytest.raises(ValueError, match=r"calibration= \(--cal\) FILTER.json is a filter; "
                                          "expected a calibration JSON"):
-        write_report([files / "patch.nc"], out, calibration=files / "FILTER.json")
+        write_report([files / "patch.nc"], out, calibration=files / "FILTER.json",
+                     overwrite=True)
     with pytest.raises(ValueError, match="report input of type int"):
-        write_report([3], out)
+        write_report([3], out, overwrite=True)
     with pytest.raises(FileNotFoundError, match="cannot write .*r.html: folder .*nope does not"):
         write_report([files / "cal.json"], tmp_path / "nope" / "r.html")
 
@@ -270,3 +274,41 @@ def test_zvyagin_calibration_shows_its_figures(session):
     assert len(zvyagin) == len(names) >= 5, re.findall(r'class="note">([^<]*)', text)
     assert any("Fig. 9" in c for c in zvyagin)
 
+
+def test_a_calibration_is_not_shown_as_applied_to_a_calibrated_recording(files, tmp_path):
+    from tactilecal.calibration import CalibrationResult
+
+    calibrated = CalibrationResult.from_json(files / "cal.json").apply(
+        read_netcdf(files / "patch.nc"))
+    write_netcdf(calibrated, tmp_path / "kpa.nc")
+    with pytest.raises(ValueError, match=r"calibration= \(--cal\) applies to raw recordings, "
+                                         r"but kpa.nc is already calibrated \(units 'kPa'\)"):
+        write_report([tmp_path / "kpa.nc"], tmp_path / "r.html", calibration=files / "cal.json")
+    assert not (tmp_path / "r.html").exists()
+    text = write_report([files / "cal.json", tmp_path / "kpa.nc"],
+                        tmp_path / "r.html").read_text()
+    assert "kpa.nc is already calibrated (units kPa): the calibration among the inputs is not " \
+           "applied to it" in text
+    assert "raw readings calibrated with method" not in text
+
+
+EVALUATION = {"format": "tactilecal-dynamic-evaluation/1", "lag_s": 0.01, "clock": "fitted",
+              "static_factor": 1.2, "fs_hz": 100.0, "band_hz": [1.0, 40.0],
+              "rms_before_N": 3.0, "rms_after_N": 1.0, "timing_error_s": 0.0,
+              "above_band_share": 0.0, "f_hz": [1.0, 2.0], "error_before_pct": [-1.0, -3.0],
+              "error_after_pct": [0.1, -0.2], "phase_before_deg": [-1.0, -2.0],
+              "phase_after_deg": [0.0, 0.1]}
+
+
+def test_a_blind_test_json_is_checked_before_it_is_drawn(tmp_path):
+    path = tmp_path / "evaluation.json"
+    path.write_text(json.dumps({**EVALUATION, "f_hz": [1.0, "x"]}))
+    with pytest.raises(TypeError, match=r"key 'f_hz' of .*evaluation.json"):
+        write_report([path], tmp_path / "r.html")
+
+
+def test_an_absurd_blind_test_error_is_refused_naming_the_key(tmp_path):
+    path = tmp_path / "evaluation.json"
+    path.write_text(json.dumps({**EVALUATION, "error_before_pct": [-1.0, 1e308]}))
+    with pytest.raises(ValueError, match=r"key 'error_before_pct' of .*evaluation.json"):
+        write_report([path], tmp_path / "r.html")

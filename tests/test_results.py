@@ -111,7 +111,7 @@ def test_filter_round_trips_through_load(tmp_path, k):
     assert back.model == filt.model and back.params == filt.params
     np.testing.assert_allclose(back.taps, filt.taps, rtol=0, atol=1e-15)
     # save() and to_json() write the same file
-    filt.save(tmp_path / "saved.json")
+    filt.to_json(tmp_path / "saved.json")
     assert (tmp_path / "saved.json").read_text() == path.read_text()
 
 
@@ -293,7 +293,7 @@ def test_report_tells_inputs_apart_by_their_tag(calibrations, tmp_path):
     from tactilecal.report import load_input
 
     calibrations["power"].to_json(tmp_path / "cal.json")
-    _filters()[0].save(tmp_path / "FILTER.json")
+    _filters()[0].to_json(tmp_path / "FILTER.json")
     _equilibration().to_json(tmp_path / "eq.json")
     kind, obj, _ = load_input(tmp_path / "cal.json")
     assert kind == "calibration" and obj.params == calibrations["power"].params

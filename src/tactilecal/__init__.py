@@ -29,15 +29,14 @@ The names below are imported lazily so that ``import tactilecal`` stays fast.
 dynamic filter, validation) by the format tag in its JSON.
 
 The xarray accessor ``recording.tactile`` (``.force()``, ``.area()``, ``.centre()``,
-``.calibrate(cal)``...) is registered by :mod:`tactilecal.analysis`: at ``import
-tactilecal`` when xarray is already imported, else when a name below is first used, and
-always by ``import tactilecal.analysis``. (Importing xarray here would take ``python -c
-"import tactilecal"`` from about 0.06 s to 1.7 s: ``benchmarks/bench_import.py``.)
+``.calibrate(cal)``...) is registered by ``import tactilecal``, before or after ``import
+xarray``, without importing xarray or the analysis (:mod:`tactilecal._accessor`): the
+analysis is imported on the first use of ``.tactile``.
 """
 
-import sys
 from importlib import import_module
 
+from tactilecal._accessor import register_accessor
 from tactilecal._errors import TactilecalError, TactilecalTypeError
 from tactilecal._version import __version__
 
@@ -113,18 +112,16 @@ def __getattr__(name):
     module = import_module(_LAZY[name])
     value = module if module.__name__ == f"tactilecal.{name}" else getattr(module, name)
     globals()[name] = value
-    _register_accessor()
     return value
-
-
-def _register_accessor():
-    """Register ``DataArray.tactile`` (by importing the analysis) once xarray is loaded."""
-    if "xarray" in sys.modules and "tactilecal.analysis" not in sys.modules:
-        import_module("tactilecal.analysis")
 
 
 def __dir__():
     return sorted(__all__)
 
 
-_register_accessor()
+def _tactile(recording):
+    """Return ``recording.tactile``: the analysis is imported on its first use."""
+    return import_module("tactilecal.analysis").TactileAccessor(recording)
+
+
+register_accessor(_tactile)

@@ -1,14 +1,137 @@
-"""Atomic file writes: write to a temporary name in the target folder, then rename."""
+"""Atomic writes of files and folders, and the rule that no writer replaces what it did not write.
+
+Every file or folder the toolkit writes is written under a temporary name next to its
+target and renamed onto it at the end (:func:`atomic_path`, :func:`atomic_folder`), so a
+reader never sees a partial output and an error leaves the target as it was. Before that, a
+writer calls :func:`check_target` (a file) or :func:`check_folder` (a folder of outputs): an
+existing target is replaced only with ``overwrite=True`` (``--overwrite`` on the command
+line), and then only if it looks like an output of that writer (:data:`OUTPUT_KINDS`,
+sniffed by :func:`tactilecal._sniff.sniff`), so that a Tekscan export is never replaced by a
+table, nor a folder of data by a folder of figures.
+"""
 
 import contextlib
 import glob
 import os
+import shutil
 import sys
 import tempfile
 import time
 from pathlib import Path
 
 from tactilecal._errors import TactilecalError
+from tactilecal._sniff import is_zarr_store, sniff
+
+__all__ = ["atomic_path", "atomic_folder", "write_text_atomic", "make_folder", "check_target",
+           "check_folder", "OUTPUT_KINDS", "OUTPUT_FOLDERS", "OVERWRITE_HINT", "remove_stale",
+           "dask_tasks_finished", "distributed_client", "compute_drained", "DRAIN_TIMEOUT_S"]
+
+#: kind of output -> (what it is, the sniffed kinds an existing file of it may be).
+OUTPUT_KINDS = {
+    "json": ("a JSON file", ("json",)),
+    "csv": ("a CSV table", ("text",)),
+    "html": ("an HTML page", ("html",)),
+    "netcdf": ("a NetCDF file", ("netcdf",)),
+    "zarr": ("a Zarr store", ("zarr",)),
+    "tekscan": ("a Tekscan export", ("tekscan",)),
+    "png": ("a PNG image", ("png",)),
+}
+
+#: kind of output folder -> the keyword arguments of :func:`check_folder` for it: the kinds
+#: of file its writer puts there, and the file that marks it as that writer's folder.
+OUTPUT_FOLDERS = {
+    "figures": {"kinds": ("png",)},
+    "evaluation": {"kinds": ("json", "png")},
+    "session": {"kinds": ("tekscan", "csv", "json"), "marker": "truth.json"},
+    "demo": {"kinds": ("json", "csv", "tekscan", "netcdf", "html", "png"),
+             "marker": "summary.json"},
+}
+
+OVERWRITE_HINT = "pass overwrite=True to replace it"
+"""How the library says to replace an existing output (the CLI says ``--overwrite``)."""
+
+_FOUND = {"zarr": "a Zarr store", "folder": "a folder", "netcdf": "a NetCDF file",
+          "png": "a PNG image", "tekscan": "a Tekscan export", "json": "a JSON file",
+          "html": "an HTML page", "text": "a text file", "empty": "an empty file",
+          "binary": "a binary file", "special": "a device, pipe or socket"}
+
+
+def check_target(path, *, overwrite=False, kind, hint=OVERWRITE_HINT):
+    r"""Raise unless ``path`` may be written: new, or with ``overwrite`` an output of ``kind``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output a writer is about to write.
+    overwrite : bool, keyword-only
+        Whether an existing output may be replaced.
+    kind : str, keyword-only
+        A key of :data:`OUTPUT_KINDS`: what the writer writes. An existing file of another
+        kind (a Tekscan export where a CSV table goes) is never replaced.
+    hint : str, keyword-only
+        How to replace it, for the message.
+
+    Raises
+    ------
+    TactilecalError
+        ``path`` exists and ``overwrite`` is False, or it is not an output of ``kind``.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> export = pathlib.Path(tempfile.mkdtemp()) / "knee.csv"
+    >>> _ = export.write_text("ROWS 1\nCOLS 1\nASCII_DATA @@\nFrame 1\n3\n@@\n")
+    >>> check_target(export, overwrite=True, kind="csv")
+    Traceback (most recent call last):
+    ...
+    tactilecal.TactilecalError: ...knee.csv is a Tekscan export, not a CSV table ...
+    """
+    found = sniff(path)
+    if found is None:
+        return
+    what, allowed = OUTPUT_KINDS[kind]
+    if not overwrite:
+        raise TactilecalError(f"{path} exists; expected a new path ({hint})")
+    if found not in allowed:
+        raise TactilecalError(f"{path} is {_FOUND[found]}, not {what} written before; expected a "
+                              "new path (it would be replaced)")
+
+
+def check_folder(path, *, overwrite=False, kinds, marker=None, hint=OVERWRITE_HINT):
+    """Raise unless folder ``path`` may receive outputs: new, empty, or with ``overwrite``.
+
+    With ``overwrite`` an existing folder is written into only when every file in it
+    (hidden ones left aside) is of ``kinds`` (keys of :data:`OUTPUT_KINDS`) and, when
+    ``marker`` is given, the folder holds that file (the writer's own output, such as
+    ``truth.json``): a folder of the user's data is not one of the writer's outputs.
+
+    Raises
+    ------
+    TactilecalError
+        ``path`` is a file, or holds files and ``overwrite`` is False, or holds a file that
+        is not an output of the writer.
+    """
+    found = sniff(path)
+    if found is None:
+        return
+    if found != "folder":
+        raise TactilecalError(f"{path} is {_FOUND[found]}; expected a folder (or a new name)")
+    files = [p for p in Path(path).rglob("*") if p.is_file() and not p.name.startswith(".")]
+    if not files:
+        return
+    if not overwrite:
+        raise TactilecalError(f"folder {path} holds {len(files)} files; expected a new or empty "
+                              f"folder ({hint})")
+    if marker is not None and not (Path(path) / marker).is_file():
+        raise TactilecalError(f"folder {path} holds files but no {marker}, so they are not an "
+                              "earlier output of this command; expected a new or empty folder")
+    allowed = {k for kind in kinds for k in OUTPUT_KINDS[kind][1]}
+    for file in files:
+        if sniff(file) not in allowed:
+            what = " or ".join(OUTPUT_KINDS[kind][0] for kind in kinds)
+            raise TactilecalError(f"folder {path} holds {file.name}, {_FOUND[sniff(file)]}, not "
+                                  f"{what} written before; expected a new or empty folder (it "
+                                  "could be replaced)")
 
 
 @contextlib.contextmanager
@@ -144,7 +267,7 @@ def _live_tasks(dask_worker, keys):
 
 
 def remove_stale(path):
-    """Remove the temporary files a killed writer of ``path`` left behind; return them.
+    """Remove the temporary files or folders a killed writer of ``path`` left; return them.
 
     Temporary names carry the writer's process id (``.NAME.tmpPID.XXXX``); a file whose
     process no longer runs is stale (``kill -9`` skips the clean-up of :func:`atomic_path`).
@@ -155,7 +278,10 @@ def remove_stale(path):
         pid = tmp.name[len(Path(path).name) + 5:].split(".", 1)[0]
         if pid.isdigit() and not _running(int(pid)):
             with contextlib.suppress(OSError):
-                tmp.unlink()
+                if tmp.is_dir() and not tmp.is_symlink():
+                    shutil.rmtree(tmp)
+                else:
+                    tmp.unlink()
                 stale.append(tmp)
                 print(f"removed {tmp}, left by an interrupted write of {path}",
                       file=sys.stderr)
@@ -170,6 +296,41 @@ def _running(pid):
     except PermissionError:  # another user's process
         return True
     return True
+
+
+@contextlib.contextmanager
+def atomic_folder(path):
+    """Yield a temporary folder next to ``path``; rename it onto ``path`` on success.
+
+    The folder analogue of :func:`atomic_path`: on any exception the temporary folder is
+    removed and ``path`` is left as it was. An existing ``path`` is replaced only if it is
+    a Zarr store (the writer checks, with :func:`check_target`, that it may be).
+    """
+    path = Path(path)
+    if not path.parent.is_dir():
+        raise FileNotFoundError(f"cannot write {path}: folder {path.parent} does not exist")
+    if path.exists() and not is_zarr_store(path):
+        raise TactilecalError(f"output {path} exists and is no Zarr store; expected a new path or "
+                              "a Zarr store to replace")
+    remove_stale(path)
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.tmp{os.getpid()}.",
+                                    dir=path.parent))
+    except OSError as exc:  # name the path the user gave, not the hidden temporary folder
+        raise type(exc)(exc.errno, f"cannot write here ({exc.strerror})", str(path)) from None
+    try:
+        yield tmp
+        tmp.chmod(0o777 & ~_umask())  # mkdtemp makes 0700
+        if path.exists():
+            old = tmp.with_name(tmp.name + ".old")
+            os.replace(path, old)
+            os.replace(tmp, path)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.replace(tmp, path)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
 
 
 def make_folder(path, *, what="output folder"):

@@ -3,6 +3,7 @@
 import json
 import math
 import os
+import re
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -67,18 +68,112 @@ def dumps(obj, **kwargs):
     return json.dumps(to_jsonable(obj), **kwargs)
 
 
+MAX_JSON_BYTES = 64 * 2**20
+"""Largest JSON file read (bytes): a result of the toolkit is at most a few megabytes."""
+
+MAX_JSON_DEPTH = 32
+"""Deepest nesting of arrays and objects in a JSON file (the toolkit writes at most 5)."""
+
+_STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.DOTALL)
+_NUL_ESCAPE = re.compile(r'(?<!\\)(?:\\\\)*\\u0000', re.IGNORECASE)
+
+
+class _LongNumber(Exception):
+    """A number longer than :data:`tactilecal._validate.MAX_NUMBER_CHARS` (its text)."""
+
+
+def _number(convert):
+    from tactilecal._validate import MAX_NUMBER_CHARS
+
+    def parse(text):
+        if len(text) > MAX_NUMBER_CHARS:
+            raise _LongNumber(text)
+        return convert(text)
+
+    return parse
+
+
+def _check_depth(text, path):
+    """Raise unless arrays and objects nest at most :data:`MAX_JSON_DEPTH` deep."""
+    depth, deepest = 0, 0
+    for bracket in re.finditer(r"[\[\]{}]", _STRING.sub("", text)):
+        depth += 1 if bracket.group() in "[{" else -1
+        if depth > MAX_JSON_DEPTH:
+            line = text.count("\n", 0, _nth_bracket(text, bracket.start())) + 1
+            raise TactilecalError(f"line {line} of {path}: arrays or objects nested more than "
+                                  f"{MAX_JSON_DEPTH} deep; expected {MAX_JSON_DEPTH} levels at "
+                                  "most")
+        deepest = max(deepest, depth)
+    return deepest
+
+
+def _nth_bracket(text, offset):
+    """Offset in ``text`` of the character at ``offset`` of its string-free skeleton."""
+    removed = 0
+    for string in _STRING.finditer(text):
+        if string.start() - removed > offset:
+            break
+        removed += string.end() - string.start()
+    return offset + removed
+
+
 def read_json_object(path, expected):
-    """Read a JSON object from ``path``; a ValueError names the file if it holds anything else.
+    r"""Read a JSON object from ``path``; a ValueError names the file if it holds anything else.
 
-    ``expected`` completes the message for text that is not JSON (``"a FILTER.json"``).
+    ``expected`` completes the message for text that is not JSON (``"a FILTER.json"``). The
+    file is bounded before it is parsed: at most :data:`MAX_JSON_BYTES`, nesting at most
+    :data:`MAX_JSON_DEPTH` deep, numbers of at most
+    :data:`tactilecal._validate.MAX_NUMBER_CHARS` characters, strings of at most
+    :data:`tactilecal._validate.MAX_FIELD_CHARS`, no NUL character (``\\u0000``).
+
+    Raises
+    ------
+    TactilecalError
+        Not JSON, not an object, or outside those bounds; the message names the file (and
+        the line where it can).
+    OSError
+        The file cannot be read.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "deep.json"
+    >>> _ = path.write_text('{"a": ' + "[" * 50 + "]" * 50 + "}")
+    >>> read_json_object(path, "a calibration JSON")
+    Traceback (most recent call last):
+    ...
+    tactilecal.TactilecalError: line 1 of ...deep.json: arrays or objects nested more than 32 ...
     """
-    from tactilecal._validate import read_text
+    from tactilecal._validate import MAX_FIELD_CHARS, read_text, shorten
 
+    path = Path(path)
+    if path.is_file() and path.stat().st_size > MAX_JSON_BYTES:
+        raise TactilecalError(f"{path} has {path.stat().st_size} bytes; expected {expected} of "
+                              f"at most {MAX_JSON_BYTES} bytes")
+    text = read_text(path, expected=expected)
+    nul = _NUL_ESCAPE.search(text)
+    if nul:
+        raise TactilecalError(f"line {text.count(chr(10), 0, nul.start()) + 1} of {path}: a NUL "
+                              f"character (\\u0000) in a string; expected {expected}")
+    long_string = next((m for m in _STRING.finditer(text)
+                        if m.end() - m.start() > MAX_FIELD_CHARS + 2), None)
+    if long_string:
+        raise TactilecalError(f"line {text.count(chr(10), 0, long_string.start()) + 1} of {path}: "
+                              f"a string of {long_string.end() - long_string.start() - 2} "
+                              f"characters; expected at most {MAX_FIELD_CHARS}")
+    _check_depth(text, path)
     try:
-        data = json.loads(read_text(Path(path), expected=expected))
+        data = json.loads(text, parse_int=_number(int), parse_float=_number(float))
     except json.JSONDecodeError as exc:
         raise TactilecalError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}); "
                               f"expected {expected}") from None
+    except _LongNumber as exc:
+        from tactilecal._validate import MAX_NUMBER_CHARS
+
+        number = str(exc)
+        raise TactilecalError(f"line {text.count(chr(10), 0, text.find(number)) + 1} of {path}: "
+                              f"a number of {len(number)} characters ({shorten(number, 24)}); "
+                              f"expected at most {MAX_NUMBER_CHARS}") from None
     if not isinstance(data, dict):
         raise TactilecalError(f"{path}: JSON {type(data).__name__}; expected an object")
     return data

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tactilecal._atomic import write_text_atomic
+from tactilecal._atomic import check_target, write_text_atomic
 from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps, read_json_object
 from tactilecal._validate import check_type
@@ -180,10 +180,21 @@ class SavedResult(ShortRepr):
 
     @classmethod
     def from_dict(cls, data, *, source=None):
-        """Rebuild from :meth:`to_dict` output (``source`` names it in error messages)."""
+        """Rebuild from :meth:`to_dict` output (``source`` names it in error messages).
+
+        A value that the kind's own checks let through but that fails to build the result
+        (a ``ValueError``, ``TypeError`` or ``OverflowError`` from NumPy, say) is still bad
+        input: it is raised as :class:`TactilecalError` naming ``source``.
+        """
         source = source or cls.FORMAT_KIND
         cls.check_format(data, source)
-        result = cls._from_dict(data, source)
+        try:
+            result = cls._from_dict(data, source)
+        except TactilecalError:
+            raise
+        except (ValueError, TypeError, OverflowError) as exc:  # a value no check foresaw
+            raise TactilecalError(f"{source}: {type(exc).__name__}: {exc}; expected "
+                                  f"{cls.DESCRIPTION} as tactilecal writes it") from exc
         if data.get("provenance") is not None and not result.provenance:
             result.provenance = check_type(data["provenance"], dict,
                                            f"key 'provenance' of {source}",
@@ -194,8 +205,13 @@ class SavedResult(ShortRepr):
         """Return the JSON text of :meth:`to_dict`."""
         return dumps(self.to_dict())
 
-    def to_json(self, path):
-        """Write the JSON atomically to ``path`` (a reader never sees a partial file)."""
+    def to_json(self, path, *, overwrite=False):
+        """Write the JSON atomically to ``path`` (a reader never sees a partial file).
+
+        An existing ``path`` is replaced only with ``overwrite=True``, and only if it is a
+        JSON file (never a recording or a table).
+        """
+        check_target(path, overwrite=overwrite, kind="json")
         write_text_atomic(path, self.to_json_text() + "\n")
 
     @classmethod

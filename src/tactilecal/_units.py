@@ -16,6 +16,7 @@ catalogue, :mod:`tactilecal.sensors`.
 import re
 
 from tactilecal._errors import TactilecalError
+from tactilecal._validate import shorten
 
 __all__ = ["G_STANDARD", "LB_KG", "LBF_N", "PSI_TO_KPA", "KPA_MM2_TO_N", "N_PER_MM2_TO_KPA",
            "normalise_unit", "length_to_mm", "area_to_mm2", "force_to_N", "mass_to_N",
@@ -111,7 +112,8 @@ def normalise_unit(text, *, where="unit"):
     key = str(text).strip().strip("()[]").strip().lower()
     key = re.sub(r"\s+", " ", key.replace("^", "").replace("²", "2"))
     if key not in _ALIASES:
-        raise TactilecalError(f"unknown unit {str(text).strip()!r} in {where}; expected one of "
+        raise TactilecalError(f"unknown unit {shorten(str(text).strip())} in {where}; expected "
+                              "one of "
                               f"{', '.join(_UNITS)}")
     return _ALIASES[key]
 

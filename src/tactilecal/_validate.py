@@ -12,7 +12,6 @@ type (a JSON string where a number belongs); :class:`OSError` comes from the ope
 """
 
 import csv
-import io
 import math
 import numbers
 import re
@@ -21,12 +20,22 @@ from tactilecal._errors import TactilecalError, TactilecalTypeError
 
 __all__ = ["decode_text", "read_text", "check_line_ends", "csv_rows", "parse_number",
            "check_number", "check_numbers", "check_type", "require_keys", "check_size",
-           "float_type"]
+           "float_type", "shorten", "MAX_VALUES", "MAX_FIELD_CHARS", "MAX_NUMBER_CHARS"]
 
 _BOMS = ((b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
 
 MAX_VALUES = 2**31
 """The most values any array read from a text file may hold (checked before allocating)."""
+
+MAX_FIELD_CHARS = 131072
+"""Longest cell of a CSV, line of a Tekscan header or string of a JSON file (characters).
+
+The limit of Python's :mod:`csv` module (``csv.field_size_limit()``), applied to every
+text field the toolkit reads so that a value of megabytes is refused, not carried along.
+"""
+
+MAX_NUMBER_CHARS = 400
+"""Longest number a file may write (characters); Python refuses integers over 4300 digits."""
 
 
 def decode_text(raw, name, *, expected="a text file"):
@@ -51,8 +60,10 @@ def decode_text(raw, name, *, expected="a text file"):
     Raises
     ------
     ValueError
-        NUL bytes without a UTF-16 byte-order mark (a binary file, or UTF-16 without BOM),
-        or bytes that decode in none of the encodings; the message names the line.
+        A NUL character (in UTF-16 after its byte-order mark too; without one, NUL bytes
+        are a binary file or UTF-16 without BOM), or bytes that decode in none of the
+        encodings (cp1252 leaves 0x81, 0x8D, 0x8F, 0x90 and 0x9D undefined); the message
+        names the line.
 
     Examples
     --------
@@ -69,7 +80,12 @@ def decode_text(raw, name, *, expected="a text file"):
                 raise TactilecalError(f"line {_line_of(raw, exc.start)} of {name}: bytes "
                                       f"that are not {codec.upper()} after its byte-order mark; "
                                       f"expected {expected}") from None
-            return text.lstrip("\ufeff")
+            text = text[1:] if text.startswith("\ufeff") else text
+            nul = text.find("\x00")
+            if nul >= 0:
+                raise TactilecalError(f"line {text.count(chr(10), 0, nul) + 1} of {name}: a "
+                                      f"NUL character; expected {expected}")
+            return text
     nul = raw.find(b"\x00")
     if nul >= 0:
         raise TactilecalError(f"line {_line_of(raw, nul)} of {name}: a NUL byte (a binary "
@@ -87,7 +103,15 @@ def decode_text(raw, name, *, expected="a text file"):
 
 
 def read_text(path, *, expected="a text file"):
-    """Read and decode a text file with :func:`decode_text` (``OSError`` passes through)."""
+    """Read and decode a text file with :func:`decode_text` (``OSError`` passes through).
+
+    A folder or a device (``/dev/null``) is a ValueError naming it, not an empty file.
+    """
+    import os
+
+    if os.path.exists(path) and not os.path.isfile(path):
+        raise TactilecalError(f"{path} is not a regular file (a folder, device or pipe); "
+                              f"expected {expected}")
     with open(path, "rb") as f:
         return decode_text(f.read(), str(path), expected=expected)
 
@@ -105,12 +129,11 @@ def check_line_ends(text, name):
     ...
     tactilecal.TactilecalError: line 2 of m.csv: a carriage return (CR) inside the line; ...
     """
-    unix = text.replace("\r\n", "\n")
-    lone = unix.find("\r")
-    if lone >= 0:
-        raise TactilecalError(f"line {unix.count(chr(10), 0, lone) + 1} of {name}: a carriage "
-                              "return (CR) inside the line; expected CR only before the line feed "
-                              "(CRLF line ends)")
+    lone = _LONE_CR.search(text)  # no copy of the text (memory of a read is bounded)
+    if lone:
+        raise TactilecalError(f"line {text.count(chr(10), 0, lone.start()) + 1} of {name}: a "
+                              "carriage return (CR) inside the line; expected CR only before "
+                              "the line feed (CRLF line ends)")
 
 
 def csv_rows(text, name):
@@ -129,9 +152,9 @@ def csv_rows(text, name):
     tactilecal.TactilecalError: line 2 of m.csv has 3 values; expected 2, one per column ['a', 'b']
     """
     check_line_ends(text, name)
-    reader = csv.reader(io.StringIO(text, newline=""))
+    reader = csv.reader(_lines(text))  # line by line: no copy of the whole text
     width = None
-    for cells in reader:
+    for cells in _csv_lines(reader, name):
         if not any(cell.strip() for cell in cells):
             continue
         cells = [cell.strip() for cell in cells]
@@ -141,6 +164,40 @@ def csv_rows(text, name):
             raise TactilecalError(f"line {reader.line_num} of {name} has {len(cells)} values; "
                                   f"expected {width}, one per column {header}")
         yield reader.line_num, cells
+
+
+_LONE_CR = re.compile("\r(?!\n)")
+
+
+def _lines(text):
+    """Yield the lines of ``text`` with their line ends, one at a time."""
+    start, size = 0, len(text)
+    while start < size:
+        end = text.find("\n", start)
+        end = size if end < 0 else end + 1
+        yield text[start:end]
+        start = end
+
+
+def _csv_lines(reader, name):
+    """Yield the rows of ``reader``; a cell over :data:`MAX_FIELD_CHARS` is an error (its line).
+
+    ``csv.field_size_limit()`` is that limit by default; the check here does not depend on
+    what another library set it to.
+    """
+    while True:
+        try:
+            cells = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as exc:  # the field limit, or a quote the csv module cannot parse
+            raise TactilecalError(f"line {reader.line_num} of {name}: {exc}; expected cells of "
+                                  f"at most {MAX_FIELD_CHARS} characters") from None
+        if any(len(cell) > MAX_FIELD_CHARS for cell in cells):
+            raise TactilecalError(f"line {reader.line_num} of {name}: a cell of more than "
+                                  f"{MAX_FIELD_CHARS} characters; expected cells of at most "
+                                  f"{MAX_FIELD_CHARS} characters")
+        yield cells
 
 
 _NUMBER = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*")
@@ -160,8 +217,8 @@ def parse_number(text, where, **limits):
     ...
     tactilecal.TactilecalError: line 3 of m.csv, mass_kg is '1_0'; expected a number
     """
-    if not isinstance(text, str) or not _NUMBER.fullmatch(text):
-        raise TactilecalError(f"{where} is {_short(text)}; expected a number")
+    if not isinstance(text, str) or len(text) > MAX_NUMBER_CHARS or not _NUMBER.fullmatch(text):
+        raise TactilecalError(f"{where} is {shorten(text)}; expected a number")
     return check_number(float(text), where, **limits)
 
 
@@ -178,7 +235,7 @@ def check_type(value, types, where, *, expected):
     else:
         ok = isinstance(value, types)
     if not ok:
-        raise TactilecalTypeError(f"{where} is {_short(value)} ({type(value).__name__}); "
+        raise TactilecalTypeError(f"{where} is {shorten(value)} ({type(value).__name__}); "
                                   f"expected {expected}")
     return value
 
@@ -221,9 +278,12 @@ def check_number(value, where, *, minimum=None, maximum=None, min_inclusive=True
     if value is None and allow_none:
         return None
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TactilecalTypeError(f"{where} is {_short(value)} ({type(value).__name__}); "
+        raise TactilecalTypeError(f"{where} is {shorten(value)} ({type(value).__name__}); "
                                   f"expected a {'whole ' if integer else ''}number")
-    number = float(value)
+    try:
+        number = float(value)
+    except OverflowError:  # an integer beyond float64 (JSON allows 400 digits)
+        number = math.inf if value > 0 else -math.inf
     expected = _range_text(minimum, maximum, min_inclusive, max_inclusive, integer)
     bad = not math.isfinite(number) or (integer and not number.is_integer())
     if minimum is not None:
@@ -231,7 +291,7 @@ def check_number(value, where, *, minimum=None, maximum=None, min_inclusive=True
     if maximum is not None:
         bad |= number > maximum or (number == maximum and not max_inclusive)
     if bad:
-        raise TactilecalError(f"{where} is {_short(value)}; expected {expected}")
+        raise TactilecalError(f"{where} is {shorten(value)}; expected {expected}")
     return int(number) if integer else number
 
 
@@ -288,9 +348,20 @@ def _as_tuple(types):
     return types if isinstance(types, tuple) else (types,)
 
 
-def _short(value):
+def shorten(value, width=40):
+    """Return ``repr(value)``, cut to ``width`` characters with "..." (for messages).
+
+    Examples
+    --------
+    >>> shorten("x" * 100, 12)
+    "'xxxxxxxx..."
+    """
+    if isinstance(value, str) and len(value) > width:  # no repr of megabytes
+        value = value[:width]
     text = repr(value)
-    return text if len(text) <= 40 else text[:37] + "..."
+    return text if len(text) <= width else text[:width - 3] + "..."
+
+
 
 
 def _range_text(minimum, maximum, min_inclusive, max_inclusive, integer):

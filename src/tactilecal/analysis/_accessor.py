@@ -1,19 +1,18 @@
 """The ``.tactile`` accessor: pressure-map analysis as methods of a recording.
 
 Registered on :class:`xarray.DataArray` with :func:`xarray.register_dataarray_accessor`
-(the xarray documentation's "Extending xarray using accessors") when
-:mod:`tactilecal.analysis` is imported. This is the public face of the analysis: each
-method runs one analysis function of this package with the recording as first argument
-(``rec.tactile.force()`` is ``_maps.total_force(rec)``, number for number) and carries that
-function's docstring and signature, so the definitions are written once. The figures of a
-recording are methods too (``rec.tactile.plot_pressure_map()``, ...), drawn on
-:class:`matplotlib.figure.Figure` without pyplot state.
+(the xarray documentation's "Extending xarray using accessors") by ``import tactilecal``
+(:mod:`tactilecal._accessor`), which imports this module on the first use of ``.tactile``.
+This is the public face of the analysis: each method runs one analysis function of this
+package with the recording as first argument (``rec.tactile.force()`` is
+``_maps.total_force(rec)``, number for number) and carries that function's docstring and
+signature, so the definitions are written once. The figures of a recording are methods too
+(``rec.tactile.plot_pressure_map()``, ...), drawn on :class:`matplotlib.figure.Figure`
+without pyplot state.
 """
 
 import inspect
 import re
-
-import xarray as xr
 
 from tactilecal.analysis import _plots
 from tactilecal.analysis._describe import describe, frame_table
@@ -59,7 +58,6 @@ def _method(function, name):
     return method
 
 
-@xr.register_dataarray_accessor("tactile")
 class TactileAccessor:
     """Pressure-map analysis of a recording: ``recording.tactile.<method>()``.
 
@@ -122,22 +120,25 @@ class TactileAccessor:
     frame_table = _method(frame_table, "frame_table")
 
     # ---------------------------------------------------------------- figures
-    def plot_pressure_map(self, frame=None, *, calibration=None, ax=None):
+    def plot_pressure_map(self, frame=None, *, position=None, calibration=None, ax=None):
         """Pressure map [kPa] of one frame, or each sensel's peak over the recording.
 
-        ``frame`` is a 0-based frame position (default: the peak-pressure map); a raw
-        recording without ``calibration`` is drawn in raw readings (0..255). Returns the
-        matplotlib Axes.
+        ``frame`` is the file's frame number (``recording.frame``), ``position`` a 0-based
+        position (default: the peak-pressure map); a raw recording without ``calibration``
+        is drawn in raw readings (0..255). Returns the matplotlib Axes.
         """
-        return _plots.plot_pressure_map(self._rec, frame, calibration=calibration, ax=ax)
+        return _plots.plot_pressure_map(self._rec, frame, position=position,
+                                        calibration=calibration, ax=ax)
 
-    def plot_profiles(self, frame, *, nonworking=None, calibration=None, axes=None):
+    def plot_profiles(self, frame=None, *, position=None, nonworking=None, calibration=None,
+                      axes=None):
         """Row and column profiles [kPa] of one frame (means skipping blank sensels).
 
+        ``frame`` is the file's frame number, or ``position`` its 0-based position;
         ``nonworking``: a mask of non-working sensels to skip too. Returns the row-profile
         and the column-profile Axes.
         """
-        return _plots.plot_profiles(self._rec, frame, nonworking=nonworking,
+        return _plots.plot_profiles(self._rec, frame, position=position, nonworking=nonworking,
                                     calibration=calibration, axes=axes)
 
     def plot_force_time(self, *, calibration=None, summary=None, ax=None):

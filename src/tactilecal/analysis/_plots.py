@@ -6,6 +6,7 @@ matplotlib is imported inside each function (figures are built on
 
 import numpy as np
 
+from tactilecal._errors import TactilecalError
 from tactilecal.analysis._regions import profile
 from tactilecal.analysis._units import pressure_map_kPa, spacing_mm
 
@@ -28,18 +29,43 @@ def _time(ds):
 
 
 def peak_frame(summary):
-    """Index (0-based position) of the frame with the largest total force.
+    """Frame number (the file's numbering) of the frame with the largest total force.
 
     Examples
     --------
     >>> import xarray as xr
-    >>> peak_frame(xr.Dataset({"force_N": ("frame", [1.0, 5.0, 2.0])}))
-    1
+    >>> peak_frame(xr.Dataset({"force_N": ("frame", [1.0, 5.0, 2.0])},
+    ...                       coords={"frame": [7, 8, 9]}))
+    8
     """
+    return int(summary["frame"].values[_peak_position(summary)])
+
+
+def _peak_position(summary):
+    """0-based position of the frame with the largest total force (0 if none is finite)."""
     force = np.asarray(summary["force_N"].values, dtype=float)
     if not np.isfinite(force).any():
         return 0
     return int(np.nanargmax(force))
+
+
+def _one_frame(recording, frame, position, *, required):
+    """Return the recording at frame number ``frame`` or 0-based ``position`` (one at most)."""
+    if frame is not None and position is not None:
+        raise TactilecalError(f"frame={frame} and position={position}; expected one of them")
+    if position is not None:
+        return recording.isel(frame=[position])
+    if frame is None:
+        if required:
+            raise TactilecalError("no frame given; expected frame= (the file's frame number) "
+                                  "or position= (0-based)")
+        return None
+    numbers = recording["frame"].values
+    if frame not in numbers:
+        raise TactilecalError(f"frame={frame} is not a frame of the recording (frames "
+                              f"{numbers[0]}..{numbers[-1]}); expected one of its frame numbers "
+                              "(position= takes a 0-based position)")
+    return recording.sel(frame=[frame])
 
 
 def plot_force_time(summary, *, ax=None):
@@ -58,13 +84,13 @@ def plot_force_time(summary, *, ax=None):
     twin = ax.twinx()
     twin.plot(t, summary["contact_area_mm2"].values, color="C1", lw=1, alpha=0.8)
     twin.set_ylabel("contact area [mm2]", color="C1")
-    i = peak_frame(summary)
+    i = _peak_position(summary)
     ax.axvline(t[i], color="0.5", ls=":", lw=1)
     ax.set_title(f"peak {float(summary['force_N'][i]):.4g} N at {label.split()[0]} {t[i]:.4g}")
     return ax
 
 
-def plot_pressure_map(recording, frame=None, *, calibration=None, ax=None):
+def plot_pressure_map(recording, frame=None, *, position=None, calibration=None, ax=None):
     """Pressure map [kPa] of one frame, or the peak pressure of every sensel over the recording.
 
     Parameters
@@ -73,8 +99,10 @@ def plot_pressure_map(recording, frame=None, *, calibration=None, ax=None):
         Recording in the data model. A raw recording without ``calibration`` is drawn in
         raw readings (0..255).
     frame : int, optional
-        0-based frame position; default: the peak-pressure map (each sensel's largest value
-        over all frames).
+        The file's frame number (``recording.frame``); default: the peak-pressure map
+        (each sensel's largest value over all frames).
+    position : int, optional
+        The frame's 0-based position instead of its number.
     calibration : CalibrationResult or path, optional
         Applied to a raw recording.
 
@@ -82,8 +110,9 @@ def plot_pressure_map(recording, frame=None, *, calibration=None, ax=None):
     -------
     matplotlib.axes.Axes
     """
+    one = _one_frame(recording, frame, position, required=False)
     ax = _axes(ax, figsize=(5, 5))
-    one = recording if frame is None else recording.isel(frame=[frame])
+    one = recording if one is None else one
     raw = recording.attrs.get("units") == "raw" and calibration is None
     values = one if raw else pressure_map_kPa(one, calibration=calibration)
     values = values.max("frame", skipna=True)
@@ -95,8 +124,8 @@ def plot_pressure_map(recording, frame=None, *, calibration=None, ax=None):
     ax.figure.colorbar(image, ax=ax, label="raw reading" if raw else "pressure [kPa]")
     ax.set_xlabel("column [mm]")
     ax.set_ylabel("row [mm]")
-    ax.set_title("peak over all frames" if frame is None
-                 else f"frame {recording['frame'].values[frame]}")
+    ax.set_title("peak over all frames" if one is recording
+                 else f"frame {one['frame'].values[0]}")
     return ax
 
 
@@ -135,8 +164,11 @@ def plot_cof_path(summary, *, min_force_N=None, ax=None):
     return ax
 
 
-def plot_profiles(recording, frame, *, nonworking=None, calibration=None, axes=None):
+def plot_profiles(recording, frame=None, *, position=None, nonworking=None, calibration=None,
+                  axes=None):
     """Row and column profiles (means skipping blank/non-working sensels) of one frame.
+
+    The frame is ``frame``, the file's frame number, or ``position``, its 0-based position.
 
     Returns
     -------
@@ -147,7 +179,7 @@ def plot_profiles(recording, frame, *, nonworking=None, calibration=None, axes=N
         from matplotlib.figure import Figure
 
         axes = Figure(figsize=(9, 3.5), layout="constrained").subplots(1, 2)
-    one = recording.isel(frame=[frame])
+    one = _one_frame(recording, frame, position, required=True)
     rows = profile(one, "row", nonworking=nonworking, calibration=calibration)[0]
     cols = profile(one, "col", nonworking=nonworking, calibration=calibration)[0]
     axes[0].plot(rows.values, rows["row_mm"].values, "o-", ms=3)

@@ -94,6 +94,10 @@ def _per_sensel(recording, calibration, units):
     unit, kind = check_recording(recording)
     if kind == "raw":
         return _per_sensel(_calibrated(recording, calibration, units), None, units)
+    if calibration is not None:  # silently ignored, it would look applied
+        raise TactilecalError(f"{recording_name(recording)}: units are {unit!r}, already "
+                              "calibrated; expected a raw recording with a calibration "
+                              "(calibration= or --cal applies to raw readings only), or none")
     if kind == "force":
         factor = force_to_N(1.0, unit)
         if units == "kPa":

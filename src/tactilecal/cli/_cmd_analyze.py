@@ -2,6 +2,7 @@
 
 from tactilecal._errors import TactilecalError
 from tactilecal.cli._common import info, print_aligned, print_json, progress, warn_saturated
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import non_negative_float
 
 
@@ -16,7 +17,8 @@ def register(subparsers):
     p.add_argument("--cal", metavar="CAL.json", help="calibration JSON for raw recordings")
     p.add_argument("--threshold-kpa", type=non_negative_float, default=0.0, metavar="KPA",
                    help="a sensel is loaded above this pressure (default 0)")
-    p.add_argument("--out", metavar="summary.csv", help="write the per-frame table as CSV")
+    add_output(p, "--out", kind="csv", sidecar=True, metavar="summary.csv",
+               help="write the per-frame table as CSV (and its provenance beside it)")
     p.add_argument("--json", action="store_true",
                    help="print the overview and the per-frame table as JSON")
     p.set_defaults(func=run)

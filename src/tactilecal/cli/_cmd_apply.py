@@ -1,6 +1,7 @@
 """``tactilecal apply``: convert a raw recording to pressure with a calibration."""
 
 from tactilecal.cli._common import info, warn_saturated
+from tactilecal.cli._outputs import add_output
 
 
 def register(subparsers):
@@ -12,7 +13,7 @@ def register(subparsers):
                     "calibration (attributes calibration_method, calibration_json).")
     p.add_argument("calibration", metavar="CAL.json")
     p.add_argument("recording", metavar="RECORDING")
-    p.add_argument("--out", required=True, metavar="OUT.nc")
+    add_output(p, "--out", kind="netcdf", required=True, metavar="OUT.nc")
     p.add_argument("--units", default="kPa",
                    help="output unit: a pressure (kPa, MPa, Pa, psi, bar, mmHg...) or a "
                         "force per sensel (N, kN, kgf, lbf); default kPa")
@@ -28,7 +29,7 @@ def run(args):
     result = CalibrationResult.from_json(args.calibration)
     recording = open_recording(args.recording)
     out = result.apply(recording, units=args.units)
-    write_netcdf(out, args.out)
+    write_netcdf(out, args.out, overwrite=args.overwrite)
     counts, _ = recording.tactile.saturated_sensels()
     n_saturated = int((counts > 0).sum())
     if n_saturated:

@@ -4,6 +4,7 @@ from pathlib import Path
 
 from tactilecal._errors import TactilecalError
 from tactilecal.cli._common import info, info_grouped, print_json, progress_for
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_float
 
 
@@ -31,7 +32,7 @@ def register(subparsers):
                    help="--movie: fit the frames up to this time of the recording")
     p.add_argument("--min-load", dest="min_load_N", type=positive_float, metavar="N",
                    help="--movie: fit the frames carrying at least this load (e.g. stance)")
-    p.add_argument("--out", metavar="CAL.json", help="write the calibration JSON here")
+    add_output(p, "--out", kind="json", metavar="CAL.json", help="write the calibration JSON here")
     p.add_argument("--json", action="store_true", help="print the calibration JSON")
     p.set_defaults(func=run)
 
@@ -71,7 +72,7 @@ def run(args):
         info_grouped(args, [f"{f}: {n}" for f, n in zip(table["file"], table["note"],
                                                          strict=True) if n])
     if args.out:
-        result.to_json(Path(args.out))
+        result.to_json(Path(args.out), overwrite=args.overwrite)
         info(args, f"calibration written to {args.out}")
     if args.json:
         print_json(result.to_dict())

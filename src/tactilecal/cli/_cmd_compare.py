@@ -4,6 +4,7 @@ from pathlib import Path
 
 from tactilecal._atomic import make_folder
 from tactilecal.cli._common import info, print_json
+from tactilecal.cli._outputs import add_output
 
 
 def register(subparsers):
@@ -17,7 +18,7 @@ def register(subparsers):
                     "against a new one. --out DIR also draws every curve on one plot.")
     p.add_argument("calibrations", metavar="CAL.json", nargs="+")
     p.add_argument("--json", action="store_true", help="print the table as JSON")
-    p.add_argument("--out", metavar="DIR", help="write compare_curves.png into DIR")
+    add_output(p, "--out", kind="figures", metavar="DIR", help="write compare_curves.png into DIR")
     p.set_defaults(func=run)
 
 

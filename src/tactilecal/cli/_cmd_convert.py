@@ -1,6 +1,9 @@
 """``tactilecal convert``: a Tekscan export to Zarr or NetCDF, streamed block by block."""
 
+from pathlib import Path
+
 from tactilecal.cli._common import info
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_int
 
 DEFAULT_CHUNK_FRAMES = 1000  # tactilecal.io.convert's default (not imported: keeps --help fast)
@@ -15,7 +18,7 @@ def register(subparsers):
                     "parsed and written FRAMES frames at a time. OUT is written under a "
                     "temporary name and renamed at the end, so an error leaves no output.")
     p.add_argument("recording", metavar="IN", help="Tekscan ASCII export")
-    p.add_argument("out", metavar="OUT", help="output ending in .zarr or .nc")
+    add_output(p, "out", kind=_kind, metavar="OUT", help="output ending in .zarr or .nc")
     p.add_argument("--chunks", type=positive_int, default=DEFAULT_CHUNK_FRAMES,
                    metavar="FRAMES",
                    help=f"frames per block (default {DEFAULT_CHUNK_FRAMES})")
@@ -25,11 +28,16 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
+def _kind(args):
+    return "zarr" if Path(args.out).suffix.lower() == ".zarr" else "netcdf"
+
+
 def run(args):
     """Run ``tactilecal convert``."""
     from tactilecal.io import convert
 
-    data = convert(args.recording, args.out, chunks=args.chunks, dtype=args.dtype)
+    data = convert(args.recording, args.out, chunks=args.chunks, dtype=args.dtype,
+                   overwrite=args.overwrite)
     frames, rows, cols = data.shape
     info(args, f"wrote {args.out}: {frames} frames of {rows} x {cols} sensels ({args.dtype}) "
                f"in blocks of {args.chunks} frames")

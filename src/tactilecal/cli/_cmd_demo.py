@@ -1,5 +1,7 @@
 """``tactilecal demo [--out DIR]``: the end-to-end example on bundled synthetic data."""
 
+from tactilecal.cli._outputs import add_output
+
 
 def register(subparsers):
     """Add the ``demo`` command."""
@@ -7,8 +9,8 @@ def register(subparsers):
         "demo", help="run the end-to-end example on bundled synthetic data",
         description="Calibrate the bundled dead-weight sessions by every method, validate "
                     "them, analyse a recording, fit a dynamic filter and write the report.")
-    parser.add_argument("--out", default="tactilecal-demo",
-                        help="output folder (default: tactilecal-demo)")
+    add_output(parser, "--out", kind="demo", default="tactilecal-demo",
+               help="output folder (default: tactilecal-demo)")
     parser.set_defaults(func=run)
 
 
@@ -16,5 +18,5 @@ def run(args):
     """Run the demo."""
     from tactilecal.demo import run_demo
 
-    run_demo(args.out, quiet=args.quiet)
+    run_demo(args.out, quiet=args.quiet, overwrite=args.overwrite)
     return 0

@@ -2,6 +2,7 @@
 
 from tactilecal._errors import TactilecalError
 from tactilecal.cli._common import info, print_json
+from tactilecal.cli._outputs import add_output
 
 
 def register(subparsers):
@@ -12,7 +13,7 @@ def register(subparsers):
                     "load (one RECORDING per load level; all frames of a recording are "
                     "averaged) and write them as JSON for 'calibrate --equilibration'.")
     p.add_argument("recordings", nargs="+", metavar="RECORDING")
-    p.add_argument("--out", required=True, metavar="EQ.json")
+    add_output(p, "--out", kind="json", required=True, metavar="EQ.json")
     p.add_argument("--json", action="store_true", help="print the per-level report as JSON")
     p.set_defaults(func=run)
 
@@ -29,7 +30,7 @@ def run(args):
             raise TactilecalError(f"{path} has units {rec.attrs['units']!r}; expected raw readings")
         levels.append(rec)
     eq = equilibrate(levels)
-    eq.to_json(args.out)
+    eq.to_json(args.out, overwrite=args.overwrite)
     for lv, path in zip(eq.levels, args.recordings, strict=True):
         info(args, f"{path}: {lv['n_frames']} frames, mean raw {lv['mean_raw']:.1f}, "
                    f"sensel variation {lv['cv_before']:.1%} -> {lv['cv_after']:.1%}")

@@ -32,7 +32,6 @@ def _text(summary):
 
 def run(args):
     """Read the file and print its summary (text or JSON); return 0."""
-    import tactilecal.analysis  # noqa: F401 - registers recording.tactile
     from tactilecal.io import read_tekscan
 
     summary = read_tekscan(args.file).tactile.describe()

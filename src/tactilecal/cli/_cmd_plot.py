@@ -2,6 +2,7 @@
 
 from tactilecal._atomic import make_folder
 from tactilecal.cli._common import info, print_json
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_int
 
 
@@ -15,8 +16,8 @@ def register(subparsers):
                     "histogram) and E(b0); any other method the calibration curve, predicted "
                     "vs applied loads and the error histogram.")
     p.add_argument("calibration", metavar="CAL.json")
-    p.add_argument("--out", metavar="DIR", required=True, help="folder for the PNG files "
-                   "(created if missing)")
+    add_output(p, "--out", kind="figures", metavar="DIR", required=True,
+               help="folder for the PNG files (created if missing)")
     p.add_argument("--dpi", type=positive_int, default=120, help="resolution (default 120)")
     p.add_argument("--json", action="store_true", help="print the written paths as JSON")
     p.set_defaults(func=run)

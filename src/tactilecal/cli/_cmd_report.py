@@ -2,6 +2,7 @@
 
 
 from tactilecal.cli._common import info, progress_for
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import non_negative_float
 
 
@@ -18,7 +19,8 @@ def register(subparsers):
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="calibration or validation JSON, FILTER.json, blind-test JSON, "
                         "Tekscan export or NetCDF recording")
-    p.add_argument("--out", required=True, metavar="report.html", help="output HTML file")
+    add_output(p, "--out", kind="html", required=True, metavar="report.html",
+               help="output HTML file")
     p.add_argument("--cal", metavar="CAL.json", help="calibration for raw recordings")
     p.add_argument("--filter", metavar="FILTER.json", help="dynamic filter to report")
     p.add_argument("--title", help="page title")
@@ -38,6 +40,6 @@ def run(args):
                         title=args.title, threshold_kPa=args.threshold_kpa,
                         cof_min_force_N=args.cof_min_force_n,
                         command=args.command_line,
-                        progress=progress_for(args))
+                        progress=progress_for(args), overwrite=args.overwrite)
     info(args, f"report written to {path}")
     return 0

@@ -8,6 +8,7 @@ records (``sensor.csv``, ``reference.csv``) and ``truth.json``.
 """
 
 from tactilecal.cli import _simulate_run
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import non_negative_int, positive_float, positive_int, share
 
 __all__ = ["register"]
@@ -23,7 +24,8 @@ def register(subparsers):
         description="Write a dead-weight calibration session as I-Scan ASCII files, one per "
                     "patch, plus manifest.csv (file, frame, mass_kg, pad_mass_g, label) and "
                     "truth.json.")
-    dw.add_argument("outdir", metavar="OUTDIR", help="output folder (created if missing)")
+    add_output(dw, "outdir", kind="session", metavar="OUTDIR",
+               help="output folder (created if missing)")
     dw.add_argument("--patches", type=positive_int, default=150, help="number of patches (150)")
     _common_options(dw)
     dw.add_argument("--saturated-share", type=share, default=0.0,
@@ -33,7 +35,8 @@ def register(subparsers):
         "ramp-hold", help="ramp-and-hold loading-machine session (Gillis 2013)",
         description="Write a ramp-and-hold recording (recording.csv, I-Scan ASCII), the load "
                     "cell's record (loadcell.csv, header 'Time (s),Load (N)') and truth.json.")
-    rh.add_argument("outdir", metavar="OUTDIR", help="output folder (created if missing)")
+    add_output(rh, "outdir", kind="session", metavar="OUTDIR",
+               help="output folder (created if missing)")
     _common_options(rh)
     rh.add_argument("--hold", type=positive_float, default=3.0, help="hold time per level in s (3)")
     rh.add_argument("--ramp", type=positive_float, default=2.0, help="transition time in s (2)")
@@ -47,7 +50,8 @@ def register(subparsers):
         dyn = sub.add_parser(kind, help=f"dynamic session: {what}", description=(
             f"Write a {what} as the sensor's and the load cell's time series (sensor.csv, "
             "reference.csv: 'Time (s),force (N)') and truth.json (gain law, lag, sets)."))
-        dyn.add_argument("outdir", metavar="OUTDIR", help="output folder (created if missing)")
+        add_output(dyn, "outdir", kind="session", metavar="OUTDIR",
+                   help="output folder (created if missing)")
         dyn.add_argument("--A", type=positive_float, default=0.11, dest="A",
                          help="true gain law Y = 1 + A log10(f + 1) (0.11)")
         dyn.add_argument("--seed", type=non_negative_int, default=0 if kind == "sweep" else 1,

@@ -4,6 +4,7 @@ from functools import partial
 
 from tactilecal.cli._common import info, progress_for
 from tactilecal.cli._dynamic_options import add_option
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_int
 
 
@@ -18,7 +19,7 @@ def register(sub):
                                    "NetCDF out; NetCDF is streamed in chunks).")
     a.add_argument("filter", metavar="FILTER.json")
     a.add_argument("input", metavar="INPUT")
-    a.add_argument("--out", required=True, metavar="OUTPUT")
+    add_output(a, "--out", kind=_kind, required=True, metavar="OUTPUT")
     add_option(a, "--chunk-frames", filter_recording, "chunk_frames", type=positive_int,
                help="frames per chunk when streaming NetCDF")
     add_option(a, "--causal", filter_recording, "causal",
@@ -32,6 +33,16 @@ def register(sub):
                help="type of the corrected values (float32 halves the output and is the "
                     "fastest path for a float32 recording)")
     a.set_defaults(func=run)
+
+
+def _kind(args):
+    """Return the output's kind: a CSV for a time-series input, else NetCDF."""
+    from tactilecal.io import recording_format
+
+    try:
+        return "csv" if recording_format(args.input) is None else "netcdf"
+    except (OSError, ValueError):  # a missing input: the command says so when it reads it
+        return "csv"
 
 
 def run(args):
@@ -49,7 +60,7 @@ def run(args):
     else:
         out = filter_recording(filt, args.input, chunk_frames=args.chunk_frames, **options)
         with dask_progress(desc="filtering", quiet=args.quiet or out.chunks is None):
-            write_netcdf(out, args.out)
+            write_netcdf(out, args.out, overwrite=args.overwrite)
         what = f"{out.shape[0]} frames x {out[0].size} sensels{_jitter(out.attrs)}"
     info(args, f"{args.input}: {what} corrected with {args.filter} -> {args.out}")
     return 0

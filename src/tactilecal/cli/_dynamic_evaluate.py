@@ -5,6 +5,7 @@ from functools import partial
 from tactilecal._atomic import make_folder
 from tactilecal.cli._common import print_json, progress_for
 from tactilecal.cli._dynamic_options import add_option
+from tactilecal.cli._outputs import add_output
 
 
 def register(sub):
@@ -29,7 +30,8 @@ def register(sub):
     add_option(e, "--causal", evaluate, "causal",
                help="evaluate a rational filter's causal inverse")
     e.add_argument("--json", action="store_true", help="print the result as JSON")
-    e.add_argument("--out", metavar="DIR", help="folder for evaluation.json and PNG figures")
+    add_output(e, "--out", kind="evaluation", metavar="DIR",
+               help="folder for evaluation.json and PNG figures")
     e.set_defaults(func=run)
 
 

@@ -5,6 +5,7 @@ import sys
 from tactilecal.cli._common import info, print_json
 from tactilecal.cli._dynamic_options import add_option
 from tactilecal.cli._types import positive_float, share
+from tactilecal.cli._outputs import add_output
 
 
 def register(sub):
@@ -21,7 +22,7 @@ def register(sub):
     f.add_argument("--sweep", nargs=2, action="append", default=[],
                    metavar=("SENSOR", "REFERENCE"),
                    help="another sweep (e.g. at another amplitude); repeatable")
-    f.add_argument("--out", required=True, metavar="FILTER.json")
+    add_output(f, "--out", kind="json", required=True, metavar="FILTER.json")
     f.add_argument("--json", action="store_true", help="print the result as JSON")
     add_option(f, "--model", fit_filter, "model",
                help="auto: of log10, rational and wiener, the simplest that predicts held-out "
@@ -63,7 +64,7 @@ def run(args):
     if filt.forced:
         print(f"tactilecal dynamic fit: warning: written with --force: {filt.forced}",
               file=sys.stderr)
-    filt.save(args.out)
+    filt.to_json(args.out, overwrite=args.overwrite)
     if args.json:
         print_json(filt.to_dict())
     else:

@@ -26,7 +26,7 @@ def run_deadweight(args):
     session = deadweight_session(_sensor(args), n_patches=args.patches,
                                  saturated_share=args.saturated_share, seed=args.seed)
     info(args, f"writing {len(session)} recordings to {args.outdir} ...")
-    manifest = session.write(args.outdir)
+    manifest = session.write(args.outdir, overwrite=args.overwrite)
     combos = Counter(f"{m:g} kg on {s:d} cm" for m, s in zip(session.mass_kg,
                                                              session.pad_side_cm, strict=True))
     summary = {"manifest": str(manifest), "truth": str(manifest.parent / "truth.json"),
@@ -47,7 +47,7 @@ def run_ramp_hold(args):
                         frame_rate_hz=args.frame_rate, loadcell_rate_hz=args.loadcell_rate,
                         seed=args.seed)
     info(args, f"writing {session.raw.sizes['frame']} frames to {args.outdir} ...")
-    paths = session.write(args.outdir)
+    paths = session.write(args.outdir, overwrite=args.overwrite)
     summary = {**{k: str(v) for k, v in paths.items()},
                "frames": session.raw.sizes["frame"], "loadcell_samples": session.loadcell.size,
                "loadcell_start_offset_s": session.loadcell_start_offset_s,
@@ -62,7 +62,7 @@ def run_dynamic(args):
 
     make = sine_sweep if args.kind == "sweep" else random_sine_sets
     session = make(A=args.A, seed=args.seed)
-    paths = session.write(args.outdir)
+    paths = session.write(args.outdir, overwrite=args.overwrite)
     _print(args, {**{k: str(v) for k, v in paths.items()},
                   "sensor_samples": session.sensor.size,
                   "reference_samples": session.reference.size, "sets": len(session.sets),

@@ -66,7 +66,7 @@ def make_bundle(out_dir):
         folder.mkdir(parents=True, exist_ok=True)
         session = deadweight_session(sensor, **spec)
         raw = session.raw.assign_attrs(source=f"tactilecal demo session {name}")
-        write_tekscan(raw, folder / "deadweights.csv")
+        write_tekscan(raw, folder / "deadweights.csv", overwrite=True)
         write_text_atomic(folder / "manifest.csv", _manifest_text(session, "deadweights.csv"))
         write_json(folder / "truth.json", {"bundle": BUNDLE, "session": name,
                                            "truth": session.truth()})

@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from tactilecal._atomic import make_folder
+from tactilecal._atomic import OUTPUT_FOLDERS, check_folder, make_folder
 from tactilecal._jsonutil import write_json
 from tactilecal._provenance import provenance_of, write_sidecar
 
@@ -43,9 +43,9 @@ def _static_calibrations(manifests, out, quiet):
     rows, results = [], {}
     for method in DEMO_METHODS:
         result = calibrate(points_a, method=method)
-        result.to_json(out / "calibrations" / f"{method}.json")
+        result.to_json(out / "calibrations" / f"{method}.json", overwrite=True)
         check = validate(result, points_b)
-        check.to_json(out / "validation" / f"{method}.json")
+        check.to_json(out / "validation" / f"{method}.json", overwrite=True)
         results[method] = result
         rows.append({"method": method, **check.metrics,
                      "A": result.params.get("A"), "b": result.params.get("b")})
@@ -65,19 +65,18 @@ def _hold_errors(force_N, time_s, truth):
 
 
 def _experiment(sensor, calibration, out, quiet):
-    import tactilecal.analysis  # noqa: F401 - registers recording.tactile
     from tactilecal._atomic import atomic_path
     from tactilecal.calibration import calibrate_movie
     from tactilecal.io import read_tekscan, write_netcdf
     from tactilecal.simulate import ramp_hold
 
     truth = ramp_hold(sensor, frame_rate_hz=20.0, loadcell_rate_hz=500.0, seed=5)
-    paths = truth.write(out / "experiment")
+    paths = truth.write(out / "experiment", overwrite=True)
     recording = read_tekscan(paths["recording"])
     movie = calibrate_movie(recording, paths["loadcell"], method="power")
-    movie.to_json(out / "calibrations" / "movie-power.json")
+    movie.to_json(out / "calibrations" / "movie-power.json", overwrite=True)
     pressure = calibration.apply(recording, units="kPa")
-    write_netcdf(pressure, out / "experiment" / "pressure.nc")
+    write_netcdf(pressure, out / "experiment" / "pressure.nc", overwrite=True)
     per_frame = pressure.tactile.frame_table()  # the columns of 'tactilecal analyze --out' (time_s)
     with atomic_path(out / "experiment" / "summary.csv") as tmp:
         per_frame.to_csv(tmp, index=False)
@@ -97,7 +96,7 @@ def _dynamic(out, quiet):
 
     sweep = sine_sweep(seed=0)
     filt = fit_filter(sweep.sensor, sweep.reference, model="log10")
-    filt.save(out / "dynamic" / "filter.json")
+    filt.to_json(out / "dynamic" / "filter.json", overwrite=True)
     blind = random_sine_sets(seed=1)
     evaluation = evaluate(filt, blind.sensor, blind.reference)
     write_json(out / "dynamic" / "blind-test.json", evaluation.to_dict())
@@ -111,15 +110,18 @@ def _dynamic(out, quiet):
             "blind_improvement": evaluation.improvement, "filter": out / "dynamic" / "filter.json"}
 
 
-def run_demo(out_dir="tactilecal-demo", *, quiet=False):
+def run_demo(out_dir="tactilecal-demo", *, quiet=False, overwrite=False):
     """Run the end-to-end example and write its results into ``out_dir``.
 
     Parameters
     ----------
     out_dir : str or os.PathLike
-        Output folder (created; existing demo files in it are replaced).
+        Output folder (created if missing).
     quiet : bool
         No progress messages.
+    overwrite : bool, keyword-only
+        Write into a folder that holds files: only an earlier demo's (its ``summary.json``),
+        whose files are replaced. Default False: a folder with files is an error.
 
     Returns
     -------
@@ -129,6 +131,7 @@ def run_demo(out_dir="tactilecal-demo", *, quiet=False):
     from tactilecal.demo._bundle import BUNDLE, bundle_path, demo_sensor
     from tactilecal.report import write_report
 
+    check_folder(out_dir, overwrite=overwrite, **OUTPUT_FOLDERS["demo"])
     out = make_folder(out_dir)
     for sub in ("calibrations", "validation", "experiment", "dynamic"):
         (out / sub).mkdir(exist_ok=True)
@@ -151,8 +154,8 @@ def run_demo(out_dir="tactilecal-demo", *, quiet=False):
         [*(out / "calibrations" / f"{m}.json" for m in DEMO_METHODS),
          *(out / "validation" / f"{m}.json" for m in DEMO_METHODS),
          experiment["recording"], out / "dynamic" / "blind-test.json"],
-        out / "report.html", calibration=out / "calibrations" / "power.json",
-        filter=dynamic["filter"], title="tactilecal demo", command="tactilecal demo")
+        out / "report.html", filter=dynamic["filter"], title="tactilecal demo",
+        command="tactilecal demo", overwrite=True)
     headline = {"true_law": {"A_N": sensor.A_N, "b": sensor.b}, "methods": rows,
                 "experiment": experiment, "dynamic": dynamic, "report": report,
                 "elapsed_s": time.perf_counter() - start}

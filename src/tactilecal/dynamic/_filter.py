@@ -439,10 +439,6 @@ class CorrectionFilter(SavedResult):
 
     __hash__ = None
 
-    def save(self, path):
-        """Write FILTER.json atomically (the same as :meth:`to_json`)."""
-        self.to_json(path)
-
     def _repr_fields(self):
         return [("model", self.model), ("params", self.params), ("fs_hz", self.fs_hz),
                 ("band_hz", self.band_hz), ("outside", self.outside),

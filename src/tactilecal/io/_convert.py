@@ -1,17 +1,12 @@
 """Stream a Tekscan export to Zarr or NetCDF, block by block (``tactilecal convert``)."""
 
-import contextlib
-import os
-import shutil
-import tempfile
 from pathlib import Path
 
-from tactilecal._atomic import _running, _umask, dask_tasks_finished
+from tactilecal._atomic import atomic_folder, check_target, dask_tasks_finished
 from tactilecal._errors import TactilecalError
 from tactilecal._provenance import provenance_attr, provenance_of
 from tactilecal._validate import float_type
 from tactilecal.io._netcdf import write_netcdf
-from tactilecal.io._open import is_zarr_store
 from tactilecal.io._tekscan_read import read_tekscan
 
 __all__ = ["convert", "write_lazy", "DEFAULT_CHUNK_FRAMES"]
@@ -22,7 +17,8 @@ DEFAULT_CHUNK_FRAMES = 1000
 _SUFFIXES = (".zarr", ".nc")
 
 
-def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES, dtype="float64"):
+def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES, dtype="float64",
+            overwrite=False):
     r"""Write a Tekscan export as Zarr or NetCDF without holding it in memory.
 
     The export is indexed once (every structural check of :func:`read_tekscan`), then each
@@ -40,10 +36,12 @@ def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES, dtype="float64"):
         chunked like the blocks: ``xr.open_zarr(path)`` or ``xr.open_dataarray(path,
         engine="zarr")`` open it as they expect by default, without a warning, with
         zarr-python 2 or 3) or a ``.nc`` file (NetCDF4, the layout of
-        :func:`write_netcdf`, read by :func:`read_netcdf`). An existing store or file of
-        that name is replaced.
+        :func:`write_netcdf`, read by :func:`read_netcdf`).
     chunks : int, keyword-only
         Frames per block.
+    overwrite : bool, keyword-only
+        Replace an existing ``target`` (only a Zarr store or NetCDF file, as its suffix
+        says; never ``source``). Default False: an existing ``target`` is an error.
     dtype : {"float64", "float32"}, keyword-only
         Type of the stored values (default float64, what :func:`read_tekscan` returns).
         float32 halves the array (and an uncompressed NetCDF file; a compressed Zarr store
@@ -59,9 +57,10 @@ def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES, dtype="float64"):
     Raises
     ------
     ValueError
-        ``target`` does not end in ``.zarr`` or ``.nc``, is an existing folder that is no
-        Zarr store, the export is malformed (the message names the file and line), or
-        ``dtype`` is neither float64 nor float32.
+        ``target`` does not end in ``.zarr`` or ``.nc``, exists (without ``overwrite``, or
+        is neither a Zarr store nor a NetCDF file, or is ``source``), the export is
+        malformed (the message names the file and line), or ``dtype`` is neither float64
+        nor float32.
     OSError
         ``target`` cannot be written (the message names it).
 
@@ -76,13 +75,15 @@ def convert(source, target, *, chunks=DEFAULT_CHUNK_FRAMES, dtype="float64"):
     [[[1.0, 2.0]], [[3.0, nan]]]
     """
     _check_suffix(target)
+    if Path(target).exists() and Path(target).resolve() == Path(source).resolve():
+        raise TactilecalError(f"output {target} is the input {source}; expected another path")
     dtype = float_type(dtype)
     data = read_tekscan(source, chunks=chunks)
     if data.dtype != dtype:
         data = data.astype(dtype, keep_attrs=True)
     options = {"chunks": chunks, "dtype": dtype.name}
     data.attrs["provenance"] = provenance_attr(provenance_of([data], options=options))
-    write_lazy(data, target)
+    write_lazy(data, target, overwrite=overwrite)
     return data
 
 
@@ -95,7 +96,7 @@ def _check_suffix(target):
     return target
 
 
-def write_lazy(data, target):
+def write_lazy(data, target, *, overwrite=False):
     """Write the (dask-backed) DataArray ``data`` to ``target`` (.zarr or .nc) atomically.
 
     Blocks are computed and written in turn; on any error nothing is left at ``target`` (an
@@ -104,53 +105,11 @@ def write_lazy(data, target):
     """
     target = _check_suffix(target)
     if target.suffix.lower() == ".nc":
-        write_netcdf(data, target)
+        write_netcdf(data, target, overwrite=overwrite)
         return
+    check_target(target, overwrite=overwrite, kind="zarr")
     with atomic_folder(target) as tmp, dask_tasks_finished():
         # format 2: its consolidated metadata (.zmetadata) is in the format's spec, which
         # xarray reads first by default; format 3 has none in its spec (zarr-python 3
         # warns when writing it) and zarr-python 2 cannot read format 3 at all
         data.to_zarr(tmp, mode="w", consolidated=True, zarr_format=2)
-
-
-@contextlib.contextmanager
-def atomic_folder(path):
-    """Yield a temporary folder next to ``path``; rename it onto ``path`` on success.
-
-    The folder analogue of :func:`tactilecal._atomic.atomic_path`: on any exception the
-    temporary folder is removed and ``path`` is left as it was. An existing ``path`` is
-    replaced only if it is a Zarr store.
-    """
-    path = Path(path)
-    if not path.parent.is_dir():
-        raise FileNotFoundError(f"cannot write {path}: folder {path.parent} does not exist")
-    if path.exists() and not is_zarr_store(path):
-        raise TactilecalError(f"output {path} exists and is no Zarr store; expected a new path or "
-                              "a Zarr store to replace")
-    _remove_stale(path)
-    try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.tmp{os.getpid()}.",
-                                    dir=path.parent))
-    except OSError as exc:  # name the path the user gave, not the hidden temporary folder
-        raise type(exc)(exc.errno, f"cannot write here ({exc.strerror})", str(path)) from None
-    try:
-        yield tmp
-        tmp.chmod(0o777 & ~_umask())  # mkdtemp makes 0700
-        if path.exists():
-            old = tmp.with_name(tmp.name + ".old")
-            os.replace(path, old)
-            os.replace(tmp, path)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.replace(tmp, path)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-
-
-def _remove_stale(path):
-    """Remove temporary folders that a killed writer of ``path`` left behind."""
-    for tmp in path.parent.glob(f".{path.name}.tmp*"):
-        pid = tmp.name[len(path.name) + 5:].split(".", 1)[0]
-        if tmp.is_dir() and pid.isdigit() and not _running(int(pid)):
-            shutil.rmtree(tmp, ignore_errors=True)

@@ -16,7 +16,7 @@ from tactilecal._units import (
     pressure_to_kPa,
     unit_kind,
 )
-from tactilecal._validate import check_number
+from tactilecal._validate import check_number, shorten
 
 _KEY = re.compile(r"([A-Za-z][A-Za-z0-9_]*)(:?)(?:[ \t]+(.*))?$")
 _UPPER_KEY = re.compile(r"[A-Z][A-Z0-9_]*:?(?:[ \t]|$)")
@@ -63,7 +63,7 @@ def parse_header_lines(lines, name):
             continue
         match = _KEY.match(text)
         if match is None:
-            raise TactilecalError(f"line {number} of {name}: {text[:40]!r} is not a header line; "
+            raise TactilecalError(f"line {number} of {name}: {shorten(text)} is not a header line; "
                                   "expected 'KEY value' lines up to 'ASCII_DATA @@'")
         key, colon, value = match.groups()
         if key in header:
@@ -79,7 +79,8 @@ def number_with_unit(header, key, name):
     value, line = header[key]
     match = _NUMBER_UNIT.fullmatch(value)
     if match is None:
-        raise TactilecalError(f"line {line} of {name}: {key} is {value!r}; expected a number "
+        raise TactilecalError(f"line {line} of {name}: {key} is {shorten(value)}; expected a "
+                              "number "
                               "optionally followed by a unit")
     unit = match.group(2)
     where = f"{key} on line {line} of {name}"
@@ -92,7 +93,8 @@ def integer(header, key, name, *, minimum=None):
     try:
         result = int(value)
     except ValueError:
-        raise TactilecalError(f"line {line} of {name}: {key} is {value!r}; expected an integer"
+        raise TactilecalError(f"line {line} of {name}: {key} is {shorten(value)}; expected an "
+                              "integer"
                               ) from None
     if minimum is not None and result < minimum:
         raise TactilecalError(f"line {line} of {name}: {key} is {result}; expected at least "
@@ -113,7 +115,7 @@ def _converted(convert, number, unit, header, key, name):
     try:
         return convert(number, unit)
     except ValueError as exc:
-        raise TactilecalError(f"line {header[key][1]} of {name}: {key} {header[key][0]!r}: "
+        raise TactilecalError(f"line {header[key][1]} of {name}: {key} {shorten(header[key][0])}: "
                               f"{exc}") from None
 
 
@@ -136,8 +138,7 @@ def header_attrs(header, name):
     if "SENSOR_TYPE" in header:
         attrs["sensor_type"] = header["SENSOR_TYPE"][0]
     if "UNITS" in header:
-        value, line = header["UNITS"]
-        attrs["units"] = normalise_unit(value, where=f"UNITS on line {line} of {name}")
+        attrs["units"] = _recording_unit(header, name)
     for key, attr in (("ROW_SPACING", "row_spacing_mm"), ("COL_SPACING", "col_spacing_mm")):
         if key in header:
             attrs[attr] = _length_mm(header, key, name)
@@ -165,6 +166,22 @@ def header_attrs(header, name):
     return attrs
 
 
+RECORDING_UNIT_KINDS = ("raw", "pressure", "force")
+"""What the values of a recording may be (``docs/data-model.md``, ``units``)."""
+
+
+def _recording_unit(header, name):
+    """Return the normalised ``UNITS`` of the values: raw, a pressure or a force, else an error."""
+    value, line = header["UNITS"]
+    unit = normalise_unit(value, where=f"UNITS on line {line} of {name}")
+    kind = unit_kind(unit)
+    if kind not in RECORDING_UNIT_KINDS:
+        raise TactilecalError(f"line {line} of {name}: UNITS is {shorten(value)}, a {kind}; "
+                              "expected the unit of the values: raw, a pressure (kPa, MPa, psi, "
+                              "...) or a force (N, kgf, lbf)")
+    return unit
+
+
 # attribute -> (header key, minimum, minimum allowed?, maximum): what a sensor can have.
 # A frame lasts at most a day; readings are 8-bit, so no threshold above 255.
 _RANGES = {
@@ -184,7 +201,7 @@ def _check_ranges(attrs, header, name):
     for attr, (key, minimum, inclusive, maximum) in _RANGES.items():
         if attr in attrs and key in header:
             value, line = header[key]
-            check_number(attrs[attr], f"line {line} of {name}: {key} ({value!r})",
+            check_number(attrs[attr], f"line {line} of {name}: {key} ({shorten(value)})",
                          minimum=minimum, min_inclusive=inclusive, maximum=maximum)
 
 
@@ -208,7 +225,7 @@ def _calibration_attrs(header, name):
 def _calibration_point(key, value, line, name):
     match = _CAL_POINT.match(value)
     if match is None:
-        raise TactilecalError(f"line {line} of {name}: {key} is {value!r}; expected "
+        raise TactilecalError(f"line {line} of {name}: {key} is {shorten(value)}; expected "
                               "'<load> (<unit>) <raw sum> (Raw Sum) [<n> (Number of Loaded "
                               "Cells)]'")
     load, unit_text, raw_sum, cells = match.groups()

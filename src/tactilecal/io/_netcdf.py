@@ -9,12 +9,14 @@ import xarray as xr
 
 from tactilecal._atomic import (
     atomic_path,
+    check_target,
     compute_drained,
     dask_tasks_finished,
     distributed_client,
 )
 from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps
+from tactilecal._validate import shorten
 
 __all__ = ["read_netcdf", "write_netcdf"]
 
@@ -27,7 +29,7 @@ def _engine():
     return "h5netcdf" if importlib.util.find_spec("h5py") else "scipy"
 
 
-def write_netcdf(data, path):
+def write_netcdf(data, path, *, overwrite=False):
     """Write a DataArray to NetCDF atomically; non-scalar attributes are stored as JSON.
 
     Attributes that NetCDF cannot hold (dicts, lists, ``None``, booleans) are written as
@@ -40,6 +42,8 @@ def write_netcdf(data, path):
         Any recording or result.
     path : str or os.PathLike
         Output file.
+    overwrite : bool, keyword-only
+        Replace an existing ``path`` (only a NetCDF file; default False: an error).
 
     Examples
     --------
@@ -52,6 +56,7 @@ def write_netcdf(data, path):
     >>> read_netcdf(out).identical(a)
     True
     """
+    check_target(path, overwrite=overwrite, kind="netcdf")
     out = data.copy(deep=False)
     encoded = []
     for key, value in data.attrs.items():
@@ -61,16 +66,17 @@ def write_netcdf(data, path):
     if encoded:
         out.attrs[_JSON_ATTRS] = ",".join(encoded)
     engine = _engine()
+    options = {"engine": engine}
     with atomic_path(path, suffix=".nc") as tmp:
         try:
             # the temporary file is removed only after every block stopped writing
             client = distributed_client() if out.chunks is not None else None
             if client is not None:
-                compute_drained(client, out.to_netcdf(tmp, engine=engine, compute=False))
+                compute_drained(client, out.to_netcdf(tmp, compute=False, **options))
             else:
                 with dask_tasks_finished() if out.chunks is not None else \
                         contextlib.nullcontext():
-                    out.to_netcdf(tmp, engine=engine)
+                    out.to_netcdf(tmp, **options)
         except ValueError as exc:
             if engine != "scipy":
                 raise
@@ -106,16 +112,47 @@ def read_netcdf(path):
 
     if not Path(path).is_file():
         raise FileNotFoundError(f"{path}: no such file; expected a NetCDF file (.nc)")
-    try:
-        data = xr.load_dataarray(path, decode_times=False, decode_timedelta=False)
-    except (ValueError, OSError) as exc:
-        raise TactilecalError(f"{path}: not a NetCDF file with one data variable "
-                              f"({str(exc).splitlines()[0][:200]}); expected a file written by "
-                              "write_netcdf or DataArray.to_netcdf") from None
+    data = open_store(lambda: xr.load_dataarray(path, decode_times=False,
+                                                decode_timedelta=False),
+                      path, "NetCDF file", "write_netcdf or DataArray.to_netcdf")
     for name in _INT_COORDS:
         if name in data.coords and np.issubdtype(data[name].dtype, np.integer):
             data = data.assign_coords({name: data[name].astype(np.int64)})
     names = data.attrs.pop(_JSON_ATTRS, "")
     for key in filter(None, str(names).split(",")):
-        data.attrs[key] = json.loads(data.attrs[key])
+        try:
+            data.attrs[key] = json.loads(data.attrs[key])
+        except (KeyError, TypeError, ValueError, RecursionError):
+            raise TactilecalError(f"{path}: attribute {shorten(key)} is listed in "
+                                  f"{_JSON_ATTRS} but holds no JSON; expected a file written by "
+                                  "write_netcdf") from None
     return data
+
+
+def open_store(function, path, what, writer):
+    """Return ``function()`` (which opens ``path``); turn any failure into one line naming it.
+
+    A damaged file makes HDF5 or Zarr raise whatever their parsers meet (``KeyError`` for a
+    bad metadata checksum, ``RuntimeError``, ``OSError``...): all of it is bad input. The
+    half-built file objects that the failure leaves are collected here, with Python's report
+    of their failing clean-up silenced, so that nothing but the one line reaches the user.
+    """
+    import gc
+    import sys
+
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: None
+    try:
+        try:
+            return function()
+        except Warning:  # a warning turned into an error (python -W error) stays itself
+            raise
+        except Exception as exc:  # noqa: BLE001 - a parser's failure on a damaged file
+            detail = " ".join(str(exc).split())
+            detail = detail if len(detail) <= 120 else detail[:117] + "..."
+            message = (f"{path}: not a {what} with one data variable ({type(exc).__name__}: "
+                       f"{detail}); expected a file written by {writer}")
+        gc.collect()  # the failure's frames are gone: collect what they held, silently
+        raise TactilecalError(message)
+    finally:
+        sys.unraisablehook = hook

@@ -8,22 +8,13 @@ Zarr store (written by :func:`tactilecal.io.convert`).
 from pathlib import Path
 
 from tactilecal._errors import TactilecalError
+from tactilecal._sniff import ZARR_METADATA, sniff
 
 __all__ = ["open_recording", "recording_format", "NETCDF_SUFFIXES", "FORMATS"]
 
 NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf")
 FORMATS = ("tekscan", "netcdf", "zarr")
 """What :func:`recording_format` recognises."""
-
-_SNIFF_BYTES = 1 << 16
-_NETCDF_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
-_ZARR_METADATA = ("zarr.json", ".zgroup", ".zarray")
-
-
-def is_zarr_store(path):
-    """Return True if the folder ``path`` holds Zarr metadata (format 2 or 3)."""
-    path = Path(path)
-    return path.is_dir() and any((path / name).is_file() for name in _ZARR_METADATA)
 
 
 def recording_format(path):
@@ -46,6 +37,8 @@ def recording_format(path):
     ------
     FileNotFoundError
         ``path`` does not exist.
+    ValueError
+        ``path`` is a device, pipe or socket (``/dev/null``), not a file.
 
     Examples
     --------
@@ -57,17 +50,17 @@ def recording_format(path):
     ('tekscan', None)
     """
     path = Path(path)
-    if path.is_dir():
-        return "zarr" if is_zarr_store(path) else None
+    kind = sniff(path)
+    if kind is None:
+        raise FileNotFoundError(f"{path}: no such file")
+    if kind == "special":
+        raise TactilecalError(f"{path} is not a regular file (a device, pipe or socket); "
+                              "expected a recording (Tekscan export, NetCDF file or Zarr store)")
+    if kind == "folder":
+        return None
     if path.suffix.lower() in NETCDF_SUFFIXES:
         return "netcdf"
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: no such file")
-    with path.open("rb") as fh:
-        head = fh.read(_SNIFF_BYTES)
-    if head.startswith(_NETCDF_MAGIC):
-        return "netcdf"
-    return "tekscan" if b"ASCII_DATA" in head.upper() else None
+    return kind if kind in FORMATS else None
 
 
 def open_recording(path, *, chunks=None):
@@ -121,6 +114,10 @@ def open_recording(path, *, chunks=None):
         return read_netcdf(path)
     if kind in ("netcdf", "zarr"):
         return _open_lazy(path, kind, chunks)
+    if Path(path).is_dir():
+        raise TactilecalError(f"{path} is a folder without Zarr metadata "
+                              f"({', '.join(ZARR_METADATA)}); expected a recording file or a "
+                              "Zarr store")
     raise TactilecalError(f"{path}: not a recording: no 'ASCII_DATA' line in its first 64 KiB "
                           "(Tekscan export), not NetCDF, not a Zarr store; expected one of these")
 
@@ -129,13 +126,11 @@ def _open_lazy(path, kind, chunks):
     """Open a NetCDF file or Zarr store lazily (dask) in blocks of ``chunks`` frames."""
     import xarray as xr
 
+    from tactilecal.io._netcdf import open_store
+
     options = {"engine": "zarr"} if kind == "zarr" else {}
-    try:
-        data = xr.open_dataarray(path, chunks={} if chunks is None else {"frame": chunks},
-                                 decode_times=False, decode_timedelta=False, **options)
-    except (ValueError, OSError) as exc:
-        raise TactilecalError(f"{path}: not a {kind} store with one data variable "
-                              f"({str(exc).splitlines()[0][:200]}); expected a file written by "
-                              "write_netcdf or convert") from None
+    data = open_store(lambda: xr.open_dataarray(
+        path, chunks={} if chunks is None else {"frame": chunks}, decode_times=False,
+        decode_timedelta=False, **options), path, f"{kind} store", "write_netcdf or convert")
     data.attrs.setdefault("source", str(path))
     return data

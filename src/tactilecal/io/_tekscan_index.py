@@ -15,8 +15,9 @@ import re
 import numpy as np
 
 from tactilecal._errors import TactilecalError
-from tactilecal._validate import check_size
+from tactilecal._validate import check_size, parse_number, shorten
 from tactilecal.io import _tekscan_kernels as kernels
+from tactilecal.io._header import integer
 from tactilecal.io._tekscan_layout import Index, line_text, read_header
 
 __all__ = ["BLOCK_BYTES", "Index", "index_export", "line_text"]
@@ -24,8 +25,17 @@ __all__ = ["BLOCK_BYTES", "Index", "index_export", "line_text"]
 BLOCK_BYTES = 16 * 2**20
 """Bytes read at a time while indexing, and bytes of frames parsed at a time when eager."""
 
-_FRAME = re.compile(r"Frame[ \t]+(\d+)[ \t]*(?:,[ \t]*([^,]*?)[ \t]*(?:,|$))?")
-_RAW_SUM = re.compile(r"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)")
+
+def max_line_bytes(cols):
+    """Longest line a file of ``cols`` values a row may have: 32 bytes a value, 32 MiB at least.
+
+    A longer line is an error before it is held in memory whole (memory of any read stays
+    within 3x its array + 100 MB, whatever the file).
+    """
+    return max(2**25, 32 * cols)
+
+_FRAME = re.compile(r"Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,]*?)[ \t]*(?:,|$))")
+_RAW_SUM = re.compile(r"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)")
 _COLUMNS = {"starts": np.int64, "lines": np.int64, "counts": np.int64, "numbers": np.int64,
             "times": np.float64, "raw_sums": np.float64}
 _INFO = kernels.INFO_SLOTS
@@ -74,6 +84,10 @@ def _scan(f, offset, first_line, cols, name):
         lf = np.flatnonzero(buf[:n] == 10)
         if not final and lf.size == 0:  # no whole line yet: read on (a longer buffer if full)
             if n == buf.size:
+                if n >= max_line_bytes(cols):
+                    raise TactilecalError(f"line {state[_STATE['line']]} of {name}: more than {n} "
+                                          "bytes without a line end; expected rows of "
+                                          f"{cols} values (COLS)")
                 buf = np.concatenate((buf, np.empty_like(buf)))
             carry = n
             continue
@@ -98,36 +112,57 @@ def _scan(f, offset, first_line, cols, name):
 
 
 def _python_frame_lines(buf, base, frames, numbers, values, name, errors):
-    """Parse the frame lines the kernel left (not plain ASCII) with the format's regexes."""
+    """Parse the frame lines the kernel left (not plain ASCII) with the format's regexes.
+
+    A frame line is ``Frame N`` alone or followed by ``, <time in s>, ...``; a time that
+    is not a finite number (``nan``, ``-``) and a ``Raw Sum`` that is not a number are
+    errors, never read as absent.
+    """
     for k in np.flatnonzero(frames[:, 4] == 0):
         start, end, line = frames[k, 0] - base, frames[k, 1] - base, frames[k, 2]
-        text = bytes(buf[start:end]).decode("utf-8", errors="replace")
-        match = _FRAME.match(text)
-        if match is None:
-            errors.append(TactilecalError(f"line {line} of {name}: {text[:60]!r}; expected "
-                                          "'Frame N' optionally followed by ', <time in s>, ...'"))
-            continue
-        number = int(match.group(1))
-        if not -2**63 <= number < 2**63:
-            errors.append(TactilecalError(f"line {line} of {name}: frame number {number}; expected "
-                                          "at most 2**63 - 1"))
-            continue
-        numbers[k] = number
-        if match.group(2):
-            try:
-                values[k, 0] = _float(match.group(2), f"the time in line {line} of {name}")
-            except ValueError as exc:
-                errors.append(exc)
-        raw_sum = _RAW_SUM.search(text)
-        if raw_sum:
-            values[k, 1] = float(raw_sum.group(1))
+        try:
+            text = frame_line_text(bytes(buf[start:end]), line, name)
+            numbers[k], values[k, 0], values[k, 1] = parse_frame_line(text, line, name)
+        except ValueError as exc:
+            errors.append(exc)
 
 
-def _float(text, where):
+def frame_line_text(raw, line, name):
+    """Decode a frame line: UTF-8, else strict cp1252 (undefined bytes are an error)."""
     try:
-        return float(text)
-    except ValueError:
-        raise TactilecalError(f"{where} is {text!r}; expected a number") from None
+        return raw.decode("utf-8")
+    except UnicodeDecodeError:
+        try:
+            return raw.decode("cp1252")
+        except UnicodeDecodeError as exc:
+            raise TactilecalError(f"line {line} of {name}: byte 0x{raw[exc.start]:02x} is not "
+                                  "text (UTF-8 or Windows cp1252); expected a 'Frame N' line"
+                                  ) from None
+
+
+def parse_frame_line(text, line, name):
+    """Return ``(number, time in s or NaN, Raw Sum or NaN)`` of a frame line, or raise."""
+    match = _FRAME.match(text)
+    if match is None:
+        raise TactilecalError(f"line {line} of {name}: {shorten(text, 60)}; expected 'Frame N' "
+                              "optionally followed by ', <time in s>, ...'")
+    digits = match.group(1).lstrip("0") or "0"
+    if len(digits) > 19 or int(digits) >= 2**63:
+        shown = match.group(1) if len(match.group(1)) <= 30 else match.group(1)[:27] + "..."
+        raise TactilecalError(f"line {line} of {name}: frame number {shown}; "
+                              "expected at most 2**63 - 1")
+    number = int(digits)
+    time_s = raw_sum = np.nan
+    if match.group(2):
+        time_s = parse_number(match.group(2), f"line {line} of {name}: the frame time")
+    if "Raw Sum" in text:
+        found = _RAW_SUM.search(text)
+        if found is None:
+            after = text[text.index("Raw Sum") + 7:].lstrip(" \t=,")
+            raise TactilecalError(f"line {line} of {name}: Raw Sum is {shorten(after)}; "
+                                  "expected the sum of the frame's readings (a number)")
+        raw_sum = float(found.group(1))
+    return number, time_s, raw_sum
 
 
 def _slot(info, key):
@@ -138,6 +173,10 @@ def _slot(info, key):
 def _check_structure(f, scan, first_line, rows, header, name):
     """Terminator, lines after it, unknown lines and the frame lines; return the frames."""
     state, info = scan["state"], scan["info"]
+    nul = _slot(info, "nul")
+    if nul:
+        raise TactilecalError(f"line {nul[0]} of {name}: a NUL byte (character {nul[2] + 1} of "
+                              "the line); expected text (a Tekscan ASCII export)")
     if not state[_STATE["stopped"]]:
         raise TactilecalError(f"{name} ends at line {state[_STATE['line']] - 1} without the '@@' "
                               "terminator; expected '@@' after the last frame (truncated file?)")
@@ -164,7 +203,8 @@ def _frame_lines(scan, first_line, rows, header, name):
         if n_data != rows:
             raise TactilecalError(f"{name} has {n_data} rows of values and no 'Frame N' "
                                   f"line; expected {rows} rows (ROWS) for a single frame")
-        number = int(header["START_FRAME"][0]) if "START_FRAME" in header else 1
+        number = integer(header, "START_FRAME", name, minimum=0) if "START_FRAME" in header \
+            else 1
         return (np.array([number], dtype=np.int64), np.full(1, np.nan), np.full(1, np.nan),
                 np.array([first_line]))
     first_data = _slot(scan["info"], "first_data")
@@ -180,12 +220,20 @@ def _frame_lines(scan, first_line, rows, header, name):
         raise TactilecalError(f"frame {numbers[k]} of {name} (line {lines[k]}) "
                               f"has {counts[k]} rows of values; expected {rows} (ROWS)"
                               + (" (truncated file?)" if k == len(numbers) - 1 else ""))
-    order = np.flatnonzero(np.diff(numbers) <= 0)
+    check_numbering(numbers, lines, name)
+    return numbers, scan["times"], scan["raw_sums"], lines
+
+
+def check_numbering(numbers, lines, name):
+    """Frames numbered one by one: a missing, repeated or out-of-order number is an error."""
+    order = np.flatnonzero(np.diff(numbers) != 1)
     if order.size:
         k = order[0] + 1
-        raise TactilecalError(f"line {lines[k]} of {name}: frame {numbers[k]} "
-                              f"follows frame {numbers[k - 1]}; expected increasing frame numbers")
-    return numbers, scan["times"], scan["raw_sums"], lines
+        what = ("frames missing or out of order" if numbers[k] > numbers[k - 1] else
+                "a frame repeated" if numbers[k] == numbers[k - 1] else "frames out of order")
+        raise TactilecalError(f"line {lines[k]} of {name}: frame {numbers[k]} follows frame "
+                              f"{numbers[k - 1]} ({what}); expected frame {numbers[k - 1] + 1}: "
+                              "frames are numbered one by one")
 
 
 def _check_lines(f, scan, rows, cols, lines, name, whole):
@@ -195,7 +243,8 @@ def _check_lines(f, scan, rows, cols, lines, name, whole):
     if found:
         line, offset, length, _ = found
         f.seek(offset)
-        raise TactilecalError(f"line {line} of {name}: {f.read(length)[:60]!r} has '_' inside a "
+        raise TactilecalError(f"line {line} of {name}: {shorten(f.read(length)[:60], 60)} has "
+                              "'_' inside a "
                               "value; expected numbers or 'B' separated by commas")
     found = _slot(info, "lone_cr")
     if found:

@@ -33,7 +33,7 @@ _POW10 = np.array([10.0 ** i for i in range(23)])
 _MAX_EXACT = 2**53
 # first occurrence of each structural fact: (line number, byte offset of the line, a, b)
 INFO_SLOTS = {"other": 0, "first_data": 1, "underscore": 2, "lone_cr": 3, "row_length": 4,
-              "stray_f": 5, "terminator": 6, "after": 7, "first_frame": 8}
+              "stray_f": 5, "terminator": 6, "after": 7, "first_frame": 8, "nul": 9}
 # running state carried from one block of lines to the next
 STATE_SLOTS = {"line": 0, "stopped": 1, "n_data": 2, "widest": 3, "spaced": 4,
                "n_lines": 5, "end": 6}
@@ -58,6 +58,14 @@ def _is_space(c):
 def _is_data_start(c):
     """First byte of a row of values: a digit, ``B``, a sign or a point."""
     return (48 <= c <= 57) or c == 66 or c == 45 or c == 43 or c == 46
+
+
+@njit(nogil=True, inline="always")
+def _skip_space(buf, pos, end):
+    """First position from ``pos`` that is not a space, tab, VT or FF (``end - 1`` at most)."""
+    while pos < end - 1 and _is_space(buf[pos]):
+        pos += 1
+    return pos
 
 
 @njit(nogil=True)
@@ -151,6 +159,8 @@ def _frame_line(buf, start, end):
     time_s = nan
     while pos < end and (buf[pos] == 32 or buf[pos] == 9):
         pos += 1
+    if pos < end and buf[pos] != _COMMA:  # "Frame 5x", "Frame 96 -5": the regexes refuse it
+        return False, 0, nan, nan
     if pos < end and buf[pos] == _COMMA:
         pos += 1
         while pos < end and (buf[pos] == 32 or buf[pos] == 9):
@@ -203,6 +213,8 @@ def _raw_sum(buf, start, end):
             while stop < end and 48 <= buf[stop] <= 57:
                 stop += 1
                 n_digits += 1
+        if stop < end and not (buf[stop] == 32 or buf[stop] == 9 or buf[stop] == _COMMA):
+            return False, np.nan  # "Raw Sum=,,12abc": the regexes refuse it
         status, value, _ = _number(buf, pos, stop)
         return status == 0 and n_digits <= 15, value
     return True, np.nan
@@ -267,16 +279,18 @@ def index_lines(buf, n, lf, base, final, cols, state, info):
         for i in range(pos, stop):  # branch-free, so the compiler vectorises it
             c = buf[i]
             commas += c == _COMMA
-            special += (c == _UNDERSCORE) | (c == _F) | (c == _CR)
+            special += (c == _UNDERSCORE) | (c == _F) | (c == _CR) | (c == 0)
         end = stop - 1 if stop > pos and buf[stop - 1] == _CR else stop
         under, has_f, lone = False, False, -1
+        offset = base + pos
         if special:
             for i in range(pos, stop):
                 under |= buf[i] == _UNDERSCORE
                 has_f |= buf[i] == _F
                 if buf[i] == _CR and lone < 0 and i != end:
                     lone = i
-        offset = base + pos
+                if buf[i] == 0:
+                    _first(info, 9, line, offset, i - pos, 0)
         if state[s_stop]:
             for i in range(pos, end):
                 if not (_is_space(buf[i]) or buf[i] == _CR or buf[i] == _LF):
@@ -307,7 +321,7 @@ def index_lines(buf, n, lf, base, final, cols, state, info):
                     numbers[k_frame] = number
                     values[k_frame, 0], values[k_frame, 1] = time_s, raw_sum
                 _first(info, 8, line, offset, 0, 0)
-            elif _is_data_start(buf[pos]):
+            elif _is_data_start(buf[_skip_space(buf, pos, end)]):
                 if state[s_spaced] < 0:
                     state[s_spaced] = 0
                     for i in range(pos, end - 1):
@@ -400,16 +414,15 @@ def parse_rows(buf, pos, end, out, k, cols, per_frame, spaced, raw, sums, bad, s
                     stop += 1
                 if stop < end and (buf[stop] == _COMMA or buf[stop] == _LF or buf[stop] == _CR):
                     status, value, pos = 0, float(whole), stop
-            if status != 3:
-                pass
-            elif pos < end and buf[pos] == _B:
-                pos += 1
-                value = np.nan
-                status = 0
-            else:
+            if status == 3:  # spaces around a number or a B are read alike
                 while pos < end and _is_space(buf[pos]):
                     pos += 1
-                status, value, pos = _number(buf, pos, end)
+                if pos < end and buf[pos] == _B:
+                    pos += 1
+                    value = np.nan
+                    status = 0
+                else:
+                    status, value, pos = _number(buf, pos, end)
                 while pos < end and _is_space(buf[pos]):
                     pos += 1
             at_end = pos >= end or buf[pos] == _LF or (

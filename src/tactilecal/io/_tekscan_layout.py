@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tactilecal._errors import TactilecalError
+from tactilecal._validate import MAX_FIELD_CHARS, check_line_ends, decode_text
 from tactilecal.io._header import header_attrs, integer, parse_header_lines
 
 __all__ = ["Header", "Index", "read_header", "line_text"]
@@ -62,17 +63,30 @@ class Index:
         return self.attrs.get("units") in (None, "raw")
 
 
+MAX_HEADER_BYTES = 16 * 2**20
+"""Most bytes before ``ASCII_DATA @@`` (real headers are about 1 KB)."""
+
+UTF8_BOM = b"\xef\xbb\xbf"
+
+
 def read_header(f, name):
     """Read and check the header of the open export ``f`` (binary) up to ``ASCII_DATA @@``.
+
+    The header is decoded by :func:`tactilecal._validate.decode_text` (UTF-8 with or without
+    byte-order mark, else strict cp1252; a NUL byte is an error); a carriage return inside a
+    line is an error, not a line break.
 
     Raises
     ------
     ValueError
-        Empty file, no ``ASCII_DATA @@`` line, no ``ROWS``/``COLS`` line, or a header value
-        :func:`~tactilecal.io._header.header_attrs` refuses; messages name the file and line.
+        Empty file, no ``ASCII_DATA @@`` line, a header over :data:`MAX_HEADER_BYTES` or a
+        header line over :data:`tactilecal._validate.MAX_FIELD_CHARS`, no ``ROWS``/``COLS``
+        line, or a header value :func:`~tactilecal.io._header.header_attrs` refuses;
+        messages name the file and line.
     """
     raw, marker = _read_header(f, name)
-    header = parse_header_lines(_decode(raw[:marker.start()]).splitlines(), name)
+    lines = _header_lines(raw[:marker.start()], name)
+    header = parse_header_lines(lines, name)
     header_lines = raw.count(b"\n", 0, marker.start()) + 1
     for key in ("ROWS", "COLS"):
         if key not in header:
@@ -86,11 +100,17 @@ def read_header(f, name):
                   first_line=raw.count(b"\n", 0, marker.end()) + 1, body=marker.end())
 
 
-def _decode(header_bytes):
-    try:
-        return header_bytes.decode("utf-8")
-    except UnicodeDecodeError:
-        return header_bytes.decode("cp1252", errors="replace")
+def _header_lines(header_bytes, name):
+    """Return the header's lines, decoded; NUL, undefined bytes, a lone CR, a huge line refused."""
+    text = decode_text(header_bytes.removeprefix(UTF8_BOM), name,
+                       expected="a Tekscan ASCII export")
+    check_line_ends(text, name)
+    lines = text.replace("\r\n", "\n").split("\n")
+    long = next((k for k, line in enumerate(lines) if len(line) > MAX_FIELD_CHARS), None)
+    if long is not None:
+        raise TactilecalError(f"line {long + 1} of {name}: a header line of {len(lines[long])} "
+                              f"characters; expected at most {MAX_FIELD_CHARS}")
+    return lines
 
 
 def _read_header(f, name):
@@ -102,14 +122,21 @@ def _read_header(f, name):
         # the marker line may straddle the previous read: search from the last line start
         marker = _MARKER.search(raw, max(0, raw.rfind(b"\n", 0, len(raw) - len(chunk))))
         if marker is not None and (marker.end() < len(raw) or not chunk):
+            if marker.start() > MAX_HEADER_BYTES:
+                break
             return raw, marker
-        if not chunk:
+        if not chunk or len(raw) > MAX_HEADER_BYTES:
             break
     if not raw or raw.isspace():
         raise TactilecalError(f"{name} is empty; expected a Tekscan ASCII export "
                               "('KEY value' header, 'ASCII_DATA @@', frames, '@@')")
-    raise TactilecalError(f"{name} has no 'ASCII_DATA @@' line (after "
-                          f"{len(raw.splitlines())} lines); expected a Tekscan ASCII export")
+    if len(raw) > MAX_HEADER_BYTES:
+        raise TactilecalError(f"{name} has no 'ASCII_DATA @@' line in its first "
+                              f"{MAX_HEADER_BYTES} bytes; expected a Tekscan ASCII export (a "
+                              "header of a few KB)")
+    n_lines = len(raw.splitlines())
+    raise TactilecalError(f"{name} has no 'ASCII_DATA @@' line (after {n_lines} lines); "
+                          "expected a Tekscan ASCII export")
 
 
 def line_text(f, offset, length):

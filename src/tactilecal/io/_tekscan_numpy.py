@@ -36,8 +36,9 @@ _MAX_DIGITS = 15  # a whole number of up to 15 digits is below 2**53: exact in f
 _MASKS = {size: np.array([(2**(8 * size) - 1) ^ (2**(8 * (size - n)) - 1) if n <= size else 0
                           for n in range(_MAX_DIGITS + 1)], dtype=f"<u{size}")
           for size in (4, 8)}
-_FRAME = re.compile(rb"Frame[ \t]+(\d+)[ \t]*(?:,[ \t]*([^,]*?)[ \t]*(?:,|$))?")
-_RAW_SUM = re.compile(rb"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)")
+_FRAME = re.compile(rb"Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,]*?)[ \t]*(?:,|$))")
+_RAW_SUM = re.compile(rb"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)")
+_TIME = re.compile(rb"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 _SPACE = b" \t\x0b\x0c\r\n"
 _LF, _CR, _COMMA, _AT, _B, _F = 10, 13, 44, 64, 66, 70
 
@@ -82,7 +83,7 @@ def _read(f, name, head):
         raise _NotPlain  # more values than the file has room for (a value and a comma each)
     values = np.empty((max(n_frames, 1), head.rows, head.cols))
     flat = values.reshape(-1)
-    raw = head.attrs.get("units") in (None, "raw") and n_frames > 0
+    raw = head.attrs.get("units") in (None, "raw")
     f.seek(head.body)
     parts = _in_order(lambda job: _Block(head, flat, raw, n_frames == 0, *job),
                       _jobs(f, head, n_frames))
@@ -123,8 +124,11 @@ def _jobs(f, head, n_frames):
     """
     carry, base, k, line = b"", head.body, 0, head.first_line
     per_frame = head.rows * head.cols
+    largest = 17 * per_frame + 2 * head.rows + 2**20  # a plain frame: 15 digits and a comma
     while True:
         chunk = f.read(BLOCK_BYTES)
+        if len(carry) > largest:
+            raise _NotPlain  # more bytes than a plain frame holds: the numba reader says why
         data = carry + chunk
         if not chunk:
             if data:
@@ -170,6 +174,8 @@ class _Block:
     def __init__(self, head, flat, raw, single, block, base, k, line):
         self.frames, self.sums, self.end = None, None, None
         self.n_values = 0
+        if block.find(b"\x00") >= 0:
+            raise _NotPlain  # numba's "a NUL byte"
         b = np.frombuffer(block, dtype=np.uint8)
         lf = np.flatnonzero(b == _LF)
         starts = np.empty_like(lf)
@@ -213,8 +219,10 @@ def _frame_lines(block, starts, ends):
             raise _NotPlain
         numbers[j] = int(match.group(1))
         times[j] = _number(match.group(2)) if match.group(2) else np.nan
-        raw_sum = _RAW_SUM.search(text)
-        if raw_sum:
+        if b"Raw Sum" in text:
+            raw_sum = _RAW_SUM.search(text)
+            if raw_sum is None:
+                raise _NotPlain  # numba's "Raw Sum is ..."
             raw_sums[j] = _number(raw_sum.group(1))
     return numbers, times, raw_sums
 
@@ -265,7 +273,7 @@ def _index(f, name, head, parts, n_frames, raw):
     else:
         starts, lines, numbers, times, raw_sums = (
             np.concatenate(column) for column in zip(*(p.frames for p in parts), strict=True))
-    if len(numbers) != max(n_frames, 1) or (np.diff(numbers) <= 0).any():
+    if len(numbers) != max(n_frames, 1) or (np.diff(numbers) != 1).any():
         raise _NotPlain
     if sum(p.n_values for p in parts) != len(numbers) * head.rows * head.cols:
         raise _NotPlain  # numba's "... rows of values and no 'Frame N' line ..."
@@ -340,10 +348,12 @@ def _digit_by_digit(b, stops, length):
 
 
 def _number(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise _NotPlain from None
+    """Return the finite number ``text`` (no ``nan``, ``inf``, ``1_0``), else the numba reader's."""
+    if not _TIME.fullmatch(text):
+        raise _NotPlain
+    value = float(text)
+    if not np.isfinite(value):
+        raise _NotPlain
     return value
 
 

@@ -27,7 +27,8 @@ import numpy as np
 import xarray as xr
 
 from tactilecal._errors import TactilecalError
-from tactilecal._validate import check_size
+from tactilecal._validate import check_size, shorten
+from tactilecal.io._header import integer
 
 __all__ = ["read_tekscan"]
 
@@ -47,12 +48,15 @@ def read_tekscan(path, *, chunks=None):
     Parameters
     ----------
     path : str or os.PathLike
-        The export (movie or single frame, LF or CRLF line endings, any extension).
+        The export (movie or single frame, LF or CRLF line endings, any extension), in
+        ASCII, UTF-8 (with or without byte-order mark), Windows cp1252 or UTF-16 with its
+        byte-order mark.
     chunks : int, optional
         Frames per block of a lazy, dask-backed result: the file is indexed (every check
         that needs no value is done) and each block parses its own byte range when
         computed, so a recording larger than memory can be streamed (e.g. to Zarr with
-        :func:`tactilecal.io.convert`). Default: read everything now into NumPy.
+        :func:`tactilecal.io.convert`). Default: read everything now into NumPy. (A UTF-16
+        export is converted to UTF-8 in a temporary file and read into memory first.)
 
     Returns
     -------
@@ -68,8 +72,12 @@ def read_tekscan(path, *, chunks=None):
     ValueError
         Empty file, missing ``ASCII_DATA @@``, ``ROWS`` or ``COLS``, a frame with the wrong
         number of rows, a row with the wrong number of values, a non-numeric value, a
-        ``Raw Sum`` in a frame line that differs from the frame's sum (raw files), an unknown
-        unit, no ``@@`` terminator. Messages name the file and line. With ``chunks``, faults
+        ``Raw Sum`` in a frame line that is not a number or differs from the frame's sum
+        (raw files), frames not numbered one by one or disagreeing with ``START_FRAME`` /
+        ``END_FRAME``, frame times on some frame lines only, or not finite, negative or not
+        increasing, an unknown unit or one that is no pressure or force (``UNITS mm``), a NUL
+        byte, a byte that is no text, a carriage return inside a line, no ``@@``
+        terminator. Messages name the file and line. With ``chunks``, faults
         in the values (not a number, not a raw reading, ``Raw Sum``) raise when the block
         holding them is computed.
     TypeError
@@ -93,11 +101,52 @@ def read_tekscan(path, *, chunks=None):
     """
     from pathlib import Path
 
-    from tactilecal.io._tekscan_layout import read_header
-
     name = str(path)
     chunks = _check_chunks(chunks)
     with open(Path(path), "rb") as f:
+        utf16 = f.read(2) in UTF16_BOMS
+    if utf16:
+        return _read_utf16(Path(path), name, chunks)
+    return _read(Path(path), name, chunks)
+
+
+UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+_TRANSCODE_BYTES = 2**24
+
+
+def _read_utf16(path, name, chunks):
+    """Read a UTF-16 export: transcoded to UTF-8 in a temporary file (lines kept), eagerly."""
+    import codecs
+    import tempfile
+
+    decoder = codecs.getincrementaldecoder("utf-16")()
+    with tempfile.TemporaryDirectory(prefix="tactilecal-utf16-") as folder:
+        tmp = os.path.join(folder, "export.txt")
+        lines = 1
+        with open(path, "rb") as src, open(tmp, "wb") as out:
+            while True:
+                chunk = src.read(_TRANSCODE_BYTES)
+                try:
+                    text = decoder.decode(chunk, final=not chunk)
+                except UnicodeDecodeError:
+                    raise TactilecalError(f"line {lines} of {name} or the next: bytes that are "
+                                          "not UTF-16 after its byte-order mark; expected a "
+                                          "Tekscan ASCII export") from None
+                lines += text.count("\n")
+                out.write(text.encode("utf-8"))
+                if not chunk:
+                    break
+        data = _read(tmp, name, None)
+    return data if chunks is None else data.chunk({"frame": chunks})
+
+
+def _read(path, name, chunks):
+    """Read the (ASCII-compatible) export at ``path``; messages name it ``name``."""
+    from pathlib import Path
+
+    from tactilecal.io._tekscan_layout import read_header
+
+    with open(path, "rb") as f:
         head = read_header(f, name)
         size = os.fstat(f.fileno()).st_size - head.body
         if chunks is None and (PLAIN_MAX_BYTES is None or size <= PLAIN_MAX_BYTES):
@@ -204,35 +253,71 @@ def _recording(values, index):
     index_time[0] = 0.0
     times = np.where(np.isnan(index.times), index_time, index.times)
     attrs["source"] = index.name
-    data = xr.DataArray(
-        values, dims=("frame", "row", "col"),
-        coords={"frame": np.asarray(index.numbers, dtype=np.int64), "time": ("frame", times),
-                "row": np.arange(index.rows, dtype=np.int64),
-                "col": np.arange(index.cols, dtype=np.int64)},
-        attrs=attrs)
-    data.name = None  # xarray names a DataArray after a dask array's graph key
-    return data
+    dims = {"frame": np.asarray(index.numbers, dtype=np.int64),
+            "row": np.arange(index.rows, dtype=np.int64),
+            "col": np.arange(index.cols, dtype=np.int64)}
+    if not isinstance(values, np.ndarray):  # lazy: dask is imported already
+        data = xr.DataArray(values, dims=tuple(dims), coords={**dims, "time": ("frame", times)},
+                            attrs=attrs)
+        data.name = None  # xarray names a DataArray after a dask array's graph key
+        return data
+    return xr.DataArray(_variable(tuple(dims), values), coords=_coordinates(dims, times),
+                        attrs=attrs)
+
+
+def _variable(dims, values):
+    """Return the ``xarray.Variable`` of a NumPy array as it is (no conversion, no import)."""
+    return xr.Variable(dims, values, fastpath=True)
+
+
+def _coordinates(dims, times):
+    """Return the recording's coordinates, their indexes built here.
+
+    Building them from NumPy arrays, xarray asks whether each is a dask array, which imports
+    dask (0.2 s) and, for the data, ``dask.array`` and SciPy (1 s in a new process): more
+    than the whole read of a 6,000-frame export, for a reader that uses neither.
+    """
+    import pandas as pd
+
+    indexes = {dim: xr.indexes.PandasIndex(pd.Index(values, name=dim), dim)
+               for dim, values in dims.items()}
+    variables = {dim: _variable((dim,), values) for dim, values in dims.items()}
+    return xr.Coordinates({**variables, "time": _variable(("frame",), times)}, indexes=indexes)
 
 
 def _check_frames(numbers, times, lines, header, name):
-    """Frame times finite and increasing; START_FRAME/END_FRAME match the frames present."""
-    given = np.flatnonzero(~np.isnan(times))
-    bad = given[~np.isfinite(times[given])]
-    if bad.size:
-        k = bad[0]
-        raise TactilecalError(f"frame {numbers[k]} of {name} (line {lines[k]}): time "
-                              f"{times[k]}; expected a finite time in s")
-    steps = np.flatnonzero(np.diff(times[given]) <= 0)
-    if steps.size:
-        k = given[steps[0] + 1]
-        raise TactilecalError(f"frame {numbers[k]} of {name} (line {lines[k]}): time "
-                              f"{times[k]:g} s does not come after the previous frame's "
-                              f"{times[given[steps[0]]]:g} s; expected increasing frame times")
+    """Frame times and the header's frame range (the index checked the numbering).
+
+    Times are on every frame line (I-Scan) or on none (F-Scan); given, they are finite,
+    not negative and increasing. ``START_FRAME`` and ``END_FRAME``, when given, are the
+    first and last frame numbers, so no frame block is missing at either end (a missing one
+    inside breaks the numbering).
+    """
+    given = ~np.isnan(times)
+    if given.any() and not given.all():
+        k = int(np.flatnonzero(given != given[0])[0])
+        has = "a time" if given[k] else "no time"
+        other = "none" if given[k] else "one"
+        raise TactilecalError(f"line {lines[k]} of {name}: frame {numbers[k]} has {has} in its "
+                              f"frame line but frame {numbers[0]} has {other}; expected a time on "
+                              "every frame line or on none")
+    if given.all():
+        bad = np.flatnonzero(~np.isfinite(times) | (times < 0))
+        if bad.size:
+            k = bad[0]
+            raise TactilecalError(f"line {lines[k]} of {name}: frame {numbers[k]} has the time "
+                                  f"{times[k]:g} s; expected a finite time >= 0 s")
+        steps = np.flatnonzero(np.diff(times) <= 0)
+        if steps.size:
+            k = steps[0] + 1
+            raise TactilecalError(f"line {lines[k]} of {name}: frame {numbers[k]} has the time "
+                                  f"{times[k]:g} s, not after frame {numbers[k - 1]}'s "
+                                  f"{times[k - 1]:g} s; expected increasing frame times")
     for key, k in (("START_FRAME", 0), ("END_FRAME", -1)):
-        if key in header and len(numbers) > 1:
+        if key in header:
             value, line = header[key]
-            if value.strip() != str(numbers[k]):
-                raise TactilecalError(f"line {line} of {name}: {key} is {value!r} but the "
+            if integer(header, key, name, minimum=0) != numbers[k]:
+                raise TactilecalError(f"line {line} of {name}: {key} is {shorten(value)} but the "
                                       f"{'first' if k == 0 else 'last'} frame is {numbers[k]} "
-                                      "(frames missing, or the header edited?); expected them "
-                                      "to agree")
+                                      f"({len(numbers)} frames: frames missing, or the header "
+                                      "edited?); expected them to agree")

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from tactilecal._atomic import atomic_path
+from tactilecal._atomic import atomic_path, check_target
 from tactilecal._errors import TactilecalError
 from tactilecal._units import area_to_mm2, length_to_mm, normalise_unit
 from tactilecal.io._header import _UPPER_KEY, parse_header_lines
@@ -14,7 +14,7 @@ _LUT_MAX = 100_000
 _BLOCK_VALUES = 2_000_000  # values formatted per block (bounds memory to ~100 MB)
 
 
-def write_tekscan(data, path, *, newline="\n"):
+def write_tekscan(data, path, *, newline="\n", overwrite=False):
     r"""Write a recording as a Tekscan ASCII export that :func:`read_tekscan` reads back.
 
     The header is the file's original header (``tekscan_<KEY>`` attributes, verbatim) with
@@ -37,12 +37,16 @@ def write_tekscan(data, path, *, newline="\n"):
         Output file, written atomically.
     newline : {"\n", "\r\n"}, keyword-only
         Line ending (Tekscan software on Windows writes ``"\r\n"``).
+    overwrite : bool, keyword-only
+        Replace an existing ``path`` (only a Tekscan export; default False: an existing
+        ``path`` is an error).
 
     Raises
     ------
     ValueError
         Wrong dims, missing ``frame`` coordinate, infinite values, frame numbers not
-        increasing, a header value that would not read back.
+        increasing, a header value that would not read back; ``path`` exists (without
+        ``overwrite``, or is no Tekscan export).
 
     Examples
     --------
@@ -69,6 +73,7 @@ def write_tekscan(data, path, *, newline="\n"):
     """
     if newline not in ("\n", "\r\n"):
         raise TactilecalError(f"newline={newline!r}; expected '\\n' or '\\r\\n'")
+    check_target(path, overwrite=overwrite, kind="tekscan")
     values, frames, times = _checked_arrays(data)
     header = "\n".join([*_header_lines(data, frames), "ASCII_DATA @@", ""]) + "\n"
     frame_lines = _frame_lines(data, values, frames, times)

@@ -1,6 +1,8 @@
 """Reader for load-cell / force-time CSV files with a header row."""
 
+import array
 import io
+import math
 import re
 from pathlib import Path
 
@@ -8,7 +10,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from tactilecal._atomic import write_text_atomic
+from tactilecal._atomic import check_target, write_text_atomic
 from tactilecal._errors import TactilecalError
 from tactilecal._units import (
     _HINT,
@@ -19,7 +21,7 @@ from tactilecal._units import (
     unit_from_column,
     unit_kind,
 )
-from tactilecal._validate import csv_rows, read_text
+from tactilecal._validate import csv_rows, parse_number, read_text, shorten
 
 __all__ = ["read_timeseries", "write_timeseries"]
 
@@ -39,27 +41,37 @@ def _pick(columns, choice, default, role, name):
     return choice
 
 
-def _first_bad_cell(text, column, name):
+def _first_bad_cell(text, column, index, name):
     """Slow path (only after the fast parse failed): raise naming the first bad cell's line."""
-    table = _as_text(text, name)
-    raw = table[column]
-    values = pd.to_numeric(raw, errors="coerce").to_numpy(dtype=np.float64)
-    bad = np.flatnonzero(~np.isfinite(values))
-    if bad.size:
-        line = table.index[bad[0]] + 2
-        cell = raw.iloc[bad[0]]
-        found = "an empty cell" if str(cell).strip() == "" else repr(cell)
-        raise TactilecalError(f"line {line} of {name}, column {column!r}: {found}; expected a "
-                              "finite number")
+    for k, (line, cells) in enumerate(csv_rows(text, name)):
+        cell = cells[index]
+        if k and not _finite(cell):
+            found = "an empty cell" if cell == "" else shorten(cell)
+            raise TactilecalError(f"line {line} of {name}, column {column!r}: {found}; expected "
+                                  "a finite number")
 
 
-def _as_text(text, name):
-    """Every cell as text, blank lines dropped, index = 0-based line number after the header."""
-    table = _read_csv(text, name, dtype=str, skip_blank_lines=False, keep_default_na=False,
-                      skipinitialspace=True)
-    table.columns = [str(c).strip() for c in table.columns]
-    blank = (table.fillna("").apply(lambda column: column.str.strip()) == "").all(axis=1)
-    return table[~blank.to_numpy()]
+def _finite(cell):
+    try:
+        return math.isfinite(parse_number(cell, "cell"))
+    except ValueError:
+        return False
+
+
+def _rows(text, name):
+    """One pass over the rows (every row as wide as the header, no lone CR).
+
+    Returns the header's cells and the file line number of each data row.
+    """
+    header, lines = None, array.array("q")
+    for line, cells in csv_rows(text, name):
+        if header is None:
+            header = cells
+        else:
+            lines.append(line)
+    if header is None:
+        raise TactilecalError(f"{name} is empty; expected a header row and at least 2 rows")
+    return header, np.frombuffer(lines, dtype=np.int64) if lines else np.zeros(0, np.int64)
 
 
 def read_timeseries(path, time_col=None, value_col=None):
@@ -102,9 +114,7 @@ def read_timeseries(path, time_col=None, value_col=None):
     path = Path(path)
     name = str(path)
     text = read_text(path, expected="a CSV file with a header row")
-    for _ in csv_rows(text, name):  # one pass: a lone CR or a row of another width
-        pass
-    columns = _columns(text, name)
+    columns, lines = _rows(text, name)
     t_name = _pick(columns, time_col, 0, "time_col", name)
     v_name = _pick(columns, value_col, 1, "value_col", name)
     t_unit = unit_from_column(t_name, where=f"column {t_name!r} of {name}") or "s"
@@ -117,25 +127,21 @@ def read_timeseries(path, time_col=None, value_col=None):
     steps = np.flatnonzero(np.diff(times) <= 0)
     if steps.size:
         i = steps[0] + 1
-        line = _line_numbers(text, name)[i] if len(times) else i + 2
-        raise TactilecalError(f"line {line} of {name}: time {times[i]:g} s follows "
+        raise TactilecalError(f"line {lines[i]} of {name}: time {times[i]:g} s follows "
                               f"{times[i - 1]:g} s; expected strictly increasing times")
     return xr.DataArray(values, dims="time", coords={"time": times}, name=str(v_name),
                         attrs={"units": units, "source": name, "column": str(v_name),
                                "time_column": str(t_name)})
 
 
-def _columns(text, name):
-    if not text.strip():
-        raise TactilecalError(f"{name} is empty; expected a header row and at least 2 rows")
-    header = _read_csv(text, name, nrows=0, skipinitialspace=True)
-    return [str(c).strip() for c in header.columns]
-
-
 def _read_csv(text, name, **kwargs):
-    """pandas.read_csv on decoded text; a malformed row is a ValueError naming the file."""
+    """pandas.read_csv on decoded text; a malformed row is a ValueError naming the file.
+
+    The text goes to pandas as UTF-8 bytes: a ``StringIO`` would hold it at 4 bytes a
+    character (memory of a read: 3x its array + 100 MB at most).
+    """
     try:
-        return pd.read_csv(io.StringIO(text), **kwargs)
+        return pd.read_csv(io.BytesIO(text.encode("utf-8")), encoding="utf-8", **kwargs)
     except pd.errors.ParserError as exc:
         detail = " ".join(str(exc).split()).replace("Error tokenizing data. C error: ", "")
         raise TactilecalError(f"{name}: {detail}; expected the same number of comma-separated "
@@ -145,8 +151,8 @@ def _read_csv(text, name, **kwargs):
 def _load_columns(text, columns, t_name, v_name, name):
     """Both columns as float64 in one C-parser pass; on any problem find the bad line."""
     wanted = sorted({columns.index(t_name), columns.index(v_name)})
-    try:  # every column is parsed (no usecols), so a row with an extra value is an error
-        table = _read_csv(text, name, header=0, names=range(len(columns)),
+    try:  # csv_rows checked that every row is as wide as the header: only the two are kept
+        table = _read_csv(text, name, header=0, names=range(len(columns)), usecols=wanted,
                           dtype=dict.fromkeys(wanted, np.float64), keep_default_na=False,
                           skipinitialspace=True, engine="c")
         table = table[wanted]
@@ -156,19 +162,13 @@ def _load_columns(text, columns, t_name, v_name, name):
     except ValueError:
         ok = False
     if not ok:
-        _as_text(text, name)  # a row with too many values: named by pandas' line count
-        _first_bad_cell(text, t_name, name)
-        _first_bad_cell(text, v_name, name)
+        _first_bad_cell(text, t_name, columns.index(t_name), name)
+        _first_bad_cell(text, v_name, columns.index(v_name), name)
         raise TactilecalError(f"{name}: columns {t_name!r}, {v_name!r} could not be read as "
                               "numbers")  # pragma: no cover - the slow path names the cell
     if len(pair[0]) < 2:
         raise TactilecalError(f"{name} has {len(pair[0])} data rows; expected at least 2")
     return pair
-
-
-def _line_numbers(text, name):
-    """File line number of each data row (blank lines skipped), for error messages."""
-    return np.asarray(_as_text(text, name).index) + 2
 
 
 def _convert_values(values, column, name):
@@ -185,7 +185,7 @@ def _convert_values(values, column, name):
     return values, unit
 
 
-def write_timeseries(series, path):
+def write_timeseries(series, path, *, overwrite=False):
     r"""Write a 1-D time series as a CSV that :func:`read_timeseries` reads back exactly.
 
     The header is ``Time (s),<name> (<units>)``: ``<name>`` is the series' ``column``
@@ -200,6 +200,8 @@ def write_timeseries(series, path):
         returned by :func:`read_timeseries` or the simulators.
     path : str or os.PathLike
         Output CSV, written atomically (the folder must exist).
+    overwrite : bool, keyword-only
+        Replace an existing ``path`` (only a CSV table; default False: an error).
 
     Returns
     -------
@@ -221,6 +223,7 @@ def write_timeseries(series, path):
     ('Time (s),Load (N)', [1500.0, 2000.0])
     """
     path = Path(path)
+    check_target(path, overwrite=overwrite, kind="csv")
     name = str(series.attrs.get("source", series.name or "series"))
     if series.ndim != 1 or "time" not in series.coords:
         raise TactilecalError(f"{name}: dims {tuple(series.dims)} without a 'time' coordinate; "
@@ -229,10 +232,10 @@ def write_timeseries(series, path):
     values = np.asarray(series.values, dtype=np.float64)
     if times.size < 2:
         raise TactilecalError(f"{name}: {times.size} samples; expected at least 2 (writing {path})")
-    for what, array in (("time", times), ("value", values)):
-        bad = np.flatnonzero(~np.isfinite(array))
+    for what, column in (("time", times), ("value", values)):
+        bad = np.flatnonzero(~np.isfinite(column))
         if bad.size:
-            raise TactilecalError(f"{name}: {what} at position {bad[0]} is {array[bad[0]]}; "
+            raise TactilecalError(f"{name}: {what} at position {bad[0]} is {column[bad[0]]}; "
                                   f"expected finite numbers (writing {path})")
     steps = np.flatnonzero(np.diff(times) <= 0)
     if steps.size:

@@ -7,7 +7,7 @@ from datetime import UTC, datetime
 from importlib import metadata
 from pathlib import Path
 
-from tactilecal._atomic import write_text_atomic
+from tactilecal._atomic import check_target, write_text_atomic
 from tactilecal._errors import TactilecalError
 from tactilecal._progress import resolve
 from tactilecal._version import __version__
@@ -100,12 +100,21 @@ def _section(kind, obj, label, context):
         return filter_blocks(obj, label)
     if kind == "evaluation":
         return evaluation_blocks(obj, label)
-    blocks = []
-    if obj.attrs.get("units") == "raw" and context["calibration"] is None \
+    blocks, calibration = [], context["calibration"]
+    if obj.attrs.get("units") == "raw" and calibration is None \
             and context["n_calibrations"] > 1:
         blocks.append(note_html(f"{context['n_calibrations']} calibrations among the inputs: "
                                 "give one with calibration=/--cal to analyse raw recordings"))
-    return blocks + recording_blocks(obj, label, calibration=context["calibration"],
+    if obj.attrs.get("units", "raw") != "raw" and calibration is not None:
+        if context["given"]:
+            raise TactilecalError(f"calibration= (--cal) applies to raw recordings, but {label} "
+                                  f"is already calibrated (units {obj.attrs['units']!r}); "
+                                  "expected raw recordings, or no calibration=")
+        blocks.append(note_html(f"{label} is already calibrated (units "
+                                f"{obj.attrs['units']}): the calibration among the inputs is "
+                                "not applied to it"))
+        calibration = None
+    return blocks + recording_blocks(obj, label, calibration=calibration,
                                      threshold_kPa=context["threshold_kPa"],
                                      nonworking=context["nonworking"],
                                      cof_min_force_N=context["cof_min_force_N"])
@@ -132,6 +141,7 @@ def build_report(inputs, *, calibration=None, filter=None, title=None, threshold
     loaded = _load_all(inputs, calibration, filter, progress)
     calibrations = _of("calibration", loaded)
     context = {"calibration": _pick_calibration(_given_calibration(calibration, loaded), loaded),
+               "given": calibration is not None,
                "n_calibrations": len(calibrations), "threshold_kPa": threshold_kPa,
                "nonworking": nonworking, "cof_min_force_N": cof_min_force_N}
     body = []
@@ -150,7 +160,8 @@ def build_report(inputs, *, calibration=None, filter=None, title=None, threshold
 
 
 def write_report(inputs, path, *, calibration=None, filter=None, title=None, threshold_kPa=0.0,
-                 nonworking=None, cof_min_force_N=None, command=None, progress=None):
+                 nonworking=None, cof_min_force_N=None, command=None, progress=None,
+                 overwrite=False):
     """Write one self-contained HTML report (figures embedded as 2x PNG).
 
     Parameters
@@ -187,6 +198,8 @@ def write_report(inputs, path, *, calibration=None, filter=None, title=None, thr
     progress : callable, optional
         ``progress(iterable, total=, desc=)`` wrapping the inputs, e.g. a progress bar (the
         protocol of :mod:`tactilecal._progress`); None: no bar.
+    overwrite : bool, keyword-only
+        Replace an existing ``path`` (only an HTML page; default False: an error).
 
     Returns
     -------
@@ -196,13 +209,15 @@ def write_report(inputs, path, *, calibration=None, filter=None, title=None, thr
     Raises
     ------
     ValueError
-        For an input of no known kind, or no inputs.
+        For an input of no known kind, or no inputs; ``path`` exists (without
+        ``overwrite``, or is not an HTML page).
     FileNotFoundError
         For a missing input or output folder.
     """
     path = Path(path)
     if not path.parent.is_dir():
         raise FileNotFoundError(f"cannot write {path}: folder {path.parent} does not exist")
+    check_target(path, overwrite=overwrite, kind="html")
     text = build_report(inputs, calibration=calibration, filter=filter, title=title,
                         threshold_kPa=threshold_kPa, nonworking=nonworking,
                         cof_min_force_N=cof_min_force_N, command=command, progress=progress)

@@ -324,7 +324,7 @@ def _calibrated_blocks(recording, label, threshold_kPa, nonworking, cof_min_forc
         figure_html(recording.tactile.plot_pressure_map(), f"{label}: peak-pressure map",
                     "Each sensel's largest pressure over the whole recording: where the "
                     "contact carried load at any time, and how much at most."),
-        figure_html(recording.tactile.plot_pressure_map(i),
+        figure_html(recording.tactile.plot_pressure_map(frame=i),
                     f"{label}: pressure map at the peak-force frame",
                     "The pressure on every sensel at the moment of largest total force; "
                     "blank cells are sensels without a reading."),
@@ -334,7 +334,7 @@ def _calibrated_blocks(recording, label, threshold_kPa, nonworking, cof_min_forc
                     "The force-weighted centre of the contact, coloured by time; frames "
                     "with less force than the threshold in the title are left out, because "
                     "with almost no load the centre is the mean of noise."),
-        figure_html(recording.tactile.plot_profiles(i, nonworking=nonworking),
+        figure_html(recording.tactile.plot_profiles(frame=i, nonworking=nonworking),
                     f"{label}: row and column profiles at the peak-force frame",
                     "The mean pressure of each sensel row (left, row position downwards) "
                     "and column (right) at the peak-force frame, blank and non-working "
@@ -344,8 +344,6 @@ def _calibrated_blocks(recording, label, threshold_kPa, nonworking, cof_min_forc
 
 def _raw_summary(recording):
     """Per-frame raw sum, loaded area (raw > 0) and raw-weighted centre of a raw recording."""
-    import tactilecal.analysis  # noqa: F401 - registers recording.tactile
-
     raw = recording.fillna(0.0).astype(float)
     total = raw.sum(("row", "col"))
     weight = total.where(total > 0)
@@ -367,7 +365,6 @@ def _coord(values, dim):
 
 
 def _raw_blocks(recording, label, *, cof_min_share):
-    import tactilecal.analysis  # noqa: F401 - registers the recording.tactile accessor
 
     s = _raw_summary(recording)
     i = int(np.nanargmax(s.raw_sum)) if np.isfinite(s.raw_sum).any() else 0

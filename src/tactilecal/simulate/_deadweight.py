@@ -131,7 +131,7 @@ class DeadweightSession:
                     self.labels, self.plateau_frame, self.blank_frame, self.mass_kg,
                     self.pad_mass_g, strict=True)]
 
-    def write(self, outdir):
+    def write(self, outdir, *, overwrite=False):
         """Write one I-Scan ASCII file per patch, ``manifest.csv`` and ``truth.json``.
 
         Each file is a short recording (:meth:`recording`: loading ramp then plateau) so a
@@ -145,6 +145,9 @@ class DeadweightSession:
         ----------
         outdir : str or os.PathLike
             Folder, created if missing.
+        overwrite : bool, keyword-only
+            Write into a folder that holds files: only an earlier session's (default
+            False).
 
         Returns
         -------
@@ -152,11 +155,13 @@ class DeadweightSession:
             Path of ``manifest.csv``.
         """
         from tactilecal.io import write_tekscan
+        from tactilecal.simulate._write import check_session_folder
 
+        check_session_folder(outdir, overwrite)
         outdir = make_folder(outdir)
         rows = self.manifest_rows()
         for i, row in enumerate(rows):
-            write_tekscan(self.recording(i), outdir / row["file"])
+            write_tekscan(self.recording(i), outdir / row["file"], overwrite=True)
         buf = io.StringIO()
         writer = csv.DictWriter(buf, fieldnames=MANIFEST_COLUMNS, lineterminator="\n")
         writer.writeheader()

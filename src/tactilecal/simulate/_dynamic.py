@@ -194,7 +194,7 @@ class DynamicSession:
                                   "the sensor's clock", "offset_N": self.offset_N,
                 "sets": self.sets.to_dict(orient="list")}
 
-    def write(self, outdir):
+    def write(self, outdir, *, overwrite=False):
         """Write ``sensor.csv``, ``reference.csv`` (load cell) and ``truth.json``.
 
         The CSVs are :func:`tactilecal.io.write_timeseries` files (``Time (s),force (N)``),
@@ -204,6 +204,8 @@ class DynamicSession:
         ----------
         outdir : str or os.PathLike
             Folder, created if missing. Every file is written atomically.
+        overwrite : bool, keyword-only
+            Write into a folder that holds files: only an earlier session's.
 
         Returns
         -------
@@ -214,9 +216,10 @@ class DynamicSession:
         from tactilecal.simulate._write import write_session
 
         return write_session(outdir, {
-            "sensor": ("sensor.csv", partial(write_timeseries, self.sensor)),
-            "reference": ("reference.csv", partial(write_timeseries, self.reference))},
-            self.truth())
+            "sensor": ("sensor.csv", partial(write_timeseries, self.sensor, overwrite=True)),
+            "reference": ("reference.csv",
+                          partial(write_timeseries, self.reference, overwrite=True))},
+            self.truth(), overwrite=overwrite)
 
     _ramp_s: float = 1.0
 

@@ -136,13 +136,15 @@ class RampHold:
                 "loads_N": self.loads_N, "hold_windows_s": self.hold_windows_s,
                 "sensor": self.truth_sensor}
 
-    def write(self, outdir):
+    def write(self, outdir, *, overwrite=False):
         """Write ``recording.csv`` (I-Scan ASCII), ``loadcell.csv`` and ``truth.json``.
 
         Parameters
         ----------
         outdir : str or os.PathLike
             Folder, created if missing. Every file is written atomically.
+        overwrite : bool, keyword-only
+            Write into a folder that holds files: only an earlier session's.
 
         Returns
         -------
@@ -152,10 +154,10 @@ class RampHold:
         from tactilecal.io import write_tekscan
 
         return write_session(outdir, {
-            "recording": ("recording.csv", partial(write_tekscan, self.raw)),
+            "recording": ("recording.csv", partial(write_tekscan, self.raw, overwrite=True)),
             "loadcell": ("loadcell.csv",
                          lambda path: write_text_atomic(path, self.loadcell_csv()))},
-            self.truth())
+            self.truth(), overwrite=overwrite)
 
 
 def ramp_hold_profile(loads_N, *, hold_s=3.0, ramp_s=2.0, lead_s=1.0):

@@ -1,0 +1,157 @@
+"""The reader from a cold start: whole fresh processes, import cost included.
+
+What a user waits for: ``python -c "import tactilecal as tc; tc.read_tekscan('f.csv')"``
+against ``python -c "import xarray, pandas as pd; pd.read_csv('plain.csv')"`` on the same
+numbers (a 44 x 44 export of raw readings 0..255, and the same values as a plain CSV of 44
+columns), and ``tactilecal info`` on a small export against ``python -c "import xarray"``.
+Runs alternate between the two commands (the machine's load hits both alike); each figure is
+the median of ``--repeat`` runs (5), and each ratio is taken within the same run: ``baseline
+time / tactilecal time`` (above 1: tactilecal is faster). Peak memory is the child's own
+peak resident size (``VmHWM`` of ``/proc/self/status``, which exec resets; ``ru_maxrss``
+keeps the parent's), compared with the array's size.
+
+    python benchmarks/bench_cold_read.py [--frames 6000 40000] [--repeat 5]
+
+The ``track_*`` functions return the ratios (for an asv suite); each makes its files once in
+a temporary folder.
+"""
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROWS = COLS = 44
+REALDATA = Path(os.environ.get("TACTILECAL_REALDATA",
+                               Path(__file__).resolve().parents[2] / "shared" / "realdata"))
+_MEASURE = ("; import sys; print(next(int(line.split()[1]) for line in open('/proc/self/status') "
+            "if line.startswith('VmHWM')), file=sys.stderr)")
+
+
+def write_files(folder, n_frames, seed=0):
+    """Write the export and the plain CSV of the same ``n_frames`` x 44 x 44 raw readings."""
+    folder = Path(folder)
+    export, plain = folder / f"export_{n_frames}.csv", folder / f"plain_{n_frames}.csv"
+    if export.exists() and plain.exists():
+        return export, plain
+    rng = np.random.default_rng(seed)
+    header = (f"DATA_TYPE MOVIE\nSENSOR_TYPE 5101\nROWS {ROWS}\nCOLS {COLS}\n"
+              "ROW_SPACING 0.254 centimeters\nCOL_SPACING 0.254 centimeters\n"
+              "SENSEL_AREA 0.064516 cm2\nNOISE_THRESHOLD 3\nSECONDS_PER_FRAME 0.01\n"
+              f"START_FRAME 1\nEND_FRAME {n_frames}\nUNITS raw\nASCII_DATA @@\n\n")
+    with open(export, "w") as ex, open(plain, "w") as pl:
+        ex.write(header)
+        pl.write(",".join(f"c{j}" for j in range(COLS)) + "\n")
+        for first in range(0, n_frames, 500):
+            block = rng.integers(0, 256, size=(min(500, n_frames - first), ROWS, COLS))
+            for k, frame in enumerate(block):
+                rows = "\n".join(",".join(map(str, row)) for row in frame.tolist()) + "\n"
+                ex.write(f"Frame {first + k + 1}, {(first + k) * 0.01:.2f},,,"
+                         f"Raw Sum=,,{int(frame.sum())}\n{rows}\n")
+                pl.write(rows)
+        ex.write("@@\n")
+    return export, plain
+
+
+def _run(argv):
+    """Wall and CPU seconds and peak RSS (bytes) of one fresh process."""
+    before = os.times()
+    start = time.perf_counter()
+    done = subprocess.run(argv, capture_output=True, text=True, check=True)
+    wall = time.perf_counter() - start
+    after = os.times()
+    cpu = (after.children_user - before.children_user
+           + after.children_system - before.children_system)
+    rss = int(done.stderr.strip().splitlines()[-1]) * 1024 if _MEASURE in argv[-1] else 0
+    return wall, cpu, rss
+
+
+def compare(commands, repeat):
+    """Run ``commands`` (name -> argv) alternately ``repeat`` times; return medians."""
+    runs = {name: [] for name in commands}
+    for _ in range(repeat):
+        for name, argv in commands.items():
+            runs[name].append(_run(argv))
+    return {name: tuple(float(np.median(column)) for column in zip(*values, strict=True))
+            for name, values in runs.items()}
+
+
+def read_commands(export, plain):
+    python = sys.executable
+    return {
+        "tactilecal read_tekscan": [python, "-c", "import tactilecal as tc; "
+                                    f"tc.read_tekscan({str(export)!r})" + _MEASURE],
+        "pandas read_csv": [python, "-c", "import xarray, pandas as pd; "
+                            f"pd.read_csv({str(plain)!r})" + _MEASURE],
+    }
+
+
+def info_commands(export):
+    python = sys.executable
+    return {"tactilecal info": [python, "-m", "tactilecal", "info", str(export)],
+            "import xarray": [python, "-c", "import xarray"]}
+
+
+def small_export():
+    """The 205-frame F-Scan export of ../shared/realdata (or a generated 205-frame one)."""
+    real = REALDATA / "footPress_FrasP01L.asf"
+    if real.is_file():
+        return real
+    return write_files(tempfile.mkdtemp(prefix="tactilecal-bench-"), 205)[0]
+
+
+def read_ratio(n_frames, repeat=5, folder=None):
+    """``(pandas / tactilecal wall ratio, peak RSS / array bytes, medians)`` at ``n_frames``."""
+    folder = folder or tempfile.mkdtemp(prefix="tactilecal-bench-")
+    export, plain = write_files(folder, n_frames)
+    medians = compare(read_commands(export, plain), repeat)
+    ratio = medians["pandas read_csv"][0] / medians["tactilecal read_tekscan"][0]
+    array = n_frames * ROWS * COLS * 8
+    return ratio, medians["tactilecal read_tekscan"][2] / array, medians
+
+
+def track_read_6000_frames_vs_pandas():
+    return read_ratio(6000)[0]
+
+
+def track_read_40000_frames_vs_pandas():
+    return read_ratio(40000)[0]
+
+
+def track_info_vs_import_xarray():
+    medians = compare(info_commands(small_export()), 5)
+    return medians["tactilecal info"][0] / medians["import xarray"][0]
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--frames", type=int, nargs="+", default=[6000, 40000])
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--folder", help="keep the generated files here (default: temporary)")
+    args = parser.parse_args(argv)
+    folder = args.folder or tempfile.mkdtemp(prefix="tactilecal-bench-")
+    print(f"median of {args.repeat} fresh processes, alternating; ratio = baseline / tactilecal "
+          "(wall)")
+    print(f"{'frames':>7} {'MB':>6} {'tactilecal s':>13} {'pandas s':>9} {'ratio':>6} "
+          f"{'cpu tc/pd':>10} {'peak MB':>8} {'array MB':>9} {'peak limit':>10}")
+    for n in args.frames:
+        ratio, _, medians = read_ratio(n, args.repeat, folder)
+        tc, pd_ = medians["tactilecal read_tekscan"], medians["pandas read_csv"]
+        size = Path(folder, f"export_{n}.csv").stat().st_size / 1e6
+        array = n * ROWS * COLS * 8 / 1e6
+        print(f"{n:>7} {size:>6.0f} {tc[0]:>13.3f} {pd_[0]:>9.3f} {ratio:>6.2f} "
+              f"{tc[1] / pd_[1]:>10.2f} {tc[2] / 1e6:>8.0f} {array:>9.0f} "
+              f"{1.5 * array + 150:>10.0f}")
+    medians = compare(info_commands(small_export()), args.repeat)
+    info, xarray = medians["tactilecal info"][0], medians["import xarray"][0]
+    print(f"tactilecal info on {small_export().name}: {info:.3f} s, python -c 'import xarray' "
+          f"{xarray:.3f} s: {info / xarray:.2f}x (goal <= 1.3x)")
+
+
+if __name__ == "__main__":
+    main()
