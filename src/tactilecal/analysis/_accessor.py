@@ -16,7 +16,9 @@ import re
 import xarray as xr
 
 from tactilecal.analysis import _plots
+from tactilecal.analysis._contacts import region_analysis, split_contacts
 from tactilecal.analysis._describe import describe, frame_table
+from tactilecal.analysis._gait import force_time_integral, pressure_time_integral, steps
 from tactilecal.analysis._maps import (
     centre_of_force,
     contact_area,
@@ -120,43 +122,59 @@ class TactileAccessor:
     max_window_load = _method(max_window_load, "max_window_load")
     describe = _method(describe, "describe")
     frame_table = _method(frame_table, "frame_table")
+    split_contacts = _method(split_contacts, "split_contacts")
+    regions = _method(region_analysis, "regions")
+    pressure_time_integral = _method(pressure_time_integral, "pressure_time_integral")
+    impulse = _method(force_time_integral, "impulse")
+    steps = _method(steps, "steps")
 
     # ---------------------------------------------------------------- figures
-    def plot_pressure_map(self, frame=None, *, calibration=None, ax=None):
-        """Pressure map [kPa] of one frame, or each sensel's peak over the recording.
+    def plot_pressure_map(self, frame=None, *, calibration=None, ax=None, units=None,
+                          centre=True):
+        """Pressure map of one frame, or each sensel's peak over the recording.
 
         ``frame`` is a 0-based frame position (default: the peak-pressure map); a raw
-        recording without ``calibration`` is drawn in raw readings (0..255). Returns the
-        matplotlib Axes.
+        recording without ``calibration`` is drawn in raw readings (0..255). ``units``: the
+        pressure unit shown (default the recording's own pressure unit, else kPa).
+        Saturated sensels are red crosses; ``centre`` draws the centre of force (that
+        frame's, or the path of every frame with at least 5 % of the peak force). Returns
+        the matplotlib Axes.
         """
-        return _plots.plot_pressure_map(self._rec, frame, calibration=calibration, ax=ax)
+        return _plots.plot_pressure_map(self._rec, frame, calibration=calibration, ax=ax,
+                                        units=units, centre=centre)
 
-    def plot_profiles(self, frame, *, nonworking=None, calibration=None, axes=None):
-        """Row and column profiles [kPa] of one frame (means skipping blank sensels).
+    def plot_profiles(self, frame, *, nonworking=None, calibration=None, axes=None,
+                      units=None):
+        """Row and column profiles of one frame (means skipping blank sensels).
 
         ``nonworking``: a mask of non-working sensels to skip too. Returns the row-profile
         and the column-profile Axes.
         """
         return _plots.plot_profiles(self._rec, frame, nonworking=nonworking,
-                                    calibration=calibration, axes=axes)
+                                    calibration=calibration, axes=axes, units=units)
 
     def plot_force_time(self, *, calibration=None, summary=None, ax=None):
         """Total force [N] and contact area [mm2] against time, the peak frame marked.
 
-        ``summary``: the recording's :meth:`frame_summary` if already computed (else computed
-        here). Returns the matplotlib Axes.
+        Frames with saturated sensels are red ticks along the time axis. ``summary``: the
+        recording's :meth:`frame_summary` if already computed (else computed here).
+        Returns the matplotlib Axes.
         """
         if summary is None:
             summary = self.frame_summary(calibration=calibration)
         return _plots.plot_force_time(summary, ax=ax)
 
-    def plot_cof_path(self, *, calibration=None, summary=None, min_force_N=None, ax=None):
-        """Centre-of-force path [mm], coloured by time.
+    def plot_cof_path(self, *, calibration=None, summary=None, min_force_N=None, ax=None,
+                      units=None):
+        """Centre-of-force path over the peak-pressure map, coloured by time.
 
-        Frames with a total force below ``min_force_N`` (default 5 % of the peak) are not
-        drawn: with almost no load the centre is noise. ``summary``: the recording's
+        Drawn at the sensor's own scale, so noise never looks like motion. Frames with a
+        total force below ``min_force_N`` (default 5 % of the peak) are not drawn: with
+        almost no load the centre is noise. ``summary``: the recording's
         :meth:`frame_summary` if already computed. Returns the matplotlib Axes.
         """
         if summary is None:
             summary = self.frame_summary(calibration=calibration)
-        return _plots.plot_cof_path(summary, min_force_N=min_force_N, ax=ax)
+        rec = self._rec if calibration is None else self.calibrate(calibration)
+        return _plots.plot_cof_path(summary, recording=rec, min_force_N=min_force_N, ax=ax,
+                                    units=units)

@@ -7,9 +7,12 @@ Power-law sensels with gain spread, read noise, noise threshold, saturation and 
 ramp-and-hold loading-machine sessions with a load-cell record like Gillis (2013)
 (:func:`ramp_hold`); sine sweeps and blind tests of Gillis (2013) Table 4.2 seen by a sensor
 with a known frequency-dependent gain (:func:`sine_sweep`, :func:`random_sine_sets`); a
-family of sensors for sweeping static methods (:data:`FAMILY`, :func:`family_sessions`).
+family of sensors for sweeping static methods (:data:`FAMILY`, :func:`family_sessions`);
+a recording of separated contacts such as the two compartments of a knee
+(:func:`compartment_recording`).
 """
 
+from tactilecal.simulate._compartments import compartment_recording
 from tactilecal.simulate._deadweight import ContactModel, deadweight_session
 from tactilecal.simulate._dynamic import random_sine_sets, sine_sweep, through_response
 from tactilecal.simulate._family import FAMILY, family_sessions, true_force_table_N
@@ -19,7 +22,7 @@ from tactilecal.simulate._static import ramp_hold, uniform_load
 
 __all__ = [
     "make_sensor", "deadweight_session", "ContactModel", "uniform_load",
-    "ramp_hold",
+    "ramp_hold", "compartment_recording",
     "sine_sweep", "random_sine_sets", "through_response",
     "FAMILY", "family_sessions", "true_force_table_N", "patch_histograms",
 ]
