@@ -16,6 +16,7 @@ import re
 import xarray as xr
 
 from tactilecal.analysis import _plots
+from tactilecal.analysis._analyze import analyze
 from tactilecal.analysis._contacts import region_analysis, split_contacts
 from tactilecal.analysis._describe import describe, frame_table
 from tactilecal.analysis._gait import force_time_integral, pressure_time_integral, steps
@@ -127,6 +128,7 @@ class TactileAccessor:
     pressure_time_integral = _method(pressure_time_integral, "pressure_time_integral")
     impulse = _method(force_time_integral, "impulse")
     steps = _method(steps, "steps")
+    analyze = _method(analyze, "analyze")
 
     # ---------------------------------------------------------------- figures
     def plot_pressure_map(self, frame=None, *, calibration=None, ax=None, units=None,

@@ -151,15 +151,15 @@ def split_contacts(recording, *, gap_mm=DEFAULT_GAP_MM, min_share=DEFAULT_MIN_SH
                    how={f"contact {i}": how for i in range(1, len(major) + 1)})
 
 
-def as_regions(regions, recording):
-    """Return ``regions`` as :class:`Regions`: given as Regions, ``{name: spec}`` or a mask.
+def as_regions(regions, recording, *, gap_mm=DEFAULT_GAP_MM):
+    """Return ``regions`` as :class:`Regions`: given as Regions or ``{name: spec}``.
 
-    ``"contacts"`` means :func:`split_contacts` with its defaults.
+    ``"contacts"`` means :func:`split_contacts` (with ``gap_mm``).
     """
     if isinstance(regions, Regions):
         found = regions
     elif isinstance(regions, str) and regions == "contacts":
-        found = split_contacts(recording)
+        found = split_contacts(recording, gap_mm=gap_mm)
     elif isinstance(regions, dict):
         found = Regions.from_specs(regions, shape=(recording.sizes["row"],
                                                    recording.sizes["col"]))
@@ -217,7 +217,7 @@ class RegionAnalysis:
 
 
 def region_analysis(recording, regions="contacts", *, threshold_kPa=0.0, calibration=None,
-                    cof_min_force_N=0.0):
+                    cof_min_force_N=0.0, gap_mm=DEFAULT_GAP_MM):
     """Force, area, pressures and centre of force of every region, frame by frame.
 
     Parameters
@@ -233,6 +233,8 @@ def region_analysis(recording, regions="contacts", *, threshold_kPa=0.0, calibra
         Applied to a raw recording (once).
     cof_min_force_N : float, default 0
         A region's centre of force is NaN in frames where its force is not above this.
+    gap_mm : float, default :data:`DEFAULT_GAP_MM`
+        For ``regions="contacts"``: see :func:`split_contacts`.
 
     Returns
     -------
@@ -259,7 +261,7 @@ def region_analysis(recording, regions="contacts", *, threshold_kPa=0.0, calibra
     from tactilecal.analysis._maps import summary
 
     pressure = pressure_map_kPa(recording, calibration=calibration)
-    regions = as_regions(regions, pressure)
+    regions = as_regions(regions, pressure, gap_mm=gap_mm)
     t = time_s(pressure)
     pti = pressure_time_integral(pressure)
     per_region = []
