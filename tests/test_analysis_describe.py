@@ -72,8 +72,8 @@ def test_frame_table_of_a_raw_recording_needs_a_calibration():
 
 
 def test_one_saturated_frame_makes_the_peaks_lower_bounds():
-    # the first frame carries the largest force; the second has one sensel at the saturation pressure:
-    # its true force is unknown above what it reads, so the recording's peak is a lower bound
+    # the first frame carries the largest force; the second has one sensel at the saturation
+    # pressure: its true force is unknown above what it reads, so the peak is a lower bound
     p = np.zeros((2, 3, 3))
     p[0] = 400.0
     p[1, 1, 1] = 1000.0

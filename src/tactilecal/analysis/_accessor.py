@@ -19,6 +19,7 @@ from tactilecal.analysis import _plots
 from tactilecal.analysis._analyze import analyze
 from tactilecal.analysis._contacts import region_analysis, split_contacts
 from tactilecal.analysis._describe import describe, frame_table
+from tactilecal.analysis._figures import save_figures
 from tactilecal.analysis._gait import force_time_integral, pressure_time_integral, steps
 from tactilecal.analysis._maps import (
     centre_of_force,
@@ -28,6 +29,7 @@ from tactilecal.analysis._maps import (
     summary,
     total_force,
 )
+from tactilecal.analysis._movie import write_movie
 from tactilecal.analysis._regions import (
     high_pressure_zones,
     label_zones,
@@ -129,6 +131,8 @@ class TactileAccessor:
     impulse = _method(force_time_integral, "impulse")
     steps = _method(steps, "steps")
     analyze = _method(analyze, "analyze")
+    save_figures = _method(save_figures, "save_figures")
+    write_movie = _method(write_movie, "write_movie")
 
     # ---------------------------------------------------------------- figures
     def plot_pressure_map(self, frame=None, *, calibration=None, ax=None, units=None,

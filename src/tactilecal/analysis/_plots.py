@@ -26,11 +26,12 @@ SATURATED_STYLE = {"marker": "x", "color": "red", "s": 14, "linewidths": 0.9}
 """How saturated sensels are marked on every map."""
 
 
-def _axes(ax, figsize=(6, 4)):
+def _axes(ax, figsize=(6, 4), layout="constrained"):
+    """Return ``ax``, or new axes; maps use the "compressed" layout (for fixed aspects)."""
     if ax is None:
         from matplotlib.figure import Figure
 
-        ax = Figure(figsize=figsize, layout="constrained").subplots()
+        ax = Figure(figsize=figsize, layout=layout).subplots()
     return ax
 
 
@@ -176,7 +177,7 @@ def plot_pressure_map(recording, frame=None, *, calibration=None, ax=None, units
     matplotlib.axes.Axes
         Saturated sensels (of that frame, or of any frame) are red crosses.
     """
-    ax = _axes(ax, figsize=map_figsize(recording))
+    ax = _axes(ax, figsize=map_figsize(recording), layout="compressed")
     values, label, saturated = _map_values(recording, frame, calibration, units)
     draw_map(ax, recording, values, label=label, saturated=saturated)
     ax.set_title("peak over all frames" if frame is None
@@ -232,7 +233,8 @@ def plot_cof_path(summary, *, recording=None, min_force_N=None, ax=None, units=N
     -------
     matplotlib.axes.Axes
     """
-    ax = _axes(ax, figsize=(5, 5) if recording is None else map_figsize(recording))
+    ax = _axes(ax, figsize=(5, 5) if recording is None else map_figsize(recording),
+               layout="compressed")
     t, label = _time(summary)
     force = np.asarray(summary["force_N"].values, dtype=float)
     if min_force_N is None:
@@ -246,11 +248,11 @@ def plot_cof_path(summary, *, recording=None, min_force_N=None, ax=None, units=N
         draw_map(ax, recording, values, label=map_label, saturated=saturated, cmap="Greys")
     ax.plot(x, y, color="0.4", lw=0.8)
     points = ax.scatter(x, y, c=t, s=10, cmap="plasma", zorder=3)
-    ax.figure.colorbar(points, ax=ax, label=label, aspect=25)
+    ax.figure.colorbar(points, ax=ax, label=label, location="bottom", aspect=30, shrink=0.9)
     from tactilecal._text import number
 
     ax.set_title(f"{int(np.sum(keep & np.isfinite(x)))} of {force.size} frames with force "
-                 f">= {number(min_force_N)} N")
+                 f">= {number(min_force_N)} N", fontsize="small")
     if recording is None:
         ax.set_xlabel("centre of force, column [mm]")
         ax.set_ylabel("centre of force, row [mm]")
@@ -299,7 +301,8 @@ def plot_profiles(recording, frame, *, nonworking=None, calibration=None, axes=N
 
 def plot_step_paths(steps, *, ax=None, recording=None):
     """Each step's centre-of-pressure path, numbered, over the peak map when given."""
-    ax = _axes(ax, figsize=(5, 5) if recording is None else map_figsize(recording))
+    ax = _axes(ax, figsize=(5, 5) if recording is None else map_figsize(recording),
+               layout="compressed")
     if recording is not None:
         values, label, saturated = _map_values(recording, None, None, None)
         draw_map(ax, recording, values, label=label, saturated=saturated, cmap="Greys")
@@ -334,7 +337,7 @@ def plot_region_forces(analysis, *, ax=None):
 
 def plot_region_centres(analysis, recording, *, ax=None, units=None, min_force_N=None):
     """Each region's outline and centre-of-force path over the recording's peak map."""
-    ax = _axes(ax, figsize=map_figsize(recording))
+    ax = _axes(ax, figsize=map_figsize(recording), layout="compressed")
     values, label, saturated = _map_values(recording, None, None, units)
     draw_map(ax, recording, values, label=label, saturated=saturated, cmap="Greys")
     row_mm, col_mm = spacing_mm(recording)
