@@ -112,7 +112,8 @@ def test_align_recordings():
     onset = align_recordings([rec, later], how="onset")
     first = [float(r.time[int(np.argmax(r.tactile.force().values > 40.0))]) for r in onset]
     assert first == [0.0, 0.0] and onset[1].attrs["time_shift_s"] == pytest.approx(-5.31)
-    with pytest.raises(TactilecalError, match="how='x'; expected one of time, start, onset"):
+    with pytest.raises(TactilecalError, match=r"alignment \(how=, --align\) 'x'; expected one "
+                                              "of time, start, onset"):
         align_recordings([rec], how="x")
 
 

@@ -164,7 +164,8 @@ def test_report_cof_threshold_flag(session, tmp_path, capsys):
     out = tmp_path / "r.html"
     assert main(["-q", "report", str(rec), str(cal), "--out", str(out),
                  "--cof-min-force-n", "1.5"]) == 0
-    assert "<td>centre of force drawn where force &gt;= [N]</td><td>1.5</td>" in out.read_text()
+    assert "<td>centre of force drawn where force is at least</td><td>1.5 N</td>" in \
+        out.read_text()
     out.unlink()
     assert main(["-q", "report", str(rec), "--out", str(out), "--cof-min-force-n", "-1"]) == 1
     assert not out.exists()

@@ -37,7 +37,12 @@ from tactilecal.analysis._regions import (
     profile,
     select_region,
 )
-from tactilecal.analysis._units import force_map_N, pressure_map_kPa, saturated_sensels
+from tactilecal.analysis._units import (
+    force_map_N,
+    pressure_map_kPa,
+    saturated_sensels,
+    saturation_mask,
+)
 
 __all__ = ["TactileAccessor"]
 
@@ -118,6 +123,7 @@ class TactileAccessor:
     force_map = _method(force_map_N, "force_map")
     frame_summary = _method(summary, "frame_summary")
     saturated_sensels = _method(saturated_sensels, "saturated_sensels")
+    saturation_mask = _method(saturation_mask, "saturation_mask")
     profile = _method(profile, "profile")
     select_region = _method(select_region, "select_region")
     label_zones = _method(label_zones, "label_zones")

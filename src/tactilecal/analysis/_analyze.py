@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import pandas as pd
 
 from tactilecal._text import number, share
-from tactilecal.analysis._contacts import DEFAULT_GAP_MM, RegionAnalysis, region_analysis
+from tactilecal.analysis._contacts import RegionAnalysis, region_analysis
 from tactilecal.analysis._describe import FRAME_COLUMNS, frame_table, overview
 from tactilecal.analysis._gait import Steps, steps
 from tactilecal.analysis._maps import summary
@@ -82,7 +82,7 @@ def _table_text(table):
 
 
 def analyze(recording, *, calibration=None, threshold_kPa=0.0, regions=None,
-            gap_mm=DEFAULT_GAP_MM, find_steps=False, source=None):
+            gap_mm=None, find_steps=False, source=None):
     """Analyse a recording: headline numbers, per-frame table, and optionally regions, steps.
 
     Parameters
@@ -95,8 +95,8 @@ def analyze(recording, *, calibration=None, threshold_kPa=0.0, regions=None,
         Loaded-sensel threshold for contact areas and mean pressures.
     regions : Regions, dict or "contacts", optional
         Regions to analyse (see ``rec.tactile.regions``).
-    gap_mm : float, default 20
-        For ``regions="contacts"`` (see ``rec.tactile.split_contacts``).
+    gap_mm : float, optional
+        For ``regions="contacts"`` (see ``rec.tactile.split_contacts``; None: its default).
     find_steps : bool, default False
         Also find the steps (``rec.tactile.steps``).
     source : str, optional

@@ -74,7 +74,7 @@ def _joined(loaded, inside, gap_mm, spacing):
     return np.where(loaded, labels, 0), n
 
 
-def split_contacts(recording, *, gap_mm=DEFAULT_GAP_MM, min_share=DEFAULT_MIN_SHARE,
+def split_contacts(recording, *, gap_mm=None, min_share=DEFAULT_MIN_SHARE,
                    calibration=None):
     """Find the separated contact areas of a recording, as regions covering the sensor.
 
@@ -83,9 +83,10 @@ def split_contacts(recording, *, gap_mm=DEFAULT_GAP_MM, min_share=DEFAULT_MIN_SH
     recording : xarray.DataArray
         Recording in the data model; a raw one without ``calibration`` is weighed by its raw
         readings.
-    gap_mm : float, default :data:`DEFAULT_GAP_MM` (20 mm)
+    gap_mm : float, optional
         Loaded areas separated by an unloaded gap of up to this width (rounded down to an
         even number of sensels) are one contact; never joined across blank sensels.
+        Default (None) :data:`DEFAULT_GAP_MM`, 20 mm.
     min_share : float, default :data:`DEFAULT_MIN_SHARE` (5 %)
         An area carrying less of the recording's load joins the nearest contact.
     calibration : CalibrationResult or path, optional
@@ -123,6 +124,7 @@ def split_contacts(recording, *, gap_mm=DEFAULT_GAP_MM, min_share=DEFAULT_MIN_SH
     """
     from scipy import ndimage
 
+    gap_mm = DEFAULT_GAP_MM if gap_mm is None else gap_mm
     if not (np.isfinite(gap_mm) and gap_mm >= 0):
         raise TactilecalError(f"gap_mm is {gap_mm!r}; expected a width >= 0 in mm")
     if not (0 <= min_share < 1):
@@ -151,7 +153,7 @@ def split_contacts(recording, *, gap_mm=DEFAULT_GAP_MM, min_share=DEFAULT_MIN_SH
                    how={f"contact {i}": how for i in range(1, len(major) + 1)})
 
 
-def as_regions(regions, recording, *, gap_mm=DEFAULT_GAP_MM):
+def as_regions(regions, recording, *, gap_mm=None):
     """Return ``regions`` as :class:`Regions`: given as Regions or ``{name: spec}``.
 
     ``"contacts"`` means :func:`split_contacts` (with ``gap_mm``).
@@ -217,7 +219,7 @@ class RegionAnalysis:
 
 
 def region_analysis(recording, regions="contacts", *, threshold_kPa=0.0, calibration=None,
-                    cof_min_force_N=0.0, gap_mm=DEFAULT_GAP_MM):
+                    cof_min_force_N=0.0, gap_mm=None):
     """Force, area, pressures and centre of force of every region, frame by frame.
 
     Parameters
@@ -233,8 +235,8 @@ def region_analysis(recording, regions="contacts", *, threshold_kPa=0.0, calibra
         Applied to a raw recording (once).
     cof_min_force_N : float, default 0
         A region's centre of force is NaN in frames where its force is not above this.
-    gap_mm : float, default :data:`DEFAULT_GAP_MM`
-        For ``regions="contacts"``: see :func:`split_contacts`.
+    gap_mm : float, optional
+        For ``regions="contacts"``: see :func:`split_contacts` (None: its default).
 
     Returns
     -------

@@ -45,7 +45,7 @@ def save_figures(recording, folder, *, frame=None, calibration=None, units=None,
     TactilecalError
         A frame number that is not in the recording.
     """
-    from tactilecal.analysis._contacts import DEFAULT_GAP_MM, region_analysis
+    from tactilecal.analysis._contacts import region_analysis
     from tactilecal.analysis._maps import summary
 
     folder = Path(folder)
@@ -61,8 +61,7 @@ def save_figures(recording, folder, *, frame=None, calibration=None, units=None,
         figures["cof_time"] = _plots.plot_cof_time(s)
         figures["cof_path"] = _plots.plot_cof_path(s, recording=rec, units=units)
         if regions is not None:
-            found = region_analysis(rec, regions, gap_mm=DEFAULT_GAP_MM if gap_mm is None
-                                    else gap_mm)
+            found = region_analysis(rec, regions, gap_mm=gap_mm)
             figures["region_forces"] = found.plot_force_time()
             figures["region_centres"] = found.plot_centres(rec, units=units)
     paths = []

@@ -232,11 +232,14 @@ class Steps:
         return (f"Steps({len(self)} steps of {self.source or 'a recording'}, {complete} "
                 f"complete; contact above {self.threshold_N:.4g} N)")
 
-    def plot_paths(self, *, ax=None):
-        """Draw each step's centre-of-pressure path (column mm across, row mm down)."""
+    def plot_paths(self, *, recording=None, ax=None):
+        """Draw each step's centre-of-pressure path (column mm across, row mm down).
+
+        Over the peak-pressure map of ``recording`` when given (at the sensor's scale).
+        """
         from tactilecal.analysis._plots import plot_step_paths
 
-        return plot_step_paths(self, ax=ax)
+        return plot_step_paths(self, ax=ax, recording=recording)
 
 
 def steps(recording, *, threshold_N=None, min_duration_s=0.0, calibration=None, summary=None):
@@ -394,7 +397,8 @@ def align_recordings(recordings, *, how="time", threshold_share=CONTACT_FORCE_SH
     from tactilecal.analysis._maps import total_force
 
     if how not in ALIGN_CHOICES:
-        raise TactilecalError(f"how={how!r}; expected one of {', '.join(ALIGN_CHOICES)}")
+        raise TactilecalError(f"alignment (how=, --align) {how!r}; expected one of "
+                              f"{', '.join(ALIGN_CHOICES)}")
     out = []
     for rec in recordings:
         t = time_s(rec)

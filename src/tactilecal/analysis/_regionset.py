@@ -70,6 +70,17 @@ class Regions:
             masks[name], how[name] = region_mask(spec, shape, name=name)
         return cls(masks, how=how)
 
+    @staticmethod
+    def parse_option(text):
+        """Split a ``--region NAME=SPEC`` value into ``(name, spec)``.
+
+        Examples
+        --------
+        >>> Regions.parse_option("heel=40:60,0:21")
+        ('heel', '40:60,0:21')
+        """
+        return parse_region_option(text)
+
     @property
     def names(self):
         """Region names, in order."""

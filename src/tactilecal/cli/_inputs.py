@@ -8,10 +8,10 @@ __all__ = ["add_region_options", "regions", "gap_mm", "load_recording", "load_ca
 
 
 def _region(text):
-    from tactilecal.analysis._regionset import parse_region_option
+    from tactilecal.analysis import Regions
 
     try:
-        return parse_region_option(text)
+        return Regions.parse_option(text)
     except TactilecalError as exc:
         raise argparse.ArgumentTypeError(str(exc).removeprefix("--region ")) from None
 
@@ -50,10 +50,8 @@ def regions(args):
 
 
 def gap_mm(args):
-    """Return ``--gap-mm`` or the library's default."""
-    from tactilecal.analysis._contacts import DEFAULT_GAP_MM
-
-    return DEFAULT_GAP_MM if args.gap_mm is None else args.gap_mm
+    """Return ``--gap-mm`` (None: the library's default)."""
+    return args.gap_mm
 
 
 def load_recording(path, what="RECORDING"):
