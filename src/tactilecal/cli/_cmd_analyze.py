@@ -52,10 +52,11 @@ def run(args):
     if args.out:
         with atomic_path(args.out) as tmp:
             result.wide_table().to_csv(tmp, index=False)
+        options = {"cal": args.cal, "threshold_kPa": args.threshold_kpa}
+        options.update({k: v for k, v in (("regions", args.region), ("split_contacts",
+                                           args.split_contacts), ("gap_mm", args.gap_mm)) if v})
         inputs = provenance_of([recording], files=[args.cal] if args.cal else [],
-                               options={"cal": args.cal, "threshold_kPa": args.threshold_kpa,
-                                        "regions": args.region, "split_contacts":
-                                        args.split_contacts})
+                               options=options)
         info(args, f"per-frame table written to {args.out} (provenance: "
                    f"{write_sidecar(args.out, inputs)})")
     if result.overview["saturated_frames"]:
