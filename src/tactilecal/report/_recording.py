@@ -12,7 +12,7 @@ import numpy as np
 
 from tactilecal._errors import TactilecalError
 from tactilecal._text import number, share
-from tactilecal._units import normalise_unit, pressure_to_kPa, unit_kind
+from tactilecal._units import N_PER_MM2_TO_KPA, normalise_unit, pressure_to_kPa, unit_kind
 from tactilecal.report._figures import (
     figure_html,
     new_axes,
@@ -66,7 +66,7 @@ def header_blocks(recording, unit, factor):
         cal = header_calibration(attrs)
     except TactilecalError as exc:
         return [note_html(f"the header states a calibration that cannot be read: {exc}")]
-    per_count = cal.params["A"] / cal.sensel_area_mm2 * 1e3 / factor  # unit at raw 1
+    per_count = cal.params["A"] / cal.sensel_area_mm2 * N_PER_MM2_TO_KPA / factor  # at raw 1
     b = cal.params["b"]
     rows = []
     if cal.method == "header-linear":
