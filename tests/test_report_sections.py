@@ -165,3 +165,15 @@ def test_the_energy_figure_marks_what_each_mode_returned(mode):
         assert "robust mode returned another law" in caption
     else:
         assert len(marks) == 1 and "the orange line at its minimum is the chosen b0" in caption
+
+
+def test_validation_shares_are_percentages():
+    from tactilecal.calibration import calibrate, points_from_frames, validate
+    from tactilecal.simulate import deadweight_session, make_sensor
+
+    session = deadweight_session(make_sensor("5051", seed=1), n_patches=12, seed=2)
+    points = points_from_frames(session.raw, session.load_N)
+    check = validate(calibrate(points[:8], method="power"), points[8:])
+    text = build_report([check])
+    share = check.metrics["within_5pct"]
+    assert f"<td>within_5pct</td><td>{100 * share:.1f} %</td>" in text

@@ -11,6 +11,7 @@ from tactilecal._atomic import write_text_atomic
 from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps
 from tactilecal._progress import resolve
+from tactilecal._text import number, share
 from tactilecal._version import __version__
 from tactilecal.report._figures import details_html, note_html, table_html
 from tactilecal.report._inputs import load_input
@@ -124,8 +125,10 @@ def _of(kind, loaded):
 def _section(kind, obj, label, context):
     if kind == "calibration":
         return calibration_blocks(obj, label)
-    if kind == "validation":
-        return [table_html(sorted(obj.metrics.items()), header=("held-out check", "value"))]
+    if kind == "validation":  # shares as percentages, like the calibration's metrics
+        return [table_html([(k, share(v) if k.startswith("within_") else number(v))
+                            for k, v in sorted(obj.metrics.items())],
+                           header=("held-out check", "value"))]
     if kind == "filter":
         return filter_blocks(obj, label)
     if kind == "evaluation":
