@@ -105,6 +105,21 @@ def analyze(recording, *, calibration=None, threshold_kPa=0.0, regions=None,
     Returns
     -------
     Analysis
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> f = np.zeros((6, 1, 4)); f[1:3, 0, 0] = 10.0; f[4, 0, 3] = 20.0
+    >>> rec = xr.DataArray(f, dims=("frame", "row", "col"),
+    ...                    coords={"time": ("frame", np.arange(6) * 0.5)},
+    ...                    attrs={"units": "N", "sensel_area_mm2": 1.0, "row_spacing_mm": 1.0,
+    ...                           "col_spacing_mm": 1.0})
+    >>> out = analyze(rec, regions={"left": (0, 1, 0, 2), "right": (0, 1, 2, 4)},
+    ...               find_steps=True)
+    >>> out.overview["peak_force_N"], out.regions.table["impulse_N_s"].tolist()
+    (20.0, [10.0, 10.0])
+    >>> out.steps.table["peak_force_N"].tolist()
+    [10.0, 20.0]
     """
     # saturation is read on the raw readings of a raw recording
     s = summary(recording, threshold_kPa=threshold_kPa, calibration=calibration)

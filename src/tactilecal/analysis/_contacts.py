@@ -204,7 +204,7 @@ class RegionAnalysis:
     table: pd.DataFrame
     pti_map: xr.DataArray
 
-    def plot_force_time(self, *, ax=None, units=None):
+    def plot_force_time(self, *, ax=None):
         """Force of every region against time (and their sum when they cover the sensor)."""
         from tactilecal.analysis._plots import plot_region_forces
 

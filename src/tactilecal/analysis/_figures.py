@@ -44,6 +44,16 @@ def save_figures(recording, folder, *, frame=None, calibration=None, units=None,
     ------
     TactilecalError
         A frame number that is not in the recording.
+
+    Examples
+    --------
+    >>> import tempfile, numpy as np, xarray as xr
+    >>> rec = xr.DataArray(np.ones((2, 3, 3)), dims=("frame", "row", "col"),
+    ...                    coords={"frame": [1, 2], "time": ("frame", [0.0, 0.1])},
+    ...                    attrs={"units": "kPa", "sensel_area_mm2": 1.0,
+    ...                           "row_spacing_mm": 1.0, "col_spacing_mm": 1.0})
+    >>> [p.name for p in save_figures(rec, tempfile.mkdtemp(), dpi=20)][:3]
+    ['frame.png', 'peak_map.png', 'force_time.png']
     """
     from tactilecal.analysis._contacts import region_analysis
     from tactilecal.analysis._maps import summary

@@ -67,6 +67,16 @@ def write_movie(recording, path, *, calibration=None, units=None, fps=None,
     Every frame shows the pressure map on one colour scale (0 to the recording's largest
     pressure), the centre of force (a white cross, in frames with at least 5 % of the peak
     force) and the saturated sensels (red crosses).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, numpy as np, xarray as xr
+    >>> rec = xr.DataArray(np.arange(18.0).reshape(2, 3, 3), dims=("frame", "row", "col"),
+    ...                    coords={"time": ("frame", [0.0, 0.1])},
+    ...                    attrs={"units": "kPa", "row_spacing_mm": 1.0, "col_spacing_mm": 1.0,
+    ...                           "sensel_area_mm2": 1.0})
+    >>> write_movie(rec, pathlib.Path(tempfile.mkdtemp()) / "m.gif", dpi=30).suffix
+    '.gif'
     """
     from matplotlib import animation
 

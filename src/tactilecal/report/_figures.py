@@ -76,8 +76,7 @@ def new_map_axes(recording, n, *, width):
         cols * float(recording.attrs["col_spacing_mm"]))
     map_w = width / n - 1.3
     height = float(np.clip(map_w * aspect + 1.6, 2.5, 6.0))
-    axes = Figure(figsize=(width, height), layout="compressed").subplots(1, n)
-    return axes if n > 1 else axes
+    return Figure(figsize=(width, height), layout="compressed").subplots(1, n)
 
 
 def details_html(summary, body):
