@@ -123,6 +123,15 @@ def test_movie_mp4_with_ffmpeg(tmp_path):
     assert path.suffix == ".mp4" and path.read_bytes()[4:8] == b"ftyp"
 
 
+def test_a_failing_ffmpeg_is_one_error_naming_the_file(tmp_path):
+    from tactilecal.analysis._movie import _write_mp4
+
+    frames = iter([(4, 2, bytes(32))] * 3)
+    with pytest.raises(TactilecalError, match=r"ffmpeg could not write .*m.mp4: .*expected "
+                                              r"an MP4 \(write a .gif instead\)"):
+        _write_mp4(frames, tmp_path / "m.mp4", 10.0, "false")
+
+
 def test_info_and_plot_say_what_a_file_is(tmp_path, capsys, fscan_asf):
     from tactilecal.io import read_tekscan, write_netcdf
 
