@@ -84,6 +84,7 @@ def make_seeds(folder):
     session = deadweight_session(make_sensor("5051", seed=0), n_patches=3, seed=1)
     manifest = session.write(folder / "session")
     seeds.append(("manifest", manifest))
+    seeds.append(("tekscan-cal", _write_cal(folder / "session.cal")))
     recording = next(p for p in manifest.parent.glob("*.csv") if p.name != "manifest.csv")
     seeds.append(("recording", recording))
     # a hand-made raw file: bare "Frame N" lines (no Raw Sum to cross-check) and no UNITS
@@ -277,6 +278,28 @@ def _check_points(points):
     return None
 
 
+def _write_cal(path):
+    """A Tekscan .cal file of two points (the format of tactilecal.calibration._tekscan_cal)."""
+    lines = ["SENSOR_TYPE 5051", "ROWS 44", "COLS 44", "SENSEL_AREA 0.016129 cm2",
+             "UNITS PSI", "NOISE_THRESHOLD 3", "CAL_EXP_ENABLED 1", "EQUFLAG 1"]
+    for n, (psi, level, count) in enumerate(((40.0, 20, 50), (170.0, 37, 186)), 1):
+        hist = np.zeros(256, dtype=int)
+        hist[level] = count
+        lines += [f"CAL_FPI_{n} {psi}", f"CAL_FPC_{n} 0", f"CAL_RSI_{n} {level * count}",
+                  f"CAL_RSC_{n} 0", f"CAL_SM_{n} {count}",
+                  f"CAL_HST_{n} " + " ".join(map(str, hist))]
+    path.write_text("\r\n".join(lines) + "\r\n")
+    return path
+
+
+def _check_cal_points(points):
+    for p in points:
+        hist = np.asarray(p.histogram)
+        if int(hist[1:].sum()) != p.loaded_cells or float(hist @ np.arange(256)) != p.raw_sum:
+            return f"point {p.frame}: histogram differs from its raw sum or loaded sensels"
+    return _check_points(points)
+
+
 def _check_series(series):
     if not np.all(np.isfinite(series.values)) or np.any(np.diff(series.time.values) <= 0):
         return "non-finite value or non-increasing time"
@@ -318,6 +341,7 @@ def _check_evaluation(ev):
 READERS = {
     "recording": (read_tekscan, _check_recording),
     "manifest": (load_points, _check_points),
+    "tekscan-cal": (load_points, _check_cal_points),
     "timeseries": (read_timeseries, _check_series),
     "calibration": (CalibrationResult.from_json, _check_calibration),
     "equilibration": (Equilibration.from_json, _check_equilibration),
@@ -381,6 +405,7 @@ def _cli_commands(kind, mutant, good, out):
                       ["report", m, cal, "--out", f"{out}.html"]],
         "manifest": [["calibrate", m], ["calibrate", m, "--method", "zvyagin"],
                      ["validate", cal, m]],
+        "tekscan-cal": [["calibrate", m, "--method", "linear"], ["validate", cal, m]],
         "timeseries": [["dynamic", "apply", filt, m, "--out", f"{out}.csv"]],
         "calibration": [["apply", m, str(good["raw"]), "--out", f"{out}.nc"],
                         ["validate", m, str(good["manifest"])], ["plot", m, "--out", str(out)]],

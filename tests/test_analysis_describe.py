@@ -69,3 +69,20 @@ def test_frame_table_and_overview_on_a_known_patch():
 def test_frame_table_of_a_raw_recording_needs_a_calibration():
     with pytest.raises(ValueError, match="x.csv: units are 'raw'; give a calibration"):
         _rec(np.zeros((1, 2, 2)), units="raw").tactile.frame_table()
+
+
+def test_one_saturated_frame_makes_the_peaks_lower_bounds():
+    # the first frame carries the largest force; the second has one sensel at the saturation
+    # pressure: its true force is unknown above what it reads, so the peak is a lower bound
+    p = np.zeros((2, 3, 3))
+    p[0] = 400.0
+    p[1, 1, 1] = 1000.0
+    geometry = {"sensel_area_mm2": 1.0, "row_spacing_mm": 1.0, "col_spacing_mm": 1.0}
+    rec = _rec(p, units="kPa", saturation_pressure_kPa=1000.0, **geometry)
+    head = analysis.overview(rec.tactile.frame_table())
+    assert head["peak_force_frame"] == 3 and head["saturated_frames"] == 1  # frames 3, 4
+    assert head["peak_force_is_lower_bound"] is True
+    assert head["max_pressure_is_lower_bound"] is True
+    below = _rec(p * 0.99, units="kPa", saturation_pressure_kPa=1000.0, **geometry)
+    head = analysis.overview(below.tactile.frame_table())
+    assert head["saturated_frames"] == 0 and head["peak_force_is_lower_bound"] is False

@@ -38,7 +38,8 @@ def test_points_errors():
 def test_method_option_errors():
     pts = _points()
     one = _points(1)
-    with pytest.raises(ValueError, match="power-2pt needs 2 usable points; found 1"):
+    with pytest.raises(ValueError, match=r"method 'power-2pt' needs at least two different "
+                                         r"loads .* the 1 usable points all have load_N"):
         calibrate(one, method="power-2pt")
     with pytest.raises(ValueError, match=r"pair=\[0, 0\] is invalid; expected two different"):
         calibrate(pts, method="power-2pt", pair=(0, 0))

@@ -74,7 +74,9 @@ def test_cli_and_python_give_the_same_numbers(session, method, capsys):
     assert cli_out.attrs["units"] == applied.attrs["units"] == "kPa"
     # the recording has loaded sensels: the comparison is not of NaN and zeros only
     assert np.nansum(applied.values) > 0
-    np.testing.assert_allclose(cli_out.values, applied.values, rtol=RTOL)
+    # apply stores float32 (attribute stored_dtype): the float64 values rounded to 24 bits
+    assert cli_out.attrs["stored_dtype"] == "float32"
+    np.testing.assert_allclose(cli_out.values, applied.values.astype(np.float32), rtol=0)
 
 
 def test_preprocessing_is_recorded_and_applied(session):

@@ -89,3 +89,14 @@ def test_equilibration_errors(tmp_path):
     bad.write_text("[")
     with pytest.raises(ValueError, match="x.json: not valid JSON"):
         Equilibration.from_json(bad)
+
+
+def test_one_3d_array_is_not_taken_as_one_level_per_frame():
+    sensor = make_sensor("5051", seed=4)
+    raw, _ = uniform_load(sensor, [150.0], frames_per_level=6, seed=1)
+    with pytest.raises(ValueError, match=r"levels is one array of shape \(6, 44, 44\); its "
+                                         r"frames would each be taken as a load level"):
+        equilibrate(raw.values)
+    with pytest.raises(ValueError, match=r"levels is one array of shape \(6, 44, 44\)"):
+        equilibrate(raw)
+    assert equilibrate([raw]).levels[0]["n_frames"] == 6

@@ -84,7 +84,8 @@ def test_bad_file_exits_1_with_the_reason(capsys, tmp_path):
     path.write_text("")
     assert main(["info", str(path)]) == 1
     assert "tactilecal info: error: " in capsys.readouterr().err
-    with pytest.raises(ValueError, match=r"empty.csv is empty; expected a Tekscan ASCII"):
+    # info reads any recording (Tekscan export, NetCDF, Zarr): the file is none of them
+    with pytest.raises(ValueError, match=r"empty.csv: not a recording: .*expected one of these"):
         from tactilecal.cli._cmd_info import run
 
         run(type("Args", (), {"file": str(path), "json": False})())

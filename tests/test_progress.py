@@ -74,7 +74,9 @@ def test_report_passes_total_and_desc():
                          attrs={"units": "raw", "row_spacing_mm": 1.0, "col_spacing_mm": 1.0,
                                 "sensel_area_mm2": 1.0})
     build_report([frame], progress=bar)
-    assert bar.calls == [(1, 1, "report"), (1, 1, "report")]
+    # the inputs read, then the recording's section block by block (its length unknown
+    # beforehand: each figure is drawn as the bar moves)
+    assert bar.calls == [(1, 1, "report"), (6, None, "report: DataArray in memory")]
 
 
 def test_cli_calibrate_supplies_its_bar(tmp_path, monkeypatch):

@@ -48,7 +48,7 @@ def report(files):
 
 
 def images(text):
-    return re.findall(r'<img alt="([^"]*)" width="\d+" src="([^"]*)"', text)
+    return re.findall(r'<img alt="([^"]*)" width="\d+" height="\d+" src="([^"]*)"', text)
 
 
 def png_width(src):
@@ -68,8 +68,9 @@ def test_calibration_filter_and_raw_recording(files, report):
                      "cal.json: error histogram",
                      "FILTER.json: transfer function, fitted model and filter gain",
                      "patch.nc: total force and contact area against time",
-                     "patch.nc: pressure map at the peak-force frame",
-                     "patch.nc: centre-of-force path",
+                     # the three maps are one figure (a printed page holds them with a plot)
+                     "patch.nc: peak-pressure map, the peak-force frame and the "
+                     "centre-of-force path",
                      "patch.nc: row and column profiles at the peak-force frame"]:
         assert any(c.startswith(expected) for c in captions), expected
     assert "raw readings calibrated with method &#x27;power&#x27;" in text
@@ -77,13 +78,17 @@ def test_calibration_filter_and_raw_recording(files, report):
     heads = re.findall(r"<h2>([^<]*)</h2>", text)
     assert heads == ["Calibration: cal.json", "Recording: patch.nc",
                      "Dynamic filter: FILTER.json", "Provenance"]
-    # provenance: each file's SHA-256, versions, command
+    # provenance: each file's SHA-256 (one per input set in the summary: here each kind is
+    # one file), and every path, versions and the command (in collapsible sections)
+    summary = text[text.index("<h2>Provenance</h2>"):text.index("<details>",
+                                                                  text.index("<h2>Provenance"))]
     for name in ("cal.json", "FILTER.json", "patch.nc"):
         digest = hashlib.sha256((files / name).read_bytes()).hexdigest()
-        assert digest in text and str((files / name).resolve()) in text
-    for item in ("tactilecal", "numpy", "matplotlib", "report created (UTC)",
-                 "tactilecal report ..."):
+        assert digest in summary and str((files / name).resolve()) in text
+    for item in ("tactilecal", "numpy", "matplotlib"):
         assert f"<td>{item}</td>" in text
+    for item in ("report created (UTC)", "tactilecal report ..."):
+        assert f"<td>{item}</td>" in summary
 
 
 def test_peak_force_number_is_the_calibrated_peak(files, session, report):
@@ -92,7 +97,7 @@ def test_peak_force_number_is_the_calibrated_peak(files, session, report):
     raw = session.recording(0).values
     peak = max(float(np.nansum(result.predict_sensel_force(frame))) for frame in raw)
     text = report.read_text()
-    assert f"<td>peak total force [N]</td><td>{peak:.6g}</td>" in text
+    assert f"<td>peak total force</td><td>{number(peak)} N</td>" in text
 
 
 def test_raw_recording_without_calibration_is_shown_in_raw_readings(session):
@@ -100,19 +105,21 @@ def test_raw_recording_without_calibration_is_shown_in_raw_readings(session):
     text = build_report([recording])
     assert "holds raw readings and no calibration was given" in text
     captions = [alt for alt, _ in images(text)]
+    # the raw-weighted centre's path is drawn over the peak raw map, at the sensor's scale
     assert captions == ["DataArray in memory: sum of raw readings and loaded area against "
-                        "time", "DataArray in memory: peak raw map",
-                        "DataArray in memory: centre of the raw readings"]
+                        "time", "DataArray in memory: peak raw map"]
     largest = float(np.nansum(recording.values, axis=(1, 2)).max())
-    assert f"<td>largest sum of raw readings</td><td>{largest:.6g}</td>" in text
+    assert f"<td>largest sum of raw readings</td><td>{number(largest)}</td>" in text
 
 
 def test_every_figure_is_drawn_at_twice_its_size_and_says_how_to_read_it(report):
     text = report.read_text()
-    for width, src in re.findall(r'<img alt="[^"]*" width="(\d+)" src="([^"]*)"', text):
+    for width, src in re.findall(r'<img alt="[^"]*" width="(\d+)" height="\d+" '
+                                 r'src="([^"]*)"', text):
         assert png_width(src) == pytest.approx(2 * int(width), abs=2)
     guides = re.findall(r"<figcaption><b>[^<]+\.</b> ([^<]+)</figcaption>", text)
-    assert len(guides) == len(images(text)) == 9  # 3 calibration, 1 filter, 5 recording
+    # 3 calibration, 1 filter, 3 recording (force, the maps in one figure, profiles)
+    assert len(guides) == len(images(text)) == 7
     assert all(len(guide.split()) >= 12 for guide in guides)
 
 
@@ -254,7 +261,7 @@ def test_report_renders_at_1280_px_without_overflow(report, tmp_path):
     assert 'data-checked="yes"' in run.stdout, run.stderr[-2000:]
     assert 'data-overflow="none"' in run.stdout  # no element wider than the viewport
     widths = [int(w) for w in re.findall(r'data-natural-width="(\d+)"', run.stdout)]
-    assert len(widths) == len(images(report.read_text())) == 9
+    assert len(widths) == len(images(report.read_text())) == 7
     assert all(w > 100 for w in widths)  # every embedded PNG decoded to a real image
     shot = tmp_path / "shot.png"
     subprocess.run([*common, f"--screenshot={shot}", page.as_uri()], capture_output=True,

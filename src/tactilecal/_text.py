@@ -13,16 +13,27 @@ __all__ = ["number", "share"]
 SIGNIFICANT_DIGITS = 4
 
 
-def number(value, digits=SIGNIFICANT_DIGITS):
+def number(value, digits=SIGNIFICANT_DIGITS, unit=None):
     """Write ``value`` for people: whole numbers as they are, floats to ``digits`` digits.
+
+    A float holding a whole number (a raw sum, a count read from a file) is written whole;
+    other floats to ``digits`` significant digits, without an exponent below 1e15
+    (``13127.5`` is ``13130``, not ``1.313e+04``). ``unit`` is appended after a space.
 
     Examples
     --------
     >>> number(0.0035123456), number(1514.7321), number(12), number(float("nan")), number(None)
     ('0.003512', '1515', '12', 'n/a', 'n/a')
+    >>> number(13127.0), number(13127.5), number(2.5e-7), number(760.0, unit="kPa")
+    ('13127', '13130', '2.5e-07', '760 kPa')
     >>> number(True), number("power")
     ('True', 'power')
     """
+    text = _number(value, digits)
+    return text if unit is None or text == "n/a" else f"{text} {unit}"
+
+
+def _number(value, digits):
     if value is None or isinstance(value, bool | str):
         return "n/a" if value is None else str(value)
     if isinstance(value, numbers.Integral):
@@ -31,7 +42,12 @@ def number(value, digits=SIGNIFICANT_DIGITS):
         value = float(value)
         if not math.isfinite(value):
             return "n/a" if math.isnan(value) else str(value)
-        return f"{value:.{digits}g}"
+        if value.is_integer() and abs(value) < 1e15:
+            return str(int(value))
+        text = f"{value:.{digits}g}"
+        if "e+" in text and abs(value) < 1e15:
+            return f"{round(value, digits - 1 - math.floor(math.log10(abs(value)))):.0f}"
+        return text
     return str(value)
 
 

@@ -19,8 +19,11 @@ summary (:func:`peak_frame`), a force signal (:func:`creep`) or a loading cycle
 
 from tactilecal.analysis._accessor import TactileAccessor  # registers .tactile
 from tactilecal.analysis._describe import overview
+from tactilecal.analysis._gait import align_recordings
 from tactilecal.analysis._plots import peak_frame
+from tactilecal.analysis._regionset import Regions
 from tactilecal.analysis._time import creep, hysteresis
 
-__all__ = ["TactileAccessor", "overview", "peak_frame", "creep", "hysteresis"]
+__all__ = ["TactileAccessor", "Regions", "overview", "peak_frame", "creep", "hysteresis",
+           "align_recordings"]
 

@@ -15,7 +15,11 @@ import inspect
 import re
 
 from tactilecal.analysis import _plots
+from tactilecal.analysis._analyze import analyze
+from tactilecal.analysis._contacts import region_analysis, split_contacts
 from tactilecal.analysis._describe import describe, frame_table
+from tactilecal.analysis._figures import save_figures
+from tactilecal.analysis._gait import force_time_integral, pressure_time_integral, steps
 from tactilecal.analysis._maps import (
     centre_of_force,
     contact_area,
@@ -24,6 +28,7 @@ from tactilecal.analysis._maps import (
     summary,
     total_force,
 )
+from tactilecal.analysis._movie import write_movie
 from tactilecal.analysis._regions import (
     high_pressure_zones,
     label_zones,
@@ -31,7 +36,12 @@ from tactilecal.analysis._regions import (
     profile,
     select_region,
 )
-from tactilecal.analysis._units import force_map_N, pressure_map_kPa, saturated_sensels
+from tactilecal.analysis._units import (
+    force_map_N,
+    pressure_map_kPa,
+    saturated_sensels,
+    saturation_mask,
+)
 
 __all__ = ["TactileAccessor"]
 
@@ -111,6 +121,7 @@ class TactileAccessor:
     force_map = _method(force_map_N, "force_map")
     frame_summary = _method(summary, "frame_summary")
     saturated_sensels = _method(saturated_sensels, "saturated_sensels")
+    saturation_mask = _method(saturation_mask, "saturation_mask")
     profile = _method(profile, "profile")
     select_region = _method(select_region, "select_region")
     label_zones = _method(label_zones, "label_zones")
@@ -118,46 +129,64 @@ class TactileAccessor:
     max_window_load = _method(max_window_load, "max_window_load")
     describe = _method(describe, "describe")
     frame_table = _method(frame_table, "frame_table")
+    split_contacts = _method(split_contacts, "split_contacts")
+    regions = _method(region_analysis, "regions")
+    pressure_time_integral = _method(pressure_time_integral, "pressure_time_integral")
+    impulse = _method(force_time_integral, "impulse")
+    steps = _method(steps, "steps")
+    analyze = _method(analyze, "analyze")
+    save_figures = _method(save_figures, "save_figures")
+    write_movie = _method(write_movie, "write_movie")
 
     # ---------------------------------------------------------------- figures
-    def plot_pressure_map(self, frame=None, *, position=None, calibration=None, ax=None):
-        """Pressure map [kPa] of one frame, or each sensel's peak over the recording.
+    def plot_pressure_map(self, frame=None, *, position=None, calibration=None, ax=None,
+                          units=None, centre=True):
+        """Pressure map of one frame, or each sensel's peak over the recording.
 
         ``frame`` is the file's frame number (``recording.frame``), ``position`` a 0-based
         position (default: the peak-pressure map); a raw recording without ``calibration``
-        is drawn in raw readings (0..255). Returns the matplotlib Axes.
+        is drawn in raw readings (0..255). ``units``: the pressure unit shown (default the
+        recording's own pressure unit, else kPa). Saturated sensels are red crosses;
+        ``centre`` draws the centre of force (that frame's, or the path of every frame with
+        at least 5 % of the peak force). Returns the matplotlib Axes.
         """
         return _plots.plot_pressure_map(self._rec, frame, position=position,
-                                        calibration=calibration, ax=ax)
+                                        calibration=calibration, ax=ax, units=units,
+                                        centre=centre)
 
     def plot_profiles(self, frame=None, *, position=None, nonworking=None, calibration=None,
-                      axes=None):
-        """Row and column profiles [kPa] of one frame (means skipping blank sensels).
+                      axes=None, units=None):
+        """Row and column profiles of one frame (means skipping blank sensels).
 
         ``frame`` is the file's frame number, or ``position`` its 0-based position;
         ``nonworking``: a mask of non-working sensels to skip too. Returns the row-profile
         and the column-profile Axes.
         """
         return _plots.plot_profiles(self._rec, frame, position=position, nonworking=nonworking,
-                                    calibration=calibration, axes=axes)
+                                    calibration=calibration, axes=axes, units=units)
 
     def plot_force_time(self, *, calibration=None, summary=None, ax=None):
         """Total force [N] and contact area [mm2] against time, the peak frame marked.
 
-        ``summary``: the recording's :meth:`frame_summary` if already computed (else computed
-        here). Returns the matplotlib Axes.
+        Frames with saturated sensels are red ticks along the time axis. ``summary``: the
+        recording's :meth:`frame_summary` if already computed (else computed here).
+        Returns the matplotlib Axes.
         """
         if summary is None:
             summary = self.frame_summary(calibration=calibration)
         return _plots.plot_force_time(summary, ax=ax)
 
-    def plot_cof_path(self, *, calibration=None, summary=None, min_force_N=None, ax=None):
-        """Centre-of-force path [mm], coloured by time.
+    def plot_cof_path(self, *, calibration=None, summary=None, min_force_N=None, ax=None,
+                      units=None):
+        """Centre-of-force path over the peak-pressure map, coloured by time.
 
-        Frames with a total force below ``min_force_N`` (default 5 % of the peak) are not
-        drawn: with almost no load the centre is noise. ``summary``: the recording's
+        Drawn at the sensor's own scale, so noise never looks like motion. Frames with a
+        total force below ``min_force_N`` (default 5 % of the peak) are not drawn: with
+        almost no load the centre is noise. ``summary``: the recording's
         :meth:`frame_summary` if already computed. Returns the matplotlib Axes.
         """
         if summary is None:
             summary = self.frame_summary(calibration=calibration)
-        return _plots.plot_cof_path(summary, min_force_N=min_force_N, ax=ax)
+        rec = self._rec if calibration is None else self.calibrate(calibration)
+        return _plots.plot_cof_path(summary, recording=rec, min_force_N=min_force_N, ax=ax,
+                                    units=units)

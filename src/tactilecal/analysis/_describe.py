@@ -164,8 +164,10 @@ def overview(table, *, source=None):
     dict
         ``file, frames, duration_s, peak_force_N, peak_force_frame, peak_force_time_s,
         mean_force_N, max_contact_area_mm2, max_pressure_kPa, saturated_frames,
-        peak_force_is_lower_bound`` (the last two None when saturation is unknown; a frame
-        with saturated sensels gives lower bounds of its force and pressures).
+        peak_force_is_lower_bound, max_pressure_is_lower_bound`` (the last three None when
+        saturation is unknown). A frame with saturated sensels has an unknown force above
+        its reading, so as soon as one frame is saturated the recording's peak force and
+        largest pressure are lower bounds, whichever frame they were read in.
     """
     if isinstance(table, xr.Dataset):
         table = frame_table(table)
@@ -180,14 +182,15 @@ def overview(table, *, source=None):
         "mean_force_N": float(np.nanmean(force)),
         "max_contact_area_mm2": float(table["contact_area_mm2"].max()),
         "max_pressure_kPa": float(table["peak_kPa"].max()),
-        **_saturation(table, i),
+        **_saturation(table),
     }
 
 
-def _saturation(table, i):
+def _saturation(table):
     """Saturated frames, and whether the peak force is a lower bound (None: unknown)."""
     if "saturated_sensels" not in table:
-        return {"saturated_frames": None, "peak_force_is_lower_bound": None}
-    counts = table["saturated_sensels"].to_numpy()
-    return {"saturated_frames": int((counts > 0).sum()),
-            "peak_force_is_lower_bound": bool(len(counts) and counts[i] > 0)}
+        return {"saturated_frames": None, "peak_force_is_lower_bound": None,
+                "max_pressure_is_lower_bound": None}
+    saturated = int((table["saturated_sensels"].to_numpy() > 0).sum())
+    return {"saturated_frames": saturated, "peak_force_is_lower_bound": saturated > 0,
+            "max_pressure_is_lower_bound": saturated > 0}

@@ -12,8 +12,8 @@ from tactilecal._errors import TactilecalError
 from tactilecal._model import check_recording, positive_attr, recording_name, recording_units
 from tactilecal._units import KPA_MM2_TO_N, N_PER_MM2_TO_KPA
 
-__all__ = ["force_map_N", "pressure_map_kPa", "saturated_sensels", "sensel_area_mm2",
-           "spacing_mm"]
+__all__ = ["force_map_N", "pressure_map_kPa", "saturated_sensels", "saturation_mask",
+           "sensel_area_mm2", "spacing_mm", "display_unit"]
 
 SATURATION_TOLERANCE = 1e-3
 """Calibrated files: a value within 0.1 % of the saturation pressure counts as saturated
@@ -34,17 +34,36 @@ def saturated_sensels(recording):
         Count per frame (int, dim ``frame``; lazy for a dask-backed recording), or None when
         the recording does not say what saturation is; and the rule as text.
     """
+    mask, rule = saturation_mask(recording)
+    return (None if mask is None else mask.sum(("row", "col"))), rule
+
+
+def saturation_mask(recording):
+    """Return the saturated sensels of every frame (boolean, like the recording) and the rule.
+
+    The rule of :func:`saturated_sensels`; ``(None, rule)`` when the recording does not say
+    what saturation is.
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> rec = xr.DataArray(np.array([[[255.0, 3.0]]]), dims=("frame", "row", "col"),
+    ...                    attrs={"units": "raw"})
+    >>> mask, rule = saturation_mask(rec)
+    >>> mask.values.tolist(), rule
+    ([[[True, False]]], 'raw value 255')
+    """
     from tactilecal._units import pressure_to_kPa
 
     unit, kind = recording_units(recording)
     if kind == "raw":
-        return (recording >= 255).sum(("row", "col")), "raw value 255"
+        return recording >= 255, "raw value 255"
     limit_kPa = recording.attrs.get("saturation_pressure_kPa")
     if limit_kPa is None or kind != "pressure" or not np.isfinite(float(limit_kPa)):
         return None, ("unknown (calibrated recording without a saturation pressure in a "
                       "pressure unit)")
     threshold = float(limit_kPa) / pressure_to_kPa(1.0, unit) * (1 - SATURATION_TOLERANCE)
-    return ((recording >= threshold).sum(("row", "col")),
+    return (recording >= threshold,
             f"value >= {threshold:.6g} {unit} (saturation pressure - 0.1 %)")
 
 
@@ -177,3 +196,28 @@ def pressure_map_kPa(recording, *, calibration=None):
     2000.0
     """
     return _per_sensel(recording, calibration, "kPa")
+
+
+def display_unit(recording=None, units=None):
+    """Return ``(unit, factor)`` to show pressures: ``value_kPa / factor`` is in ``unit``.
+
+    ``units`` when given (a pressure unit: kPa, MPa, psi...), else the recording's own unit
+    when it is a pressure (an MPa recording is shown in MPa), else kPa.
+
+    Examples
+    --------
+    >>> unit, factor = display_unit(units="MPa")
+    >>> unit, 2500.0 / factor
+    ('MPa', 2.5)
+    """
+    from tactilecal._units import normalise_unit, pressure_to_kPa, unit_kind
+
+    if units is None:
+        own = None if recording is None else recording.attrs.get("units")
+        own = normalise_unit(own) if own is not None else None
+        units = own if own is not None and unit_kind(own) == "pressure" else "kPa"
+    unit = normalise_unit(units, where="units=")
+    if unit_kind(unit) != "pressure":
+        raise TactilecalError(f"units={units!r} is a {unit_kind(unit)} unit; expected a pressure "
+                              "unit to show pressures in (kPa, MPa, psi...)")
+    return unit, float(pressure_to_kPa(1.0, unit))

@@ -286,6 +286,7 @@ def fit_arrays(hist, load, meta, *, module, common, options, readings=None):
                               f"{' ...' if len(load) > 8 else ''}); expected at least one "
                               "unsaturated point with a positive load")
     rows = np.flatnonzero(used)
+    _check_two_loads(module.NAME, load[used])
     gains, gains_record = None, None
     if common.gains == "learn":
         exact = (meta["saturated_cells"][used] == 0) | (common.saturated != "censored")
@@ -334,6 +335,16 @@ def fit_arrays(hist, load, meta, *, module, common, options, readings=None):
     if common.n_interval_resamples:
         result.prediction_interval = _interval(hist, load, meta, module, common, options)
     return result
+
+
+def _check_two_loads(method, load_N):
+    """Refuse one load for a law of two parameters: any exponent fits a single load."""
+    if method != "linear" and np.unique(load_N).size < 2:
+        raise TactilecalError(f"method {method!r} needs at least two different loads (a power "
+                              "law has two parameters: one load is met by any exponent); the "
+                              f"{load_N.size} usable points all have load_N = "
+                              f"{float(load_N[0]):.6g}; expected points at two or more loads, "
+                              "or method 'linear' (I-Scan's 1-point calibration)")
 
 
 def _interval(hist, load, meta, module, common, options):

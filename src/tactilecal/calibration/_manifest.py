@@ -10,6 +10,7 @@ from tactilecal._progress import resolve
 from tactilecal._provenance import sensor_of
 from tactilecal._validate import check_number, csv_rows, parse_number, read_text
 from tactilecal.calibration._points import _points_from_histograms, frame_histograms
+from tactilecal.calibration._tekscan_cal import cal_points, is_tekscan_cal, refuse_recording
 
 __all__ = ["load_points", "load_frames", "find_plateau"]
 
@@ -191,6 +192,9 @@ def load_frames(manifest_path, *, equilibration=None, progress=None):
     ValueError
         As :func:`load_points`, and if the files' frame shapes differ.
     """
+    if is_tekscan_cal(manifest_path):
+        raise TactilecalError(f"{manifest_path} is a Tekscan .cal file: it keeps histograms, "
+                              "not frames; expected a manifest CSV to read frames from")
     progress = resolve(progress)
     frames = [f[1][0] for f in _manifest_frames(manifest_path, equilibration, progress)]
     shapes = sorted({f.shape for f in frames})
@@ -208,10 +212,14 @@ def load_points(manifest_path, *, mask=None, equilibration=None, progress=None):
     :func:`find_plateau` and reported in the point's ``note``), ``load_N`` or ``mass_kg``
     with optional ``pad_mass_g`` (g = 9.80665 m/s2), optional ``label``.
 
+    A Tekscan calibration file (``.cal``) is read instead by its own reader
+    (:mod:`tactilecal.calibration._tekscan_cal`): one point per ``CAL_*_n`` group, its
+    histogram as the file stores it.
+
     Parameters
     ----------
     manifest_path : str or os.PathLike
-        The manifest CSV.
+        The manifest CSV, or a Tekscan ``.cal`` file.
     mask : array_like of bool, optional
         Non-working sensels to leave out (see :func:`find_dead_sensels`).
     equilibration : Equilibration, optional
@@ -230,6 +238,9 @@ def load_points(manifest_path, *, mask=None, equilibration=None, progress=None):
         Missing columns, a blank or non-numeric load, a missing file, a frame not in its
         file, a file that is not raw; messages name the manifest line.
     """
+    if is_tekscan_cal(manifest_path):
+        return cal_points(manifest_path, mask=mask, equilibration=equilibration)
+    refuse_recording(manifest_path)
     progress = resolve(progress)
     points = []
     for row, frame, number, note, attrs, load in _manifest_frames(manifest_path, equilibration,

@@ -351,6 +351,11 @@ def equilibrate(levels):
     >>> eq.apply(50 * sens[None]).round(6).tolist()
     [[[50.0, 50.0], [50.0, 50.0]]]
     """
+    if getattr(levels, "ndim", 1) == 3:  # one (n, rows, cols) array: not n levels of a frame
+        raise TactilecalError(f"levels is one array of shape {tuple(levels.shape)}; its frames "
+                              "would each be taken as a load level of their own; expected a "
+                              "list with one (n, rows, cols) array per load level, e.g. "
+                              "equilibrate([frames]) for one level")
     if len(levels) == 0:
         raise TactilecalError("levels is empty; expected uniform-load frames at one level or more")
     means = []

@@ -9,8 +9,11 @@ def register(subparsers):
     p = subparsers.add_parser(
         "apply", help="apply a calibration to a raw recording (NetCDF out)",
         description="Convert RECORDING (Tekscan ASCII, NetCDF or Zarr, raw) to pressure or force "
-                    "per sensel with CAL.json and write a NetCDF file carrying the "
-                    "calibration (attributes calibration_method, calibration_json).")
+                    "per sensel with CAL.json and write a compressed NetCDF file carrying the "
+                    "calibration (attributes calibration_method, calibration_json). The "
+                    "values are stored as float32 (attribute stored_dtype): each is one of "
+                    "the 256 values of the law at a raw reading, and 7 significant digits "
+                    "are far finer than any calibration.")
     p.add_argument("calibration", metavar="CAL.json")
     p.add_argument("recording", metavar="RECORDING")
     add_output(p, "--out", kind="netcdf", required=True, metavar="OUT.nc")
@@ -29,7 +32,8 @@ def run(args):
     result = CalibrationResult.from_json(args.calibration)
     recording = open_recording(args.recording)
     out = result.apply(recording, units=args.units)
-    write_netcdf(out, args.out, overwrite=args.overwrite)
+    write_netcdf(out, args.out, compress=True, dtype="float32",  # from raw readings
+                 overwrite=args.overwrite)
     counts, _ = recording.tactile.saturated_sensels()
     n_saturated = int((counts > 0).sum())
     if n_saturated:

@@ -1,16 +1,19 @@
-"""``tactilecal info FILE [--json]``: what a Tekscan export holds, at a glance."""
+"""``tactilecal info FILE [--json]``: what a recording holds, at a glance."""
 
+from tactilecal._text import number
 from tactilecal.cli._common import print_json
 
 
 def register(subparsers):
     """Add the ``info`` command."""
     p = subparsers.add_parser(
-        "info", help="summarise a Tekscan ASCII export",
+        "info", help="summarise a recording (Tekscan export, NetCDF, Zarr)",
         description="Sensor, size, frames, duration, units, calibration header, blank "
-                    "(all-B) and never-loaded sensels, maximum reading and frames with "
-                    "saturated sensels of a Tekscan I-Scan/F-Scan ASCII export.")
-    p.add_argument("file", help="Tekscan ASCII export (.csv, .asf, ...)")
+                    "(all-B) and never-loaded sensels, largest value (with its unit, and as "
+                    "a raw reading through the header's calibration) and frames with "
+                    "saturated sensels of a recording: a Tekscan I-Scan/F-Scan ASCII export, "
+                    "a NetCDF file or a Zarr store.")
+    p.add_argument("file", help="Tekscan ASCII export (.csv, .asf, ...), .nc or .zarr")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
 
@@ -20,21 +23,22 @@ def _text(summary):
     for key, value in summary.items():
         if key == "calibration":
             lines.append("calibration: " + ("none in header" if not value else ""))
-            lines.extend(f"  {k}: {v}" for k, v in value.items())
+            lines.extend(f"  {k}: {number(v)}" for k, v in value.items())
         elif key == "saturated_frame_numbers" and value is not None:
             shown = ", ".join(map(str, value[:20])) + (" ..." if len(value) > 20 else "")
-            shown = shown or "none"
-            lines.append(f"{key}: {shown}")
+            lines.append(f"{key}: {shown or 'none'}")
+        elif key == "max_value" and value is not None:
+            lines.append(f"{key}: {number(value)} {summary.get('units') or ''}".rstrip())
         elif value is not None:
-            lines.append(f"{key}: {value:.6g}" if isinstance(value, float) else f"{key}: {value}")
+            lines.append(f"{key}: {number(value)}")
     return "\n".join(lines)
 
 
 def run(args):
     """Read the file and print its summary (text or JSON); return 0."""
-    from tactilecal.io import read_tekscan
+    from tactilecal.io import open_recording
 
-    summary = read_tekscan(args.file).tactile.describe()
+    summary = open_recording(args.file).tactile.describe()
     if args.json:
         print_json(summary)
     else:

@@ -1,7 +1,7 @@
 """``tactilecal report INPUT... --out report.html``: one self-contained HTML page."""
 
-
 from tactilecal.cli._common import info, progress_for
+from tactilecal.cli._inputs import add_region_options, gap_mm, regions
 from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import non_negative_float
 
@@ -14,8 +14,10 @@ def register(subparsers):
                     "comparison when there are several; curve, points, error histogram, "
                     "Zvyagin figures), validation JSONs (held-out errors), FILTER.json files "
                     "(transfer function), blind-test JSONs (error before and after) and "
-                    "recordings (force and area against time, peak-pressure map, "
-                    "centre-of-force path, profiles), and a provenance section.")
+                    "recordings (the export's own calibration, a frame player, force and area "
+                    "against time, the maps with the centre of force, profiles, steps; "
+                    "several recordings also on one time axis), and a provenance section. It "
+                    "prints to paper as it shows on screen.")
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="calibration or validation JSON, FILTER.json, blind-test JSON, "
                         "Tekscan export or NetCDF recording")
@@ -24,11 +26,20 @@ def register(subparsers):
     p.add_argument("--cal", metavar="CAL.json", help="calibration for raw recordings")
     p.add_argument("--filter", metavar="FILTER.json", help="dynamic filter to report")
     p.add_argument("--title", help="page title")
+    p.add_argument("--units", help="pressure unit of the recordings: kPa, MPa, psi... "
+                                   "(default each recording's own)")
     p.add_argument("--threshold-kpa", type=non_negative_float, default=0.0, metavar="KPA",
                    help="loaded-sensel threshold for contact areas (default 0)")
     p.add_argument("--cof-min-force-n", type=non_negative_float, metavar="N",
                    help="draw the centre-of-force path only where the total force is at "
                         "least N newtons (default 5%% of the peak force)")
+    add_region_options(p)
+    p.add_argument("--align", default="time", metavar="HOW",
+                   help="several recordings on one time axis: 'time' (default: by their own "
+                        "times, one session's clock), 'start' (their first frames at 0) or "
+                        "'onset' (their first loading at 0)")
+    p.add_argument("--no-player", action="store_true",
+                   help="leave out the frame players (a smaller page)")
     p.set_defaults(func=run)
 
 
@@ -38,8 +49,9 @@ def run(args):
 
     path = write_report(args.inputs, args.out, calibration=args.cal, filter=args.filter,
                         title=args.title, threshold_kPa=args.threshold_kpa,
-                        cof_min_force_N=args.cof_min_force_n,
-                        command=args.command_line,
-                        progress=progress_for(args), overwrite=args.overwrite)
+                        cof_min_force_N=args.cof_min_force_n, command=args.command_line,
+                        progress=progress_for(args), units=args.units, regions=regions(args),
+                        gap_mm=gap_mm(args), align=args.align, player=not args.no_player,
+                        overwrite=args.overwrite)
     info(args, f"report written to {path}")
     return 0

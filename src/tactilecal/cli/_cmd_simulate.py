@@ -1,7 +1,8 @@
 """``tactilecal simulate``: write synthetic sessions with their known truth.
 
 ``tactilecal simulate deadweight OUTDIR`` writes a dead-weight calibration session (one I-Scan
-ASCII file per patch, ``manifest.csv``, ``truth.json``); ``tactilecal simulate ramp-hold
+ASCII file per patch, ``manifest.csv``, ``truth.json``); ``tactilecal simulate uniform
+OUTDIR`` one recording per uniform pressure level (equilibration); ``tactilecal simulate ramp-hold
 OUTDIR`` writes a loading-machine recording, its load-cell CSV and ``truth.json``;
 ``tactilecal simulate sweep|blind OUTDIR`` writes a dynamic session's sensor and load-cell
 records (``sensor.csv``, ``reference.csv``) and ``truth.json``.
@@ -9,6 +10,7 @@ records (``sensor.csv``, ``reference.csv``) and ``truth.json``.
 
 from tactilecal.cli import _simulate_run
 from tactilecal.cli._outputs import add_output
+from tactilecal.cli._simulate_uniform import add_uniform
 from tactilecal.cli._types import non_negative_int, positive_float, positive_int, share
 
 __all__ = ["register"]
@@ -45,6 +47,7 @@ def register(subparsers):
     rh.add_argument("--loadcell-rate", type=positive_float, default=500.0,
                     help="load-cell rate in Hz (500)")
     rh.set_defaults(func=_simulate_run.run_ramp_hold)
+    add_uniform(sub, _common_options)
     for kind, what in (("sweep", "sine sweep 1-140 Hz (Gillis 2013, Table 4.2)"),
                        ("blind", "blind test: 20 random sine sets (Gillis 2013, Table 4.2)")):
         dyn = sub.add_parser(kind, help=f"dynamic session: {what}", description=(

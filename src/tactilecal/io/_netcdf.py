@@ -16,7 +16,7 @@ from tactilecal._atomic import (
 )
 from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps
-from tactilecal._validate import shorten
+from tactilecal._validate import float_type, shorten
 
 __all__ = ["read_netcdf", "write_netcdf"]
 
@@ -29,7 +29,7 @@ def _engine():
     return "h5netcdf" if importlib.util.find_spec("h5py") else "scipy"
 
 
-def write_netcdf(data, path, *, overwrite=False):
+def write_netcdf(data, path, *, compress=False, dtype=None, overwrite=False):
     """Write a DataArray to NetCDF atomically; non-scalar attributes are stored as JSON.
 
     Attributes that NetCDF cannot hold (dicts, lists, ``None``, booleans) are written as
@@ -42,6 +42,12 @@ def write_netcdf(data, path, *, overwrite=False):
         Any recording or result.
     path : str or os.PathLike
         Output file.
+    compress : bool, keyword-only
+        Compress the values (zlib level 4 with the shuffle filter, NetCDF4 only): a
+        recording's many zeros and repeated values shrink several times.
+    dtype : {None, "float32"}, keyword-only
+        Store the values as float32 (7 significant digits), recorded in the attribute
+        ``stored_dtype``; None keeps them as they are.
     overwrite : bool, keyword-only
         Replace an existing ``path`` (only a NetCDF file; default False: an error).
 
@@ -58,6 +64,9 @@ def write_netcdf(data, path, *, overwrite=False):
     """
     check_target(path, overwrite=overwrite, kind="netcdf")
     out = data.copy(deep=False)
+    if dtype is not None:
+        out = out.astype(float_type(dtype, "dtype"), keep_attrs=True)
+        out.attrs["stored_dtype"] = out.dtype.name
     encoded = []
     for key, value in data.attrs.items():
         if not isinstance(value, str | int | float | np.number) or isinstance(value, bool):
@@ -67,6 +76,8 @@ def write_netcdf(data, path, *, overwrite=False):
         out.attrs[_JSON_ATTRS] = ",".join(encoded)
     engine = _engine()
     options = {"engine": engine}
+    if compress and engine == "h5netcdf":
+        out.encoding.update({"zlib": True, "complevel": 4, "shuffle": True})
     with atomic_path(path, suffix=".nc") as tmp:
         try:
             # the temporary file is removed only after every block stopped writing

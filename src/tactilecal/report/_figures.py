@@ -10,7 +10,8 @@ import io
 
 import numpy as np
 
-__all__ = ["figure_html", "new_axes", "note_html", "table_html"]
+__all__ = ["figure_html", "new_axes", "new_map_axes", "map_row_width", "note_html",
+           "table_html", "details_html"]
 
 #: CSS pixels per inch, and the drawing resolution (twice that).
 CSS_DPI = 96
@@ -22,10 +23,13 @@ def _esc(value):
 
 
 def _fmt(value):
+    """Return a cell for people (numbers through :func:`tactilecal._text.number`)."""
+    from tactilecal._text import number
+
     if value is None:
         return "none"
     if isinstance(value, float | np.floating):
-        return "n/a" if not np.isfinite(value) else f"{value:.6g}"
+        return number(float(value)) if np.isfinite(value) else "n/a"
     return value
 
 
@@ -37,8 +41,8 @@ def note_html(text):
 def table_html(rows, header=None, *, wide=False):
     """Return an HTML table built from an iterable of row tuples.
 
-    ``wide=True`` marks a table with long cells (paths, hashes): it wraps them and
-    scrolls inside its own box rather than widening the page.
+    ``wide=True`` marks a table with long cells (paths, hashes): they wrap anywhere, so
+    the table never widens the page, on screen or on paper.
     """
     head = "" if header is None else "<tr>" + "".join(f"<th>{_esc(h)}</th>" for h in header) \
         + "</tr>"
@@ -52,6 +56,32 @@ def new_axes(figsize=(6, 4), *, ncols=1):
     from matplotlib.figure import Figure
 
     return Figure(figsize=figsize, layout="constrained").subplots(1, ncols)
+
+
+def map_row_width(recording, n, *, page_in=7.2):
+    """Width [in] of a row of ``n`` maps of ``recording``: at most a printed page's width."""
+    rows, cols = recording.sizes["row"], recording.sizes["col"]
+    aspect = rows * float(recording.attrs["row_spacing_mm"]) / (
+        cols * float(recording.attrs["col_spacing_mm"]))
+    one = min(page_in / n, 5.0 / max(aspect, 1e-3) + 1.3)
+    return round(n * one, 1)
+
+
+def new_map_axes(recording, n, *, width):
+    """Return ``n`` axes side by side for maps of ``recording`` (the "compressed" layout)."""
+    from matplotlib.figure import Figure
+
+    rows, cols = recording.sizes["row"], recording.sizes["col"]
+    aspect = rows * float(recording.attrs["row_spacing_mm"]) / (
+        cols * float(recording.attrs["col_spacing_mm"]))
+    map_w = width / n - 1.3
+    height = float(np.clip(map_w * aspect + 1.6, 2.5, 6.0))
+    return Figure(figsize=(width, height), layout="compressed").subplots(1, n)
+
+
+def details_html(summary, body):
+    """Return a collapsible section: ``summary`` shown, ``body`` (HTML) on opening it."""
+    return f"<details><summary>{_esc(summary)}</summary>{body}</details>"
 
 
 def figure_html(figure, caption, how_to_read):
@@ -70,6 +100,7 @@ def figure_html(figure, caption, how_to_read):
     fig.savefig(buf, format="png", dpi=DRAW_DPI)
     width_px = round(fig.get_figwidth() * CSS_DPI)
     data = base64.b64encode(buf.getvalue()).decode("ascii")
-    return (f'<figure><img alt="{_esc(caption)}" width="{width_px}" '
+    height_px = round(fig.get_figheight() * CSS_DPI)
+    return (f'<figure><img alt="{_esc(caption)}" width="{width_px}" height="{height_px}" '
             f'src="data:image/png;base64,{data}">'
             f"<figcaption><b>{_esc(caption)}.</b> {_esc(how_to_read)}</figcaption></figure>")

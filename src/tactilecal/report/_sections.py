@@ -1,4 +1,6 @@
-"""The sections of a report: methods compared, calibration, filter, blind test, recording.
+"""The sections of a report: methods compared, calibration, filter, blind test.
+
+The recordings' sections are in :mod:`tactilecal.report._recording`.
 
 Each builder returns a list of HTML blocks. Every figure says under it what it shows and
 how to read it. What a section cannot show is decided from its input before anything is
@@ -6,9 +8,9 @@ drawn (a raw recording without a calibration, a filter file without its fit) and
 note; a figure that fails to draw for any other reason is a bug and raises.
 """
 
+import hashlib
 import html
 import json
-from types import SimpleNamespace
 
 import numpy as np
 
@@ -16,6 +18,7 @@ from tactilecal._jsonutil import to_jsonable
 from tactilecal._text import number, share
 from tactilecal._units import N_PER_MM2_TO_KPA
 from tactilecal.report._figures import (
+    details_html,
     figure_html,
     new_axes,
     note_html,
@@ -23,10 +26,7 @@ from tactilecal.report._figures import (
 )
 
 __all__ = ["comparison_blocks", "calibration_blocks", "filter_blocks", "evaluation_blocks",
-           "recording_blocks"]
-
-#: Share of the peak force (or raw sum) below which the centre-of-force path is not drawn.
-COF_MIN_FORCE_SHARE = 0.05
+           "input_set_sha256"]
 
 
 def _scalar_params(result):
@@ -92,31 +92,30 @@ def _draw_curves(calibrations):
 
 # ---------------------------------------------------------------- one calibration
 def calibration_blocks(result, label):
-    """Summary, parameters, points table and figures of one calibration result."""
-    metrics = [(k, share(v) if k.startswith("within_") else number(v))
+    """Yield the summary, parameters, record and figures of one calibration result."""
+    loads = np.asarray(result.points["load_N"], float) if len(result.points) else np.ones(1)
+    scale = float(np.nanmax(np.abs(loads))) if np.isfinite(loads).any() else 1.0
+    metrics = [(k, share(v) if k.startswith("within_") else _metric(k, v, scale))
                for k, v in result.metrics.items()]
-    blocks = [
-        f"<pre>{html.escape(result.summary())}</pre>",
-        table_html(metrics, header=("metric", "value")),
-        table_html(_record_rows(result), header=("calibration record", "value"), wide=True),
-        figure_html(result.plot_curve(ax=new_axes()),
-                    f"{label}: calibration curve",
-                    "The line is the fitted law; each point is one calibration patch's "
-                    "applied load per loaded sensel at its mean raw reading; open points "
-                    "were not used (saturated or rejected)."),
-        figure_html(result.plot_points(ax=new_axes()),
-                    f"{label}: calibrated against applied load",
-                    "Each point is a calibration patch; on the diagonal the calibrated load "
-                    "equals the applied one, and the vertical distance is its error."),
-        figure_html(result.plot_error_histogram(ax=new_axes()),
-                    f"{label}: error histogram",
-                    "How many patches the calibration misses by how much, in percent of the "
-                    "applied load; a narrow peak at 0 is a good calibration."),
-    ]
-    blocks[1:1] = _choice_blocks(result, label)
+    yield f"<pre>{html.escape(result.summary())}</pre>"
+    yield from _choice_blocks(result, label)
+    yield table_html(metrics, header=("metric", "value"))
+    yield from _record_blocks(result)
+    yield figure_html(result.plot_curve(ax=new_axes()),
+                      f"{label}: calibration curve",
+                      "The line is the fitted law; each point is one calibration patch's "
+                      "applied load per loaded sensel at its mean raw reading; open points "
+                      "were not used (saturated or rejected).")
+    yield figure_html(result.plot_points(ax=new_axes()),
+                      f"{label}: calibrated against applied load",
+                      "Each point is a calibration patch; on the diagonal the calibrated load "
+                      "equals the applied one, and the vertical distance is its error.")
+    yield figure_html(result.plot_error_histogram(ax=new_axes()),
+                      f"{label}: error histogram",
+                      "How many patches the calibration misses by how much, in percent of the "
+                      "applied load; a narrow peak at 0 is a good calibration.")
     if result.method_result is not None:
-        blocks += _zvyagin_blocks(result.method_result, label)
-    return blocks
+        yield from _zvyagin_blocks(result.method_result, label)
 
 
 def _choice_blocks(result, label):
@@ -144,18 +143,57 @@ def _choice_blocks(result, label):
     return blocks
 
 
-def _record_rows(result):
-    """Return the record rows: created, version, options, sensor, inputs with their hashes."""
+#: A force below this share of the largest calibration load is 0 at the loads' precision.
+FORCE_RESOLUTION_SHARE = 1e-9
+
+
+def _metric(key, value, scale):
+    """Return a metric for people; an error in N far below the loads' precision is 0."""
+    if key.endswith("_N") and isinstance(value, float) and np.isfinite(value) \
+            and abs(value) < FORCE_RESOLUTION_SHARE * scale:
+        return "0 (below 1e-9 of the largest load)"
+    return number(value)
+
+
+def input_set_sha256(inputs):
+    """One SHA-256 for a set of input files: that of its sorted ``sha256  name`` lines.
+
+    A single file's own SHA-256 is returned unchanged (``sha256sum`` gives the same).
+
+    Examples
+    --------
+    >>> input_set_sha256([{"sha256": "ab", "path": "/x/a.csv"}])
+    'ab'
+    >>> len(input_set_sha256([{"sha256": "ab", "path": "a"}, {"sha256": "cd", "path": "b"}]))
+    64
+    """
+    inputs = [i for i in inputs if i.get("sha256")]
+    if len(inputs) == 1:
+        return inputs[0]["sha256"]
+    lines = sorted(f"{i['sha256']}  {i.get('path', '')}" for i in inputs)
+    return hashlib.sha256("\n".join(lines).encode("utf-8")).hexdigest()
+
+
+def _record_blocks(result):
+    """Yield the record (created, version, options, sensor) and the inputs, folded."""
     prov = result.provenance
     rows = [("created", result.created), ("tactilecal version", result.version),
             ("options", json.dumps(to_jsonable(result.options)))]
+    inputs = prov.get("inputs", []) if prov else []
     if prov:
         rows.append(("sensor type, serial (export header)",
                      f"{prov.get('sensor_type') or 'unknown'}, "
                      f"{prov.get('sensor_serial') or 'unknown'}"))
-        rows += [(f"input {k + 1}", f"{entry['path']} (SHA-256 {entry['sha256']})")
-                 for k, entry in enumerate(prov.get("inputs", []))]
-    return rows
+    if inputs:
+        rows.append((f"inputs ({len(inputs)} files)",
+                     f"SHA-256 of the set {input_set_sha256(inputs)}"))
+    yield table_html(rows, header=("calibration record", "value"), wide=True)
+    if inputs:
+        listed = [(k + 1, entry["path"], entry.get("size_bytes", ""), entry["sha256"])
+                  for k, entry in enumerate(inputs)]
+        yield details_html(f"all {len(inputs)} input files with their SHA-256",
+                           table_html(listed, header=("", "path", "bytes", "sha256"),
+                                      wide=True))
 
 
 _ZVYAGIN_FIGURES = (
@@ -175,16 +213,30 @@ _ZVYAGIN_FIGURES = (
     ("plot_patch_errors", "error per patch (Fig. 11)",
      "The misfit of every patch in percent of its applied load, by weight; a weight whose "
      "bars all lean one way shows a law that bends away from the data at that load."),
-    ("plot_energy", "energy along the power-law curve (eq. 15)",
-     "E against the exponent b0 along the fitted A(b) curve; the minimum is the chosen b0, "
-     "and a flat valley means b0 is poorly determined."),
+    ("plot_energy", "energy along the power-law curve (eq. 15)", None),
 )
+
+_ENERGY_FAITHFUL = ("E against the exponent b0 along the fitted A(b) curve; the orange line at "
+                    "its minimum is the chosen b0, and a flat valley means b0 is poorly "
+                    "determined.")
+_ENERGY_ROBUST = ("E against the exponent b0 along the fitted A(b) curve, its minimum marked "
+                  "in orange; robust mode returned another law, a free power-law fit of all "
+                  "patches (dashed blue, b = {b}), which need not lie on this curve nor at its "
+                  "minimum.")
+
+
+def energy_caption(zvyagin):
+    """How to read the energy figure: what it marks depends on what the mode returned."""
+    if zvyagin.final.get("free"):
+        return _ENERGY_ROBUST.format(b=number(zvyagin.b0))
+    return _ENERGY_FAITHFUL
 
 
 def _zvyagin_blocks(zvyagin, label):
-    """Return the paper's figures of a Zvyagin calibration (its ``method_result``)."""
-    return [figure_html(getattr(zvyagin, name)(), f"{label}: Zvyagin (2022) {title}", how)
-            for name, title, how in _ZVYAGIN_FIGURES]
+    """Yield the paper's figures of a Zvyagin calibration (its ``method_result``)."""
+    for name, title, how in _ZVYAGIN_FIGURES:
+        yield figure_html(getattr(zvyagin, name)(), f"{label}: Zvyagin (2022) {title}",
+                          how or energy_caption(zvyagin))
 
 
 # ---------------------------------------------------------------- dynamic filter
@@ -253,168 +305,6 @@ def evaluation_blocks(ev, label):
         ev.plot_error(),
         f"{label}: amplitude and phase error before and after the filter (Gillis 2013, "
         "Fig. 4.12)",
-        "Each point is one coherent frequency of the test: orange is the sensor with its "
-        "static calibration only, blue after the dynamic filter; a good filter brings the "
-        "blue points to 0 % and 0 degrees across the band.")]
-
-
-# ---------------------------------------------------------------- recording
-def _record_table(recording):
-    attrs = recording.attrs
-    info = [(k, attrs[k]) for k in ("source", "sensor_type", "units", "sensel_area_mm2",
-                                    "row_spacing_mm", "col_spacing_mm", "seconds_per_frame",
-                                    "sensitivity", "calibration_method",
-                                    "saturation_pressure_kPa") if k in attrs]
-    info.insert(0, ("frames x rows x cols", " x ".join(str(n) for n in recording.shape)))
-    return table_html(info, header=("property", "value"), wide=True)
-
-
-def recording_blocks(recording, label, *, calibration=None, threshold_kPa=0.0,
-                     nonworking=None, cof_min_force_N=None):
-    """Key numbers and figures of one recording.
-
-    A calibrated recording (or a raw one with ``calibration``) shows force and contact
-    area against time, the peak-pressure map, the pressure map and the profiles at the
-    peak-force frame and the centre-of-force path where the force is at least
-    ``cof_min_force_N`` (default 5 % of the peak force). A raw recording without a
-    calibration shows the same in raw readings.
-    """
-    blocks = [_record_table(recording)]
-    if recording.attrs.get("units") == "raw" and calibration is None:
-        return blocks + _raw_blocks(recording, label, cof_min_share=COF_MIN_FORCE_SHARE)
-    if recording.attrs.get("units") == "raw":
-        recording = calibration.apply(recording, units="kPa")
-        blocks.append(note_html(f"raw readings calibrated with method "
-                                f"{calibration.method!r} ({calibration.model})"))
-    return blocks + _calibrated_blocks(recording, label, threshold_kPa, nonworking,
-                                       cof_min_force_N)
-
-
-def _calibrated_blocks(recording, label, threshold_kPa, nonworking, cof_min_force_N):
-    from tactilecal import analysis
-
-    s = recording.tactile.frame_summary(threshold_kPa=threshold_kPa).compute()
-    head = analysis.overview(s)
-    i = analysis.peak_frame(s)
-    if cof_min_force_N is None:
-        peak_N = head["peak_force_N"]
-        cof_min_force_N = COF_MIN_FORCE_SHARE * peak_N if np.isfinite(peak_N) else 0.0
-    saturated = "unknown" if head["saturated_frames"] is None else head["saturated_frames"]
-    numbers = [
-        ("duration [s]", head["duration_s"]),
-        ("peak total force [N]", head["peak_force_N"]),
-        ("time of peak force [s]", head["peak_force_time_s"]),
-        ("frame of peak force", head["peak_force_frame"]),
-        ("largest contact area [mm2]", head["max_contact_area_mm2"]),
-        ("largest sensel pressure [kPa]", head["max_pressure_kPa"]),
-        ("loaded-sensel threshold [kPa]", float(threshold_kPa)),
-        ("centre of force drawn where force >= [N]", float(cof_min_force_N)),
-        ("frames with saturated sensels", saturated),
-    ]
-    blocks = [table_html(numbers, header=("quantity", "value"))]
-    if saturated not in (0, "unknown"):
-        blocks.append(note_html(f"{saturated} of {s.sizes['frame']} frames hold sensels at "
-                                f"saturation ({s.attrs['saturation_rule']}): their force "
-                                "and pressures are lower bounds, not measurements"))
-    return blocks + [
-        figure_html(recording.tactile.plot_force_time(summary=s),
-                    f"{label}: total force and contact area against time",
-                    "Blue is the total force (left axis), orange the area of sensels above "
-                    "the threshold (right axis); the dotted line marks the peak-force frame."),
-        figure_html(recording.tactile.plot_pressure_map(), f"{label}: peak-pressure map",
-                    "Each sensel's largest pressure over the whole recording: where the "
-                    "contact carried load at any time, and how much at most."),
-        figure_html(recording.tactile.plot_pressure_map(frame=i),
-                    f"{label}: pressure map at the peak-force frame",
-                    "The pressure on every sensel at the moment of largest total force; "
-                    "blank cells are sensels without a reading."),
-        figure_html(recording.tactile.plot_cof_path(summary=s,
-                                                    min_force_N=cof_min_force_N),
-                    f"{label}: centre-of-force path",
-                    "The force-weighted centre of the contact, coloured by time; frames "
-                    "with less force than the threshold in the title are left out, because "
-                    "with almost no load the centre is the mean of noise."),
-        figure_html(recording.tactile.plot_profiles(frame=i, nonworking=nonworking),
-                    f"{label}: row and column profiles at the peak-force frame",
-                    "The mean pressure of each sensel row (left, row position downwards) "
-                    "and column (right) at the peak-force frame, blank and non-working "
-                    "sensels left out."),
-    ]
-
-
-def _raw_summary(recording):
-    """Per-frame raw sum, loaded area (raw > 0) and raw-weighted centre of a raw recording."""
-    raw = recording.fillna(0.0).astype(float)
-    total = raw.sum(("row", "col"))
-    weight = total.where(total > 0)
-    rows = np.arange(raw.sizes["row"]) * float(recording.attrs.get("row_spacing_mm", 1.0))
-    cols = np.arange(raw.sizes["col"]) * float(recording.attrs.get("col_spacing_mm", 1.0))
-    return SimpleNamespace(
-        time_s=np.asarray(recording["time"].values if "time" in recording.coords
-                          else np.arange(recording.sizes["frame"]), float),
-        raw_sum=np.asarray(total.values, float),
-        area_mm2=np.asarray(recording.tactile.area().values, float),
-        row_mm=np.asarray((raw.dot(_coord(rows, "row")).sum("col") / weight).values, float),
-        col_mm=np.asarray((raw.dot(_coord(cols, "col")).sum("row") / weight).values, float))
-
-
-def _coord(values, dim):
-    import xarray as xr
-
-    return xr.DataArray(np.asarray(values, float), dims=dim)
-
-
-def _raw_blocks(recording, label, *, cof_min_share):
-
-    s = _raw_summary(recording)
-    i = int(np.nanargmax(s.raw_sum)) if np.isfinite(s.raw_sum).any() else 0
-    min_sum = cof_min_share * float(np.nanmax(s.raw_sum)) if s.raw_sum.size else 0.0
-    saturated = int((recording >= 255).any(("row", "col")).sum())
-    numbers = [("duration [s]", float(s.time_s[-1] - s.time_s[0])),
-               ("largest sum of raw readings", float(s.raw_sum[i])),
-               ("frame of the largest sum", recording["frame"].values[i]),
-               ("largest loaded area (raw > 0) [mm2]", float(np.nanmax(s.area_mm2))),
-               ("frames with saturated sensels (255)", saturated)]
-    return [
-        note_html(f"{label} holds raw readings and no calibration was given, so forces and "
-                  "pressures are not shown: the figures are in raw readings, which rise with "
-                  "pressure but not in proportion. Pass a calibration JSON (--cal) for kPa "
-                  "and N."),
-        table_html(numbers, header=("quantity", "value")),
-        figure_html(_draw_raw_time(s), f"{label}: sum of raw readings and loaded area "
-                    "against time",
-                    "Blue is the sum of all raw readings of a frame (a stand-in for load that "
-                    "is not proportional to it), orange the area of sensels reading above 0."),
-        figure_html(recording.tactile.plot_pressure_map(), f"{label}: peak raw map",
-                    "Each sensel's largest raw reading over the recording (255 is "
-                    "saturation): where the contact carried load at any time."),
-        figure_html(_draw_raw_centre(s, min_sum), f"{label}: centre of the raw readings",
-                    "The raw-weighted centre of each frame, coloured by time, drawn where the "
-                    "raw sum is at least 5 % of its peak; with a nonlinear sensor law it is "
-                    "near, but not equal to, the centre of force."),
-    ]
-
-
-def _draw_raw_time(s):
-    ax = new_axes()
-    ax.plot(s.time_s, s.raw_sum, color="C0")
-    ax.set(xlabel="time [s]")
-    ax.set_ylabel("sum of raw readings", color="C0")
-    twin = ax.twinx()
-    twin.plot(s.time_s, s.area_mm2, color="C1", lw=1, alpha=0.8)
-    twin.set_ylabel("loaded area [mm2]", color="C1")
-    return ax
-
-
-def _draw_raw_centre(s, min_sum):
-    ax = new_axes((5, 5))
-    keep = s.raw_sum >= min_sum
-    x, y = np.where(keep, s.col_mm, np.nan), np.where(keep, s.row_mm, np.nan)
-    ax.plot(x, y, color="0.7", lw=0.8)
-    points = ax.scatter(x, y, c=s.time_s, s=10, cmap="plasma")
-    ax.figure.colorbar(points, ax=ax, label="time [s]")
-    ax.set(xlabel="column [mm]", ylabel="row [mm]",
-           title=f"{int(np.sum(keep & np.isfinite(x)))} of {keep.size} frames")
-    ax.invert_yaxis()
-    ax.set_aspect("equal", adjustable="datalim")
-    return ax
+        "Each point is one coherent frequency of the blind test: orange is the sensor with "
+        "its static calibration only, blue after the dynamic filter; a good filter brings "
+        "the blue points to 0 % and 0 degrees across the band.")]

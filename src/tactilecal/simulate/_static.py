@@ -34,6 +34,39 @@ class UniformLoad(NamedTuple):
     raw: xr.DataArray
     pressure_kPa: np.ndarray
 
+    def write(self, outdir, sensor):
+        """Write one I-Scan ASCII file per pressure level and ``truth.json``.
+
+        Parameters
+        ----------
+        outdir : str or os.PathLike
+            Folder, created if missing; every file is written atomically.
+        sensor : SimulatedSensor
+            The sensor simulated (its law and per-sensel gains go into ``truth.json``).
+
+        Returns
+        -------
+        dict
+            Paths written, by role (``level_1``, ``level_2``... in the order of the levels,
+            files ``uniform-<k>-<p>kPa.csv``; then ``truth``): the recordings that
+            ``tactilecal equilibrate`` takes, one per load level.
+        """
+        from tactilecal.io import write_tekscan
+
+        files = {}
+        levels = list(dict.fromkeys(self.pressure_kPa.tolist()))
+        for k, level in enumerate(levels, 1):
+            frames = self.raw.isel(frame=np.flatnonzero(self.pressure_kPa == level))
+            files[f"level_{k}"] = (f"uniform-{k}-{level:g}kPa.csv",
+                                   partial(write_tekscan, frames))
+        truth = {"kind": "uniform pressure at each level (equilibration input)",
+                 "pressures_kPa": levels,
+                 "frames_per_level": int(self.raw.sizes["frame"] // len(levels)),
+                 "equilibrated": "a sensel reading gain x its ideal reading is equalised by "
+                                 "a gain near 1 / gain (the power law bends it slightly)",
+                 "sensor": sensor.truth()}
+        return write_session(outdir, files, truth)
+
 
 def uniform_load(sensor, pressures_kPa, *, frames_per_level=5, seed=0):
     """Simulate the sensor under uniform pressure at one or several levels (equilibration).

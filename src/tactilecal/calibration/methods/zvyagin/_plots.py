@@ -181,7 +181,11 @@ def plot_patch_errors(result, ax=None):
 
 
 def plot_energy(result, ax=None):
-    """E(b0) along the power-law curve (eq. 15) with the chosen b0 and the searched range.
+    """E(b0) along the power-law curve (eq. 15), its minimum, and the law the result returned.
+
+    The grey line marks the minimum of E on the curve A0 = alpha b0^beta (the faithful
+    method's b0). In robust mode the returned law is a free power-law fit, not on that
+    curve: its b is marked apart (dashed) and the title says so.
 
     Returns
     -------
@@ -190,7 +194,13 @@ def plot_energy(result, ax=None):
     res = result
     ax = _axes(ax)
     ax.plot(res.final["b_grid"], res.final["E_grid"], "k-")
-    ax.axvline(res.b0, color="C1", label=f"b0 = {res.b0:.4f}")
+    on_curve = res.final.get("curve_b0", res.b0)
+    ax.axvline(on_curve, color="C1", label=f"minimum of E on the curve: b0 = {on_curve:.4f}")
+    if res.final.get("free"):
+        ax.axvline(res.b0, color="C0", ls="--",
+                   label=f"returned law (robust free fit): b = {res.b0:.4f}")
+        ax.set_title("robust mode returned a free fit, not the curve's minimum",
+                     fontsize="small")
     ax.set_yscale("log")
     ax.set_xlabel("b0 (on A0 = alpha b0^beta)")
     ax.set_ylabel("E (N^2)")
