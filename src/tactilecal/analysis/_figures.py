@@ -2,7 +2,6 @@
 
 from pathlib import Path
 
-from tactilecal._errors import TactilecalError
 from tactilecal.analysis import _plots
 
 __all__ = ["save_figures"]
