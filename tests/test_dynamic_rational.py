@@ -32,9 +32,23 @@ def sweep():
     return sine_sweep(seed=0, A=0.0, **FAST)
 
 
+@pytest.fixture(scope="module")
+def visco1_filter(sweep):
+    """The filter ``auto`` fits to the first-order sensor (several tests check it)."""
+    return fit_filter(through_response(sweep.sensor, VISCO1), sweep.reference, model="auto")
+
+
+@pytest.fixture(scope="module")
+def visco1_blind():
+    """Blind Test 2 as the first-order sensor reads it: ``(sensor, reference)``."""
+    blind = random_sine_sets(seed=5, A=0.0, **RATES)
+    return through_response(blind.sensor, VISCO1), blind.reference
+
+
 @pytest.mark.parametrize(("truth", "order", "rtol"), [(VISCO1, 1, 0.02), (VISCO2, 2, 0.08)])
-def test_auto_chooses_rational_and_finds_the_corners(sweep, truth, order, rtol):
-    filt = fit_filter(through_response(sweep.sensor, truth), sweep.reference, model="auto")
+def test_auto_chooses_rational_and_finds_the_corners(request, sweep, truth, order, rtol):
+    filt = request.getfixturevalue("visco1_filter") if truth is VISCO1 else fit_filter(
+        through_response(sweep.sensor, truth), sweep.reference, model="auto")
     assert filt.model == "rational" and filt.params["order"] == order
     assert "-> rational" in filt.fit.excluded["model_choice"]
     for fitted, true in zip(_corners_hz(filt.rational), _corners_hz(truth), strict=True):
@@ -50,15 +64,13 @@ def test_thesis_sensor_keeps_its_log_model():
     assert filt.model == "log" and "-> log" in filt.fit.excluded["model_choice"]
 
 
-def test_both_inverses_cut_the_blind_test_error_tenfold(sweep):
-    filt = fit_filter(through_response(sweep.sensor, VISCO1), sweep.reference, model="auto")
-    blind = random_sine_sets(seed=5, A=0.0, **RATES)
-    sensor = through_response(blind.sensor, VISCO1)
-    offline = evaluate(filt, sensor, blind.reference)
-    causal = evaluate(filt, sensor, blind.reference, causal=True)
+def test_both_inverses_cut_the_blind_test_error_tenfold(sweep, visco1_filter, visco1_blind):
+    sensor, reference = visco1_blind
+    offline = evaluate(visco1_filter, sensor, reference)
+    causal = evaluate(visco1_filter, sensor, reference, causal=True)
     magnitude_only = evaluate(fit_filter(through_response(sweep.sensor, VISCO1),
                                          sweep.reference, model="log", force=True),
-                              sensor, blind.reference)
+                              sensor, reference)
     assert offline.improvement >= 10 and causal.improvement >= 10
     assert magnitude_only.improvement < 1.5  # the zero-phase model cannot (measured 1.06x)
 
@@ -71,10 +83,10 @@ def test_causal_inverse_undoes_the_response_and_is_stable():
     np.testing.assert_allclose(h * VISCO1.response(f_hz), 1.0, atol=0.02)
 
 
-def test_dask_and_in_memory_causal_filtering_agree(sweep):
+def test_dask_and_in_memory_causal_filtering_agree(sweep, visco1_filter):
     import xarray as xr
 
-    filt = fit_filter(through_response(sweep.sensor, VISCO1), sweep.reference, model="auto")
+    filt = visco1_filter
     t = sweep.sensor.time.values
     rec = xr.DataArray(np.random.default_rng(1).normal(100, 3, (t.size, 2, 3)),
                        dims=("frame", "row", "col"), coords={"time": ("frame", t)})
@@ -85,8 +97,8 @@ def test_dask_and_in_memory_causal_filtering_agree(sweep):
         np.testing.assert_allclose(lazy.values, eager.values, rtol=0, atol=1e-9)
 
 
-def test_rational_filter_json_round_trip_and_cli(sweep, tmp_path, capsys):
-    filt = fit_filter(through_response(sweep.sensor, VISCO1), sweep.reference, model="auto")
+def test_rational_filter_json_round_trip_and_cli(sweep, visco1_filter, tmp_path, capsys):
+    filt = visco1_filter
     path = tmp_path / "FILTER.json"
     filt.save(path)
     assert json.loads(path.read_text())["rational"]["gain"] == pytest.approx(filt.rational.gain)
@@ -133,10 +145,8 @@ def test_gain_error_band_holds_the_expected_gain():
     assert 0.90 <= np.mean(inside) <= 0.99  # measured 0.944
 
 
-def test_evaluation_reports_the_phase_before_and_after(sweep):
-    filt = fit_filter(through_response(sweep.sensor, VISCO1), sweep.reference, model="auto")
-    blind = random_sine_sets(seed=5, A=0.0, **RATES)
-    ev = evaluate(filt, through_response(blind.sensor, VISCO1), blind.reference)
+def test_evaluation_reports_the_phase_before_and_after(visco1_filter, visco1_blind):
+    ev = evaluate(visco1_filter, *visco1_blind)
     assert np.abs(ev.phase_before_deg).max() > 30  # the sensor lags (first-order, 10-40 Hz)
     assert np.abs(ev.phase_after_deg).max() < 5
     assert "largest phase error" in ev.summary() and "phase_after_deg" in ev.to_dict()
