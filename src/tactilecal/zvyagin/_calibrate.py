@@ -213,7 +213,7 @@ def zvyagin_fit(histograms, load_N, *, mode=None, domain="strict", root_choice=N
     trim : float
         Share of pairs cut at each end of the b range when ``outliers="trim"``.
     max_relerr : float
-        Raw-sum approximation error |R - Q(I*)| / R from which a patch's pairs are rejected.
+        Raw-sum approximation error ``|R - Q(I*)| / R`` from which a patch's pairs are rejected.
     grey_share : float
         A patch is "grey" (pairs with almost nothing) when fewer than this share of its
         pairs have a root Y > 3.
