@@ -1,86 +1,204 @@
-"""Benchmark: read_tekscan throughput against pandas.read_csv (C engine) in the same run.
+"""Reading and writing recordings: ``read_tekscan``, ``write_tekscan``, ``open_recording``,
+``convert``, against pandas on the same numbers.
 
-Writes a simulated 44 x 44 export (random raw readings 0..255, I-Scan layout with frame
-lines carrying time and Raw Sum, a B border like a real sensor's shape) and a plain CSV
-holding the same numbers (one sensel row per line, no header, no frame lines). Times are
-the best of ``--repeat`` interleaved runs; the printed ratio is
-``baseline time / read_tekscan time`` (1.0 = as fast as pandas; issue 16's goal >= 1.0).
-The writer is timed once against ``DataFrame.to_csv`` writing the plain CSV.
-
-Usage: ``python benchmarks/bench_io.py [--frames 10000] [--repeat 3]``
+Data: a simulated raw 44 x 44 I-Scan export of 10,000 frames (70 MB) and a plain CSV of the
+same numbers (:func:`benchmarks._common.write_export`); the real exports of
+``../shared/realdata`` (or ``$TACTILECAL_REALDATA``) for ``open_recording``, simulated
+stand-ins of the same shapes when they are absent.
 """
 
-import argparse
-import tempfile
-import time
-from pathlib import Path
-
 import numpy as np
-import pandas as pd
-import xarray as xr
-from _timing import run_times
 
-from tactilecal.io import read_tekscan, write_tekscan
+from benchmarks._common import PEAK, REALDATA, child, interleaved, ratio, write_export
 
-
-def simulated(n_frames, size=44, seed=0):
-    rng = np.random.default_rng(seed)
-    values = rng.integers(0, 256, size=(n_frames, size, size)).astype(np.float64)
-    values[:, 0, :2] = np.nan  # a few B cells, as in real exports
-    return xr.DataArray(
-        values, dims=("frame", "row", "col"),
-        coords={"frame": np.arange(1, n_frames + 1),
-                "time": ("frame", np.arange(n_frames) * 0.005)},
-        attrs={"sensor_type": "5051", "units": "raw", "row_spacing_mm": 1.27,
-               "col_spacing_mm": 1.27, "sensel_area_mm2": 1.6129, "seconds_per_frame": 0.005,
-               "noise_threshold": 3})
+FRAMES = 10_000
 
 
-def best_of(func, repeat):
-    return run_times(func, repeat).min()
+def _pandas_read(plain):
+    import pandas as pd
+
+    return pd.read_csv(plain, header=None, engine="c", dtype=np.float64,
+                       na_values=["B"]).to_numpy()
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--frames", type=int, default=10_000)
-    parser.add_argument("--repeat", type=int, default=3)
-    args = parser.parse_args()
-    data = simulated(args.frames)
-    with tempfile.TemporaryDirectory() as folder:
-        export, plain = Path(folder) / "sim.csv", Path(folder) / "plain.csv"
-        start = time.perf_counter()
-        write_tekscan(data, export)
-        t_write = time.perf_counter() - start
-        values = data.values.reshape(-1, data.sizes["col"])
-        start = time.perf_counter()
-        pd.DataFrame(values).to_csv(plain, header=False, index=False, na_rep="B",
-                                    float_format="%.0f")
-        t_to_csv = time.perf_counter() - start
-        check = read_tekscan(export)
-        assert np.array_equal(check.values, data.values, equal_nan=True)
-        n_values = data.size
+class Read:
+    """An export of 10,000 frames read whole, in this process and in fresh interpreters."""
 
-        def baseline():
-            return pd.read_csv(plain, header=None, engine="c", dtype=np.float64,
-                               na_values=["B"]).to_numpy()
+    timeout = 600
 
-        assert np.array_equal(baseline(), values, equal_nan=True)
-        t_reader, t_base = [], []
-        for _ in range(args.repeat):  # interleaved so machine load hits both alike
-            t_reader.append(best_of(lambda: read_tekscan(export), 1))
-            t_base.append(best_of(baseline, 1))
-        t_reader, t_base = min(t_reader), min(t_base)
-        print(f"{args.frames} frames x 44 x 44 = {n_values:,} values; "
-              f"export {export.stat().st_size / 1e6:.1f} MB, plain CSV "
-              f"{plain.stat().st_size / 1e6:.1f} MB")
-        print(f"read_tekscan     {n_values / t_reader / 1e6:8.2f} M values/s")
-        print(f"pandas.read_csv  {n_values / t_base / 1e6:8.2f} M values/s (C engine, baseline)")
-        print(f"write_tekscan    {n_values / t_write / 1e6:8.2f} M values/s (one run)")
-        print(f"DataFrame.to_csv {n_values / t_to_csv / 1e6:8.2f} M values/s (one run, "
-              f"same numbers, no frame lines): writer ratio {t_to_csv / t_write:.2f}")
-        print(f"ratio read_tekscan / pandas.read_csv throughput: {t_base / t_reader:.2f} "
-              "(goal >= 1.0)")
+    def setup_cache(self):
+        import os
+
+        export, plain = write_export(os.getcwd(), FRAMES)
+        return str(export), str(plain)
+
+    def time_read_tekscan(self, files):
+        from tactilecal.io import read_tekscan
+
+        read_tekscan(files[0])
+
+    def time_pandas_read_csv(self, files):
+        _pandas_read(files[1])
+
+    def peakmem_read_tekscan(self, files):
+        from tactilecal.io import read_tekscan
+
+        read_tekscan(files[0])
+
+    def track_read_tekscan_speed_over_pandas(self, files):
+        """CPU time of ``pandas.read_csv`` (C engine) / ``read_tekscan``, warm (> 1: faster)."""
+        from tactilecal.io import read_tekscan
+
+        return ratio(lambda: _pandas_read(files[1]), lambda: read_tekscan(files[0]))
+
+    track_read_tekscan_speed_over_pandas.unit = "ratio"
+
+    def track_fresh_process_peak_over_array(self, files):
+        """Peak memory of ``read_tekscan`` in a fresh interpreter, above its imports, over
+        the float64 array it returns (``VmHWM``; the issue-16 goal is <= 1.5)."""
+        code = PEAK + (
+            "import json, sys\nimport tactilecal.io\nbase = peak_bytes()\n"
+            "n = tactilecal.io.read_tekscan(sys.argv[1]).nbytes\n"
+            "print(json.dumps((peak_bytes() - base) / n))")
+        return min(child(code, files[0])[0] for _ in range(2))
+
+    track_fresh_process_peak_over_array.unit = "ratio"
+
+    def track_fresh_process_pandas_peak_over_array(self, files):
+        """The same for ``pandas.read_csv`` on the plain CSV (the baseline)."""
+        code = PEAK + (
+            "import json, sys\nimport numpy as np, pandas as pd\nbase = peak_bytes()\n"
+            "n = pd.read_csv(sys.argv[1], header=None, engine='c', dtype=np.float64, "
+            "na_values=['B']).to_numpy().nbytes\nprint(json.dumps((peak_bytes() - base) / n))")
+        return min(child(code, files[1])[0] for _ in range(2))
+
+    track_fresh_process_pandas_peak_over_array.unit = "ratio"
+
+
+class Convert:
+    """``convert`` to Zarr in 1000-frame blocks, in a fresh interpreter each time."""
+
+    timeout = 600
+    CHUNKS = 1000
+
+    def setup_cache(self):
+        import os
+
+        export, plain = write_export(os.getcwd(), FRAMES)
+        return str(export), str(plain)
+
+    def track_convert_peak_over_block(self, files):
+        """Peak memory of ``convert`` above its imports over one float64 block: bounded
+        by the blocks in flight, whatever the file's size."""
+        code = PEAK + (
+            "import json, sys, tempfile, os\nimport tactilecal.io, zarr, dask.array\n"
+            "base = peak_bytes()\nout = os.path.join(tempfile.mkdtemp(), 'out.zarr')\n"
+            f"tactilecal.io.convert(sys.argv[1], out, chunks={self.CHUNKS})\n"
+            "print(json.dumps(peak_bytes() - base))")
+        peak = min(child(code, files[0])[0] for _ in range(2))
+        return peak / (self.CHUNKS * 44 * 44 * 8)
+
+    track_convert_peak_over_block.unit = "ratio"
+
+    def track_convert_speed_over_pandas_stream(self, files):
+        """CPU time of a streamed ``pandas.read_csv(chunksize=)`` over the same numbers
+        (parsing only, nothing written) / ``convert`` to Zarr; fresh interpreters."""
+        convert = ("import json, os, sys, tempfile, time\nimport tactilecal.io, zarr, dask.array\n"
+                   "out = os.path.join(tempfile.mkdtemp(), 'out.zarr')\n"
+                   "start = time.process_time()\n"
+                   f"tactilecal.io.convert(sys.argv[1], out, chunks={self.CHUNKS})\n"
+                   "print(json.dumps(time.process_time() - start))")
+        stream = ("import json, sys, time\nimport numpy as np, pandas as pd\n"
+                  "start = time.process_time()\n"
+                  "with pd.read_csv(sys.argv[1], header=None, engine='c', dtype=np.float64, "
+                  f"na_values=['B'], chunksize={self.CHUNKS * 44}) as reader:\n"
+                  "    for part in reader:\n        part.to_numpy()\n"
+                  "print(json.dumps(time.process_time() - start))")
+        cpu = {"convert": [], "stream": []}
+        for _ in range(2):  # CPU seconds of the work, the imports left out
+            cpu["convert"].append(child(convert, files[0])[0])
+            cpu["stream"].append(child(stream, files[1])[0])
+        return min(cpu["stream"]) / min(cpu["convert"])
+
+    track_convert_speed_over_pandas_stream.unit = "ratio"
+
+
+class Write:
+    """``write_tekscan`` of 2000 raw frames against ``DataFrame.to_csv`` of the same values."""
+
+    def setup(self):
+        from tactilecal.simulate import make_sensor, ramp_hold
+
+        rec = ramp_hold(make_sensor("5051", seed=0), frame_rate_hz=100.0, seed=1).raw
+        self.rec = rec.isel(frame=slice(0, 2000))
+
+    def time_write_tekscan(self):
+        import tempfile
+        from pathlib import Path
+
+        from tactilecal.io import write_tekscan
+
+        write_tekscan(self.rec, Path(tempfile.mkdtemp()) / "out.csv")
+
+    def track_write_speed_over_to_csv(self):
+        """CPU time of ``DataFrame.to_csv`` of the values (no header, no frame lines) /
+        ``write_tekscan`` of the recording (> 1: faster)."""
+        import tempfile
+        from pathlib import Path
+
+        import pandas as pd
+
+        from tactilecal.io import write_tekscan
+
+        folder = Path(tempfile.mkdtemp())
+        frame = pd.DataFrame(self.rec.values.reshape(-1, self.rec.sizes["col"]))
+        return ratio(lambda: frame.to_csv(folder / "plain.csv", header=False, index=False,
+                                          na_rep="B", float_format="%.0f"),
+                     lambda: write_tekscan(self.rec, folder / "out.csv"))
+
+    track_write_speed_over_to_csv.unit = "ratio"
+
+
+class OpenRecording:
+    """What sniffing the format costs: ``open_recording`` over the format's own reader."""
+
+    params = ["iscan", "fscan", "netcdf"]
+    param_names = ["file"]
+
+    def setup_cache(self):
+        import os
+        from pathlib import Path
+
+        from tactilecal.io import read_tekscan, write_netcdf, write_tekscan
+        from tactilecal.simulate import make_sensor, ramp_hold
+
+        here = Path(os.getcwd())
+        files = {"iscan": REALDATA / "pressuRe_iscan_test.csv",
+                 "fscan": REALDATA / "footPress_FrasP01L.asf"}
+        if not all(path.is_file() for path in files.values()):  # simulated stand-ins
+            files = {"iscan": here / "iscan.csv", "fscan": here / "fscan.csv"}
+            for name, model, frames in (("iscan", "6900", 309), ("fscan", "FSCAN", 205)):
+                rec = ramp_hold(make_sensor(model, seed=0), frame_rate_hz=15.0, seed=1).raw
+                write_tekscan(rec.isel(frame=slice(0, frames)), files[name])
+        files["netcdf"] = here / "iscan.nc"
+        write_netcdf(read_tekscan(files["iscan"]), files["netcdf"])
+        return {name: str(path) for name, path in files.items()}
+
+    def track_open_recording_over_reader(self, files, file):
+        """CPU time of ``open_recording`` / ``read_tekscan`` or ``read_netcdf`` (1: free)."""
+        from tactilecal.io import open_recording, read_netcdf, read_tekscan
+
+        reader = read_netcdf if file == "netcdf" else read_tekscan
+        times = interleaved({"open": lambda: open_recording(files[file]),
+                             "reader": lambda: reader(files[file])}, rounds=7)
+        return float(np.median(times["open"]) / np.median(times["reader"]))
+
+    track_open_recording_over_reader.unit = "ratio"
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+
+    from benchmarks._common import run
+
+    run(sys.modules[__name__])

@@ -1,6 +1,7 @@
 """The ``.tactile`` xarray accessor delegates to the analysis functions, number for number."""
 
 import inspect
+import re
 import subprocess
 import sys
 
@@ -75,7 +76,11 @@ def test_a_method_carries_its_functions_signature_and_docstring(method, function
     assert list(inspect.signature(got).parameters) == ["self", *want]
     doc = inspect.getdoc(got)
     assert doc.splitlines()[0] == inspect.getdoc(function).splitlines()[0]
-    assert "recording :" not in doc and "Examples" not in doc
+    assert "recording :" not in doc
+    # its examples call the method, never the function
+    examples = doc.split("\nExamples\n")[1]
+    assert f".tactile.{method}(" in examples
+    assert not re.search(rf"(?<![.\w]){function.__name__}\(", examples)
 
 
 def test_calibrate_is_apply(raw_and_cal, tmp_path):

@@ -15,10 +15,11 @@ def _points(session):
                               sensel_area_mm2=session.sensor.sensel_area_mm2)
 
 
-def test_95pct_prediction_interval_holds_90_to_99pct_of_held_out_patches():
-    """50 sessions of the family's hardest-gain member (9500, b 1.4, 12 % gains, noise 1)."""
+def _coverage(seeds):
+    """Share of unsaturated held-out patches inside the 95 % prediction interval, over the
+    sessions ``seeds`` of the family's hardest-gain member (9500, b 1.4, 12 % gains, noise 1)."""
     inside = []
-    for seed in range(50):
+    for seed in seeds:
         train, test = family_sessions("9500-b1.4", seed=seed)
         cal = calibrate(_points(train), "power", n_interval_resamples=60, seed=seed)
         interval = cal.prediction_interval
@@ -29,9 +30,24 @@ def test_95pct_prediction_interval_holds_90_to_99pct_of_held_out_patches():
         predicted = hist[clean] @ cal.force_table()
         low, high = interval.bounds_N(predicted)
         inside.extend((low <= load[clean]) & (load[clean] <= high))
-    coverage = float(np.mean(inside))
-    assert len(inside) > 1000
+    return float(np.mean(inside)), len(inside)
+
+
+@pytest.mark.slow
+def test_95pct_prediction_interval_holds_90_to_99pct_of_held_out_patches():
+    """50 sessions (1,800 held-out patches): measured 0.924."""
+    coverage, n = _coverage(range(50))
+    assert n > 1000
     assert 0.90 <= coverage <= 0.99, coverage
+
+
+def test_95pct_prediction_interval_on_the_first_ten_sessions():
+    """The fast check of the same interval: a session's coverage varies (standard deviation
+    0.071 over the 50 sessions above), so the mean of 10 has a standard error of 0.023; the
+    band is the 50-session coverage 0.924 +- 3 of those, capped at 0.99. Measured 0.864."""
+    coverage, n = _coverage(range(10))
+    assert n == 360
+    assert 0.855 <= coverage <= 0.99, coverage
 
 
 def test_no_parameter_interval_is_offered(tmp_path):

@@ -3,6 +3,7 @@
 import json
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -48,11 +49,8 @@ def test_bundle_is_reproducible_from_its_seeds(tmp_path):
         np.testing.assert_array_equal(np.isnan(new.values), np.isnan(old.values))
 
 
-@pytest.mark.slow
-def test_demo_runs_end_to_end_and_recovers_the_truth(tmp_path, capsys):
-    out = tmp_path / "demo"
-    assert main(["--quiet", "demo", "--out", str(out)]) == 0
-    assert capsys.readouterr().out == ""  # --quiet prints nothing
+def _assert_recovers_the_truth(out):
+    """The numbers of ``summary.json`` against the bundle's truth; returns the methods."""
     summary = json.loads((out / "summary.json").read_text())
     by_method = {row["method"]: row for row in summary["methods"]}
     # Session a calibrates, held-out session b validates (unsaturated patches).
@@ -65,6 +63,40 @@ def test_demo_runs_end_to_end_and_recovers_the_truth(tmp_path, capsys):
     dyn = summary["dynamic"]
     assert dyn["A"] == pytest.approx(dyn["A_true"], rel=0.05)
     assert dyn["blind_improvement"] >= 3.0
+    for method in by_method:
+        assert (out / "calibrations" / f"{method}.json").is_file()
+        assert (out / "validation" / f"{method}.json").is_file()
+    return by_method
+
+
+def test_demo_recovers_the_truth_report_aside(tmp_path, monkeypatch):
+    """Every step of the demo but drawing the report (most of its time: its figures, which
+    tests/test_report_html.py checks); the report is handed every file the demo wrote."""
+    import tactilecal.report
+    from tactilecal.demo import run_demo
+
+    handed = {}
+
+    def write_report(inputs, out, **options):
+        handed.update(inputs=[str(i) for i in inputs], **options)
+        return out
+
+    monkeypatch.setattr(tactilecal.report, "write_report", write_report)
+    out = tmp_path / "demo"
+    run_demo(out, quiet=True)
+    by_method = _assert_recovers_the_truth(out)
+    assert all(Path(i).is_file() for i in handed["inputs"])
+    assert {Path(i).name for i in handed["inputs"]} >= {
+        *(f"{m}.json" for m in by_method), "pressure.nc", "blind-test.json"}
+    assert Path(handed["calibration"]).name == "power.json"
+
+
+@pytest.mark.slow
+def test_demo_runs_end_to_end_and_recovers_the_truth(tmp_path, capsys):
+    out = tmp_path / "demo"
+    assert main(["--quiet", "demo", "--out", str(out)]) == 0
+    assert capsys.readouterr().out == ""  # --quiet prints nothing
+    by_method = _assert_recovers_the_truth(out)
     html = (out / "report.html").read_text()
     assert html.count("<img") >= 5 and "data:image/png;base64," in html
     # every calibration the demo made is in the report, compared with held-out errors
@@ -74,9 +106,6 @@ def test_demo_runs_end_to_end_and_recovers_the_truth(tmp_path, capsys):
         held_out = by_method[method]["median_abs_error_pct"]
         assert row and f"<td>{number(held_out)}</td>" in row.group(0), method
     assert "Blind test of a dynamic filter: blind-test.json" in html
-    for method in by_method:
-        assert (out / "calibrations" / f"{method}.json").is_file()
-        assert (out / "validation" / f"{method}.json").is_file()
     # one vocabulary (issue 15): no JSON key or table column spells a unit another way
     names = _output_names(out)
     assert "time_s" in names and len(names) > 100

@@ -112,7 +112,7 @@ def _streamed_peak_bytes(tmp_path, n_frames, filt):
     expected = apply_filter(rec, filt).values
     del rec, x
     tracemalloc.start()  # NumPy reports its buffers to tracemalloc
-    with xr.open_dataarray(src, chunks={"frame": 5000}) as lazy:
+    with xr.open_dataarray(src, chunks={"frame": 2500}) as lazy:
         write_netcdf(apply_filter(lazy, filt), dst)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
@@ -124,10 +124,11 @@ def _streamed_peak_bytes(tmp_path, n_frames, filt):
 def test_streamed_recording_memory_does_not_grow_with_its_length(tmp_path):
     filt = CorrectionFilter.from_model(("log", {"A": 0.05}), fs_hz=1000.0, band_hz=(1, 40))
     assert plan_multirate(filt).factor == 5
-    size = {n: n * 32 * 8 for n in (60_000, 240_000)}  # 15 and 61 MB of float64
+    size = {n: n * 32 * 8 for n in (30_000, 120_000)}  # 7.7 and 31 MB of float64
     short, long = (_streamed_peak_bytes(tmp_path, n, filt) for n in size)
-    # measured: the peak grows by 0.15-0.22 of the added data and is 0.33-0.35 of the long
-    # record (map_overlap before issue 16: 0.07-0.08 and 0.30). Why: stage 3 of a chunk adds
+    # 12 and 48 chunks of 2500 frames: measured, the peak grows by 0.12 of the added data and
+    # is 0.30 of the long record (twice the sizes and chunks: 0.15-0.22 and 0.33-0.35;
+    # map_overlap before issue 16: 0.07-0.08 and 0.30). Why: stage 3 of a chunk adds
     # its correction to the chunk itself, so dask keeps each input chunk from its stage 1
     # until its stage 3, which waits (through stage 2 of the next chunk) for stage 1 of the
     # chunk after next and rows of the one after that: at least 4 input chunks resident,
@@ -138,8 +139,8 @@ def test_streamed_recording_memory_does_not_grow_with_its_length(tmp_path):
     # growth to 0.095, but copies dask's private task objects (and for a computed input
     # computes its last step twice) and reads the input twice: 1.15x the time on a 69 MB
     # record, 0.82x on a 1.5 GB one, best of 4 on the shared 2 cores. Not done: bound 0.3.
-    assert long - short < 0.3 * (size[240_000] - size[60_000])
-    assert long < 0.45 * size[240_000]
+    assert long - short < 0.3 * (size[120_000] - size[30_000])
+    assert long < 0.45 * size[120_000]
 
 
 def test_rounded_frame_times_are_filtered_at_their_mean_rate():

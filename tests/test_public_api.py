@@ -1,9 +1,10 @@
-"""The public API: one ``__all__`` per subpackage, documented in docs/api.md, no clashes.
+"""The public API: one ``__all__`` per subpackage, each in the reference pages, no clashes.
 
 Nothing is released, so nothing is deprecated: a name that leaves the API is gone, and no
 module serves names through a module ``__getattr__``.
 """
 
+import importlib.util
 import inspect
 import re
 from importlib import import_module
@@ -13,7 +14,7 @@ import pytest
 
 SUBPACKAGES = ("io", "sensors", "simulate", "calibration", "dynamic", "analysis", "geotech",
                "report", "demo")
-API_PAGE = Path(__file__).resolve().parents[1] / "docs" / "api.md"
+DOCS = Path(__file__).resolve().parents[1] / "docs"
 
 
 def _modules():
@@ -38,21 +39,29 @@ def test_no_name_is_public_in_two_subpackages():
     assert not clashes, f"public in more than one subpackage: {clashes}"
 
 
-def test_the_api_page_lists_exactly_the_public_names():
-    page = API_PAGE.read_text(encoding="utf-8")
-    listed, sub = {}, None
-    for line in page.splitlines():
-        if line.startswith("## "):
-            heading = re.match(r"## `(?:tactilecal\.(\w+)|(recording\.tactile))`", line)
-            sub = heading and (heading.group(1) or heading.group(2))
-        entry = re.match(r"- `(\w+)`", line)
-        if entry and sub:
-            listed.setdefault(sub, []).append(entry.group(1))
-    public = {sub: sorted(module.__all__) for sub, module in _modules().items()}
+def _api_pages():
+    """``docs/_api.py``, which writes the reference pages from ``__all__`` (loaded by path)."""
+    spec = importlib.util.spec_from_file_location("tactilecal_docs_api", DOCS / "_api.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_reference_pages_list_exactly_the_public_names(tmp_path):
+    api = _api_pages()
+    assert api.SUBPACKAGES == SUBPACKAGES
+    listed = api.write_pages(tmp_path)
+    public = {f"tactilecal.{sub}": sorted(module.__all__) for sub, module in _modules().items()}
     accessor = vars(import_module("tactilecal.analysis").TactileAccessor)
     public["recording.tactile"] = sorted(name for name, value in accessor.items()
                                          if not name.startswith("_") and callable(value))
-    assert {sub: sorted(names) for sub, names in listed.items()} == public
+    assert {page: sorted(names) for page, names in listed.items()} == public
+    for page, names in listed.items():  # each name is in its page's autosummary
+        text = (tmp_path / f"{page}.rst").read_text()
+        entries = re.findall(r"^   (?:TactileAccessor\.)?(\w+)$", text, re.M)
+        assert sorted(entries) == sorted(names), page
+    toctree = re.findall(r"^api/(\S+)$", (DOCS / "api.md").read_text(), re.M)
+    assert sorted(toctree) == sorted(listed)
 
 
 def test_the_public_surface_stays_small():

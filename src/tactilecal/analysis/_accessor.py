@@ -52,8 +52,8 @@ _RECORDING_ENTRY = re.compile(r"^recording : .*\n(?:(?: {4}.*)?\n)*?(?=\S)", re.
 def _method(function, name):
     """Return a method ``name`` that runs ``function`` on the accessor's recording.
 
-    It carries ``function``'s docstring (without the ``recording`` entry and the Examples,
-    which call the function) and its signature (without ``recording``).
+    It carries ``function``'s docstring (without the ``recording`` entry; its Examples call
+    the method, ``rec.tactile.<name>()``) and its signature (without ``recording``).
     """
     def method(self, *args, **kwargs):
         return function(self._rec, *args, **kwargs)
@@ -62,7 +62,7 @@ def _method(function, name):
     self_ = inspect.Parameter("self", inspect.Parameter.POSITIONAL_OR_KEYWORD)
     method.__signature__ = signature.replace(
         parameters=[self_, *list(signature.parameters.values())[1:]])
-    doc = (inspect.getdoc(function) or "").split("\nExamples\n")[0].rstrip() + "\n"  # -OO
+    doc = (inspect.getdoc(function) or "").rstrip() + "\n"  # empty under python -OO
     method.__doc__ = _RECORDING_ENTRY.sub("", doc)
     method.__name__, method.__qualname__ = name, f"TactileAccessor.{name}"
     return method
@@ -105,6 +105,20 @@ class TactileAccessor:
         Returns
         -------
         xarray.DataArray
+
+        Examples
+        --------
+        >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
+        >>> from tactilecal.calibration import header_calibration
+        >>> cal = header_calibration({"sensel_area_mm2": 2.0, "calibration_point_1_load_N": 10.0,
+        ...                           "calibration_point_1_raw_sum": 100.0})  # 0.1 N a count
+        >>> raw = xr.DataArray(np.array([[[0.0, 30.0], [50.0, np.nan]]]),
+        ...                    dims=("frame", "row", "col"),
+        ...                    attrs={"units": "raw", "sensel_area_mm2": 2.0})
+        >>> raw.tactile.calibrate(cal, units="N").values.tolist()
+        [[[0.0, 3.0], [5.0, nan]]]
+        >>> float(raw.tactile.calibrate(cal).tactile.force()[0])  # kPa back to N
+        8.0
         """
         if not hasattr(calibration, "apply"):
             from tactilecal.calibration import CalibrationResult
@@ -149,6 +163,18 @@ class TactileAccessor:
         recording's own pressure unit, else kPa). Saturated sensels are red crosses;
         ``centre`` draws the centre of force (that frame's, or the path of every frame with
         at least 5 % of the peak force). Returns the matplotlib Axes.
+
+        Examples
+        --------
+        >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
+        >>> p = np.zeros((3, 4, 5)); p[:, 1:3, 1:4] = [[[100.0]], [[200.0]], [[150.0]]]
+        >>> rec = xr.DataArray(p, dims=("frame", "row", "col"),
+        ...                    coords={"time": ("frame", [0.0, 0.1, 0.2])},
+        ...                    attrs={"units": "kPa", "sensel_area_mm2": 25.0,
+        ...                           "row_spacing_mm": 5.0, "col_spacing_mm": 5.0})
+        >>> ax = rec.tactile.plot_pressure_map()  # each sensel's peak
+        >>> ax.get_title()
+        'peak over all frames'
         """
         return _plots.plot_pressure_map(self._rec, frame, position=position,
                                         calibration=calibration, ax=ax, units=units,
@@ -161,6 +187,18 @@ class TactileAccessor:
         ``frame`` is the file's frame number, or ``position`` its 0-based position;
         ``nonworking``: a mask of non-working sensels to skip too. Returns the row-profile
         and the column-profile Axes.
+
+        Examples
+        --------
+        >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
+        >>> p = np.zeros((3, 4, 5)); p[:, 1:3, 1:4] = [[[100.0]], [[200.0]], [[150.0]]]
+        >>> rec = xr.DataArray(p, dims=("frame", "row", "col"),
+        ...                    coords={"time": ("frame", [0.0, 0.1, 0.2])},
+        ...                    attrs={"units": "kPa", "sensel_area_mm2": 25.0,
+        ...                           "row_spacing_mm": 5.0, "col_spacing_mm": 5.0})
+        >>> rows, cols = rec.tactile.plot_profiles(1)
+        >>> rows.figure is cols.figure
+        True
         """
         return _plots.plot_profiles(self._rec, frame, position=position, nonworking=nonworking,
                                     calibration=calibration, axes=axes, units=units)
@@ -171,6 +209,18 @@ class TactileAccessor:
         Frames with saturated sensels are red ticks along the time axis. ``summary``: the
         recording's :meth:`frame_summary` if already computed (else computed here).
         Returns the matplotlib Axes.
+
+        Examples
+        --------
+        >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
+        >>> p = np.zeros((3, 4, 5)); p[:, 1:3, 1:4] = [[[100.0]], [[200.0]], [[150.0]]]
+        >>> rec = xr.DataArray(p, dims=("frame", "row", "col"),
+        ...                    coords={"time": ("frame", [0.0, 0.1, 0.2])},
+        ...                    attrs={"units": "kPa", "sensel_area_mm2": 25.0,
+        ...                           "row_spacing_mm": 5.0, "col_spacing_mm": 5.0})
+        >>> ax = rec.tactile.plot_force_time()
+        >>> ax.get_xlabel()
+        'time [s]'
         """
         if summary is None:
             summary = self.frame_summary(calibration=calibration)
@@ -184,6 +234,18 @@ class TactileAccessor:
         total force below ``min_force_N`` (default 5 % of the peak) are not drawn: with
         almost no load the centre is noise. ``summary``: the recording's
         :meth:`frame_summary` if already computed. Returns the matplotlib Axes.
+
+        Examples
+        --------
+        >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
+        >>> p = np.zeros((3, 4, 5)); p[:, 1:3, 1:4] = [[[100.0]], [[200.0]], [[150.0]]]
+        >>> rec = xr.DataArray(p, dims=("frame", "row", "col"),
+        ...                    coords={"time": ("frame", [0.0, 0.1, 0.2])},
+        ...                    attrs={"units": "kPa", "sensel_area_mm2": 25.0,
+        ...                           "row_spacing_mm": 5.0, "col_spacing_mm": 5.0})
+        >>> ax = rec.tactile.plot_cof_path(summary=rec.tactile.frame_summary())
+        >>> ax.get_xlabel()
+        'centre of force, column [mm]'
         """
         if summary is None:
             summary = self.frame_summary(calibration=calibration)

@@ -51,12 +51,12 @@ def describe(recording):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.array([[[0.0, 7.0], [np.nan, 255.0]]]),
     ...                    dims=("frame", "row", "col"),
     ...                    coords={"frame": [1], "time": ("frame", [0.0])},
     ...                    attrs={"units": "raw"})
-    >>> d = describe(rec)
+    >>> d = rec.tactile.describe()
     >>> d["blank_sensels"], d["never_loaded_sensels"], d["max_raw"], d["saturated_frames"]
     (1, 1, 255.0, 1)
     """
@@ -136,6 +136,18 @@ def frame_table(recording, *, calibration=None, threshold_kPa=0.0):
         Columns ``frame``, ``time_s`` (NaN without a time coordinate), then
         :data:`FRAME_COLUMNS`, then ``saturated_sensels`` when the recording says what
         saturation is (:func:`saturated_sensels`).
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
+    >>> rec = xr.DataArray(np.array([[[0.0, 100.0]], [[50.0, 50.0]]]),
+    ...                    dims=("frame", "row", "col"),
+    ...                    coords={"frame": [1, 2], "time": ("frame", [0.0, 0.1])},
+    ...                    attrs={"units": "kPa", "sensel_area_mm2": 10.0,
+    ...                           "row_spacing_mm": 1.0, "col_spacing_mm": 1.0})
+    >>> table = rec.tactile.frame_table()
+    >>> table[["frame", "time_s", "force_N", "contact_area_mm2"]].values.tolist()
+    [[1.0, 0.0, 1.0, 10.0], [2.0, 0.1, 1.0, 20.0]]
     """
     ds = recording if isinstance(recording, xr.Dataset) else summary(
         recording, calibration=calibration, threshold_kPa=threshold_kPa)
@@ -168,6 +180,18 @@ def overview(table, *, source=None):
         saturation is unknown). A frame with saturated sensels has an unknown force above
         its reading, so as soon as one frame is saturated the recording's peak force and
         largest pressure are lower bounds, whichever frame they were read in.
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
+    >>> rec = xr.DataArray(np.array([[[0.0, 100.0]], [[50.0, 250.0]]]),
+    ...                    dims=("frame", "row", "col"),
+    ...                    coords={"frame": [1, 2], "time": ("frame", [0.0, 0.1])},
+    ...                    attrs={"units": "kPa", "sensel_area_mm2": 10.0,
+    ...                           "row_spacing_mm": 1.0, "col_spacing_mm": 1.0})
+    >>> o = overview(rec.tactile.frame_table(), source="press.csv")
+    >>> o["peak_force_N"], o["peak_force_frame"], o["max_pressure_kPa"]
+    (3.0, 2, 250.0)
     """
     if isinstance(table, xr.Dataset):
         table = frame_table(table)

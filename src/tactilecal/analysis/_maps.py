@@ -88,11 +88,11 @@ def total_force(recording, *, calibration=None):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.array([[[0.0, 100.0], [100.0, np.nan]]]),
     ...                    dims=("frame", "row", "col"),
     ...                    attrs={"units": "kPa", "sensel_area_mm2": 10.0})
-    >>> total_force(rec).values
+    >>> rec.tactile.force().values
     array([2.])
     """
     force = force_map_N(recording, calibration=calibration).sum(_PLANE, skipna=True)
@@ -118,11 +118,11 @@ def contact_area(recording, *, threshold_kPa=0.0, calibration=None):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.array([[[0.0, 3.0], [9.0, np.nan]]]),
     ...                    dims=("frame", "row", "col"),
     ...                    attrs={"units": "raw", "sensel_area_mm2": 1.6129})
-    >>> round(float(contact_area(rec)[0]), 4)
+    >>> round(float(rec.tactile.area()[0]), 4)
     3.2258
     """
     mask = loaded_mask(recording, threshold_kPa=threshold_kPa, calibration=calibration)
@@ -156,11 +156,11 @@ def centre_of_force(recording, *, calibration=None, min_force_N=0.0):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.array([[[0.0, 0.0], [30.0, 10.0]]]),
     ...                    dims=("frame", "row", "col"),
     ...                    attrs={"units": "N", "row_spacing_mm": 2.0, "col_spacing_mm": 4.0})
-    >>> cof = centre_of_force(rec)
+    >>> cof = rec.tactile.centre()
     >>> float(cof.cof_row_mm[0]), float(cof.cof_col_mm[0])
     (2.0, 1.0)
     """
@@ -182,10 +182,10 @@ def peak_pressure(recording, *, calibration=None):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.array([[[1.0, 0.5], [np.nan, 0.0]]]),
     ...                    dims=("frame", "row", "col"), attrs={"units": "MPa"})
-    >>> peak_pressure(rec).values
+    >>> rec.tactile.peak().values
     array([1000.])
     """
     peak = pressure_map_kPa(recording, calibration=calibration).max(_PLANE, skipna=True)
@@ -216,10 +216,10 @@ def mean_pressure(recording, *, threshold_kPa=0.0, calibration=None):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.array([[[0.0, 100.0], [300.0, np.nan]]]),
     ...                    dims=("frame", "row", "col"), attrs={"units": "kPa"})
-    >>> mean_pressure(rec).values
+    >>> rec.tactile.mean_pressure().values
     array([200.])
     """
     pressure = pressure_map_kPa(recording, calibration=calibration)
@@ -258,12 +258,12 @@ def summary(recording, *, threshold_kPa=0.0, calibration=None, cof_min_force_N=0
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.array([[[0.0, 100.0], [300.0, 0.0]]]),
     ...                    dims=("frame", "row", "col"),
     ...                    attrs={"units": "kPa", "sensel_area_mm2": 1.0,
     ...                           "row_spacing_mm": 1.0, "col_spacing_mm": 1.0})
-    >>> s = summary(rec)
+    >>> s = rec.tactile.frame_summary()
     >>> [round(float(s[v][0]), 3) for v in s.data_vars]
     [0.4, 2.0, 0.75, 0.25, 300.0, 200.0]
     """

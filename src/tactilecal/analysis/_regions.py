@@ -54,10 +54,10 @@ def select_region(recording, region):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.ones((1, 3, 3)), dims=("frame", "row", "col"),
     ...                    coords={"row": [0, 1, 2], "col": [0, 1, 2]}, attrs={"units": "N"})
-    >>> float(select_region(rec, (0, 2, 1, 3)).sum())
+    >>> float(rec.tactile.select_region((0, 2, 1, 3)).sum())
     4.0
     """
     check_recording(recording)
@@ -104,15 +104,15 @@ def profile(recording, dim="row", *, nonworking=None, calibration=None):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.array([[[10.0, 20.0], [0.0, np.nan]]]),
     ...                    dims=("frame", "row", "col"),
     ...                    attrs={"units": "kPa", "row_spacing_mm": 5.0, "col_spacing_mm": 5.0})
-    >>> profile(rec).values
+    >>> rec.tactile.profile().values
     array([[15.,  0.]])
-    >>> profile(rec, nonworking=np.array([[True, False], [False, False]])).values
+    >>> rec.tactile.profile(nonworking=np.array([[True, False], [False, False]])).values
     array([[20.,  0.]])
-    >>> profile(rec, "col").values
+    >>> rec.tactile.profile("col").values
     array([[ 5., 20.]])
     """
     if dim not in ("row", "col"):
@@ -196,12 +196,12 @@ def max_window_load(recording, *, window=None, area_mm2=None, calibration=None):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> f = np.zeros((1, 4, 4)); f[0, 2:4, 1:3] = [[1.0, 2.0], [3.0, 4.0]]
     >>> rec = xr.DataArray(f, dims=("frame", "row", "col"),
     ...                    attrs={"units": "N", "sensel_area_mm2": 1.0,
     ...                           "row_spacing_mm": 1.0, "col_spacing_mm": 1.0})
-    >>> out = max_window_load(rec, window=(2, 2))
+    >>> out = rec.tactile.max_window_load(window=(2, 2))
     >>> float(out.force_N[0]), int(out.row[0]), int(out.col[0])
     (10.0, 2, 1)
     """
@@ -262,11 +262,12 @@ def label_zones(recording, level_kPa, *, connectivity=1, calibration=None):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> p = np.array([[[5.0, 0.0, 5.0], [5.0, 0.0, 0.0], [0.0, 5.0, 0.0]]])
     >>> rec = xr.DataArray(p, dims=("frame", "row", "col"), attrs={"units": "kPa"})
-    >>> int(label_zones(rec, 1.0).max()), int(label_zones(rec, 1.0, connectivity=2).max())
-    (3, 2)
+    >>> zones = rec.tactile.label_zones(1.0), rec.tactile.label_zones(1.0, connectivity=2)
+    >>> [int(z.max()) for z in zones]
+    [3, 2]
     """
     from scipy import ndimage
 
@@ -316,12 +317,13 @@ def high_pressure_zones(recording, level_kPa, *, connectivity=1, min_sensels=1,
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> p = np.zeros((1, 3, 4)); p[0, 0, 0:2] = 100.0; p[0, 2, 3] = 300.0
     >>> rec = xr.DataArray(p, dims=("frame", "row", "col"),
     ...                    attrs={"units": "kPa", "sensel_area_mm2": 10.0,
     ...                           "row_spacing_mm": 1.0, "col_spacing_mm": 1.0})
-    >>> high_pressure_zones(rec, 50.0)[["zone", "n_sensels", "force_N"]].values.tolist()
+    >>> table = rec.tactile.high_pressure_zones(50.0)
+    >>> table[["zone", "n_sensels", "force_N"]].values.tolist()
     [[1.0, 1.0, 3.0], [2.0, 2.0, 2.0]]
     """
     from scipy import ndimage

@@ -33,6 +33,15 @@ def saturated_sensels(recording):
     (xarray.DataArray or None, str)
         Count per frame (int, dim ``frame``; lazy for a dask-backed recording), or None when
         the recording does not say what saturation is; and the rule as text.
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
+    >>> rec = xr.DataArray(np.array([[[255.0, 3.0]], [[40.0, 0.0]]]),
+    ...                    dims=("frame", "row", "col"), attrs={"units": "raw"})
+    >>> count, rule = rec.tactile.saturated_sensels()
+    >>> count.values.tolist(), rule
+    ([1, 0], 'raw value 255')
     """
     mask, rule = saturation_mask(recording)
     return (None if mask is None else mask.sum(("row", "col"))), rule
@@ -159,10 +168,10 @@ def force_map_N(recording, *, calibration=None):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.full((1, 2, 2), 100.0), dims=("frame", "row", "col"),
     ...                    attrs={"units": "kPa", "sensel_area_mm2": 25.0})
-    >>> float(force_map_N(rec).sum())
+    >>> float(rec.tactile.force_map().sum())
     10.0
     """
     return _per_sensel(recording, calibration, "N")
@@ -189,10 +198,10 @@ def pressure_map_kPa(recording, *, calibration=None):
 
     Examples
     --------
-    >>> import numpy as np, xarray as xr
+    >>> import numpy as np, xarray as xr, tactilecal.analysis  # registers .tactile
     >>> rec = xr.DataArray(np.full((1, 1, 1), 2.0), dims=("frame", "row", "col"),
     ...                    attrs={"units": "MPa"})
-    >>> float(pressure_map_kPa(rec)[0, 0, 0])
+    >>> float(rec.tactile.pressure_map()[0, 0, 0])
     2000.0
     """
     return _per_sensel(recording, calibration, "kPa")

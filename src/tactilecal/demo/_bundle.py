@@ -24,7 +24,15 @@ BUNDLE = {
 
 
 def bundle_path():
-    """Return the folder of the bundled demo data inside the installed package."""
+    """Return the folder of the bundled demo data inside the installed package.
+
+    Examples
+    --------
+    >>> sorted(p.name for p in bundle_path().iterdir() if p.is_dir())
+    ['session-a', 'session-b']
+    >>> (bundle_path() / "session-a" / "manifest.csv").read_text().splitlines()[0]
+    'file,frame,mass_kg,pad_mass_g,label'
+    """
     return Path(str(resources.files("tactilecal") / "data" / "demo"))
 
 

@@ -127,6 +127,15 @@ def run_demo(out_dir="tactilecal-demo", *, quiet=False, overwrite=False):
     -------
     dict
         The headline numbers, also written to ``out_dir/summary.json``.
+
+    Examples
+    --------
+    It takes 20-40 s (the report's figures most of it), so this example is not run as a
+    doctest; the test suite runs the demo.
+
+    >>> headline = run_demo("tactilecal-demo", quiet=True)  # doctest: +SKIP
+    >>> sorted(headline)  # doctest: +SKIP
+    ['dynamic', 'elapsed_s', 'experiment', 'methods', 'report', 'true_law']
     """
     from tactilecal.demo._bundle import BUNDLE, bundle_path, demo_sensor
     from tactilecal.report import write_report

@@ -50,6 +50,15 @@ def plot_earth_pressure_profile(profile_kPa, depth_m, *, g_level, phi_deg=(33.0,
     -----
     Gillis (2013) section 5.7: rows averaged without non-working sensels, compared with
     ``sigma_h = K0 sigma_v`` for phi = 33..38 degrees (K0 0.38..0.46).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fig = plot_earth_pressure_profile(np.array([20.0, 40.0, 60.0]),
+    ...                                   np.array([1.0, 2.0, 3.0]), g_level=50,
+    ...                                   unit_weight_kN_m3=16.0)
+    >>> fig.axes[0].get_xlabel()
+    'lateral pressure [kPa]'
     """
     from matplotlib.figure import Figure
 

@@ -118,6 +118,17 @@ def read_netcdf(path):
         No such file.
     ValueError
         Not a NetCDF file holding one data variable.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, numpy as np, xarray as xr
+    >>> rec = xr.DataArray(np.arange(8.0).reshape(2, 2, 2), dims=("frame", "row", "col"),
+    ...                    attrs={"units": "raw", "sensel_area_mm2": 1.6129})
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "rec.nc"
+    >>> write_netcdf(rec, path)
+    >>> back = read_netcdf(path)
+    >>> back.values.tolist() == rec.values.tolist(), back.attrs["units"]
+    (True, 'raw')
     """
     from pathlib import Path
 

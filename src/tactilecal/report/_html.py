@@ -197,7 +197,17 @@ def _provenance(loaded, command):
 def build_report(inputs, *, calibration=None, filter=None, title=None, threshold_kPa=0.0,
                  nonworking=None, cof_min_force_N=None, command=None, progress=None,
                  units=None, regions=None, gap_mm=None, align="time", player=True):
-    """Return the HTML text of a report on ``inputs`` (see :func:`write_report`)."""
+    """Return the HTML text of a report on ``inputs`` (see :func:`write_report`).
+
+    Examples
+    --------
+    >>> from tactilecal.calibration import header_calibration
+    >>> cal = header_calibration({"sensel_area_mm2": 2.0, "calibration_point_1_load_N": 10.0,
+    ...                           "calibration_point_1_raw_sum": 100.0})
+    >>> html = build_report([cal], title="header calibration")
+    >>> html.startswith("<!DOCTYPE html>"), "<h2>Provenance</h2>" in html
+    (True, True)
+    """
     from tactilecal.analysis import align_recordings
 
     progress = resolve(progress)
@@ -315,6 +325,16 @@ def write_report(inputs, path, *, calibration=None, filter=None, title=None, thr
         ``overwrite``, or is not an HTML page).
     FileNotFoundError
         For a missing input or output folder.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from tactilecal.calibration import header_calibration
+    >>> cal = header_calibration({"sensel_area_mm2": 2.0, "calibration_point_1_load_N": 10.0,
+    ...                           "calibration_point_1_raw_sum": 100.0})
+    >>> out = write_report([cal], pathlib.Path(tempfile.mkdtemp()) / "report.html")
+    >>> out.name, out.read_text().count("<img")  # the law, its points, their errors
+    ('report.html', 3)
     """
     path = Path(path)
     if not path.parent.is_dir():

@@ -64,6 +64,15 @@ def load_input(item, *, what="report input"):
         unknown type.
     FileNotFoundError
         For a missing file.
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> rec = xr.DataArray(np.zeros((1, 2, 2)), dims=("frame", "row", "col"),
+    ...                    attrs={"units": "kPa"})
+    >>> kind, obj, provenance = load_input(rec)
+    >>> kind, provenance["input"]
+    ('recording', 'DataArray in memory')
     """
     if isinstance(item, xr.DataArray):
         return "recording", item, {"input": "DataArray in memory",

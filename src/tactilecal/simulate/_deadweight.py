@@ -50,6 +50,15 @@ class ContactModel:
         Standard deviation of the height difference across the pad due to its tilt.
     stiffness_kPa_per_um : float
         Winkler modulus of the sensor and the layers around it.
+
+    Examples
+    --------
+    >>> from tactilecal.simulate import ContactModel, deadweight_session, make_sensor
+    >>> flat = ContactModel(base_relief_um=0.0, pad_relief_um=0.0, tilt_um=0.0)
+    >>> session = deadweight_session(make_sensor("5051", seed=0), n_patches=3, contact=flat,
+    ...                              seed=1)
+    >>> session.raw.sizes["frame"] > 0
+    True
     """
 
     base_relief_um: float = 6.0

@@ -190,6 +190,13 @@ def true_force_table_N(sensor):
 
     The power law ``A_N raw**b`` when ``curvature`` is 0, else the numerical inverse of the
     curved response; no calibration law can do better than this table on average.
+
+    Examples
+    --------
+    >>> from tactilecal.simulate import make_sensor
+    >>> table = true_force_table_N(make_sensor("5051", A_N=0.0035, b=1.16, seed=0))
+    >>> table.shape, float(table[0]), round(float(table[1]), 4), round(float(table[255]), 3)
+    ((256,), 0.0, 0.0035, 2.166)
     """
     levels = np.arange(256, dtype=float)
     if not sensor.curvature:

@@ -150,7 +150,7 @@ def solve_pairs(counts, load_N, raw_relerr, *, histograms=None, root_choice="sma
     load_N : numpy.ndarray, shape (n_patches,)
         Applied loads F_T in newtons.
     raw_relerr : numpy.ndarray, shape (n_patches,)
-        |R_T - Q_T(I*)| / R_T, the raw-sum approximation error of each patch.
+        ``|R_T - Q_T(I*)| / R_T``, the raw-sum approximation error of each patch.
     histograms : numpy.ndarray of int, shape (n_patches, 256), optional
         Needed for ``root_choice="best-fit"``.
     root_choice : {"smallest", "best-fit"}

@@ -165,7 +165,7 @@ class ZvyaginResult(ShortRepr):
         return {str(k): int(v) for k, v in zip(letters, n, strict=True)}
 
     def within(self, pct):
-        """Share of usable patches whose |error| is below ``pct`` percent."""
+        """Share of usable patches whose absolute error is below ``pct`` percent."""
         return float(np.mean(np.abs(self.error_pct[self.usable]) < pct))
 
     def summary(self):

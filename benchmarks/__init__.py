@@ -1,0 +1,1 @@
+"""The benchmark suite of tactilecal, run by asv (``asv run``; see ``benchmarks/README.md``)."""
