@@ -18,8 +18,6 @@ viscoelastic: rational chosen by ``auto``, blind ratio >= 10; resonant: ``auto``
 
 import warnings
 
-import numpy as np
-
 RATES = {"fs_sensor_hz": 1000.0, "fs_reference_hz": 1250.0, "sensor_noise_N": 0.2,
          "reference_noise_N": 0.05}
 SENSORS = ["thesis", "visco1", "visco2", "creep", "resonant"]
