@@ -20,7 +20,7 @@ import numpy as np
 
 from tactilecal._atomic import check_target, write_text_atomic
 from tactilecal._errors import TactilecalError
-from tactilecal._jsonutil import dumps, read_json_object
+from tactilecal._jsonutil import dumps, read_json_object, to_jsonable
 from tactilecal._validate import check_type
 
 __all__ = ["SavedResult", "ShortRepr", "format_tag", "parse_format", "load_result",
@@ -241,7 +241,7 @@ class SavedResult(ShortRepr):
 
 def _without_created(data):
     """Return the saved dict without its creation time (NaN is null: equal when unknown)."""
-    return {k: v for k, v in data.items() if k != "created"}
+    return to_jsonable({k: v for k, v in data.items() if k != "created"})
 
 
 def result_class(data, source):

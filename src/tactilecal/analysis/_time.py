@@ -60,13 +60,6 @@ class _TimeResult(SavedResult):
                 values[f.name] = float("nan") if value is None else value
         return cls(**values)
 
-    def __eq__(self, other):
-        if type(other) is not type(self):
-            return NotImplemented
-        return self.to_dict() == other.to_dict()
-
-    __hash__ = None
-
     def _repr_fields(self):
         return [(f.name, getattr(self, f.name)) for f in fields(self)][:8]
 

@@ -25,7 +25,7 @@ __all__ = ["OBJECTIVES", "DEFAULT_OBJECTIVE", "B_BOUNDS", "LEVELS", "COMPILED_MI
 LEVELS = np.arange(256, dtype=float)
 OBJECTIVES = ("l2", "l1", "relative")
 DEFAULT_OBJECTIVE = "l1"
-"""The power method's default: on the simulated family (``benchmarks/bench_static_family.py
+"""The power method's default: on the simulated family (``benchmarks/bench_static.py
 --seeds 20 --test-patches 150``) l1 had the best worst case of the three objectives;
 relative and l2 fell to 0.90-0.91 of the true law's worst share on 9500-b1.4."""
 B_BOUNDS = (0.2, 4.0)

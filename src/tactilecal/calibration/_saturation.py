@@ -20,7 +20,7 @@ SATURATED_CHOICES = ("drop", "keep", "censored")
 SATURATED_DEFAULT = "drop"
 """The default: on the independent simulator of issue 12 (8 sessions, Sensor2 parameters),
 dropping raised Zvyagin's worst-session share of held-out patches within 5 % from 61 % to
-78-83 %. On the simulated family (benchmarks/bench_static_family.py) ``censored`` reached the
+78-83 %. On the simulated family (benchmarks/bench_static.py) ``censored`` reached the
 same worst cases as ``drop`` for every method benchmarked, so the simpler one stays."""
 
 

@@ -147,7 +147,7 @@ def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=20
     The default (all neighbours, one frame) was chosen by measurement: on 8 simulated 5051
     sensors with 6 dead sensels each under 150 dead-weight patches it found 32 of the 48
     dead sensels with no false detection, where 75 % of the neighbours found 36 but also
-    15 working sensels at the sensor's edge (``benchmarks/bench_calibration.py``).
+    15 working sensels at the sensor's edge (a one-off study, in the git history).
 
     Parameters
     ----------

@@ -123,13 +123,6 @@ class Evaluation(SavedResult):
     reference_realigned: np.ndarray = field(default_factory=lambda: np.empty(0))
     provenance: dict | None = None
 
-    def __eq__(self, other):
-        if type(other) is not type(self):
-            return NotImplemented
-        return to_jsonable(self.to_dict()) == to_jsonable(other.to_dict())
-
-    __hash__ = None
-
     @property
     def improvement(self):
         """``rms_before_N / rms_after_N`` at the evaluated clock (inf for a perfect one)."""

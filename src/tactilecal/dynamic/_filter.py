@@ -432,13 +432,6 @@ class CorrectionFilter(SavedResult):
         _check_correction(filt, where)
         return filt
 
-    def __eq__(self, other):
-        if type(other) is not type(self):
-            return NotImplemented
-        return to_jsonable(self.to_dict()) == to_jsonable(other.to_dict())
-
-    __hash__ = None
-
     def _repr_fields(self):
         return [("model", self.model), ("params", self.params), ("fs_hz", self.fs_hz),
                 ("band_hz", self.band_hz), ("outside", self.outside),

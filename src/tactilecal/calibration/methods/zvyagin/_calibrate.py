@@ -35,7 +35,7 @@ MODES = {
 }
 DEFAULT_MODE = "robust"
 """The mode with the best worst case on the simulated family (benchmarks/
-bench_static_family.py): over all members robust's worst ratio to the true law's
+bench_static.py): over all members robust's worst ratio to the true law's
 worst-session share was 0.96 (20 sessions, 150 held-out patches), faithful's 0.70, on
 5101-b1.0 (b = 1, whose pairs the paper's Y > 3 cuts). With the l1 free step faithful was
 better on one member, 4010N-noisy (1.53 against 1.47, both above the truth); the
