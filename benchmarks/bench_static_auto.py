@@ -34,6 +34,8 @@ POWER_LAW = ("5051-zvyagin", "5051-sensor2", "5101-b1.0", "9500-b1.4", "5051-sat
 """Members whose readings follow a power law (gains, noise and saturation aside)."""
 BENT = ("5051-bent", "5051-concave")
 """Members whose response bends away from any power law by more than the patches' scatter."""
+NO_GAIN_FIELD = ("5051-zvyagin", "5101-b1.0", "5051-saturating", "5051-curved")
+"""Members whose sensels have independent random gains only (no spatial field)."""
 
 
 def _points(session):
@@ -75,6 +77,47 @@ def session_errors(member, seed, test_patches=500, floor_patches=2000):
     out["n_test"] = len(held)
     out["seconds"] = seconds
     return out
+
+
+@functools.cache
+def gains_ratio(member, seed, test_patches=500):
+    """Held-out RMS of the power law (relative objective) with learned gains over without.
+
+    Both calibrations are applied to the held-out frames as a user applies them
+    (``CalibrationResult.apply``, which applies learned gains first).
+    """
+    train, test = family_sessions(member, seed, n_test=test_patches)
+    clean = np.array([p.saturated_cells == 0 for p in _points(test)])
+    load = np.asarray(test.load_N, dtype=float)[clean]
+    errors = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for gains in ("none", "learn"):
+            cal = tc.calibrate(_points(train), method="power", objective="relative",
+                               gains=gains)
+            force = cal.apply(test.raw, units="N").sum(("row", "col")).values[clean]
+            errors.append(float(np.sqrt(np.mean((force / load - 1.0) ** 2))))
+    return errors[1] / errors[0]
+
+
+def track_learned_gains_edges():
+    """Worst held-out RMS with learned gains over without, edges 15 % less sensitive."""
+    return max(gains_ratio("5051-edges", s) for s in SEEDS)
+
+
+def track_learned_gains_spread():
+    """Worst held-out RMS with learned gains over without, 12 % gain spread (9500-b1.4)."""
+    return max(gains_ratio("9500-b1.4", s) for s in SEEDS)
+
+
+def track_learned_gains_no_field():
+    """Worst held-out RMS with learned gains over without, on members without a gain field."""
+    return max(gains_ratio(m, s) for m in NO_GAIN_FIELD for s in SEEDS)
+
+
+for _track in (track_learned_gains_edges, track_learned_gains_spread,
+               track_learned_gains_no_field):
+    _track.unit = "ratio"
 
 
 def _ratios(key, against="floor", members=None, seeds=SEEDS):
