@@ -30,6 +30,20 @@ def test_every_public_name_exists_and_every_callable_is_documented():
                 assert inspect.getdoc(obj), f"tactilecal.{sub}.{name} has no docstring"
 
 
+def test_every_public_callable_and_tactile_method_has_examples():
+    """A numpydoc Examples section (run by --doctest-modules) in every public docstring."""
+    heading = "\nExamples\n--------\n"
+    documented = {f"tactilecal.{sub}.{name}": getattr(module, name)
+                  for sub, module in _modules().items() for name in module.__all__
+                  if callable(getattr(module, name))}
+    accessor = vars(import_module("tactilecal.analysis").TactileAccessor)
+    documented |= {f"recording.tactile.{name}": value for name, value in accessor.items()
+                   if not name.startswith("_") and callable(value)}
+    missing = sorted(name for name, obj in documented.items()
+                     if heading not in (inspect.getdoc(obj) or ""))
+    assert not missing, f"{len(missing)} public callables have no Examples section: {missing}"
+
+
 def test_no_name_is_public_in_two_subpackages():
     owners = {}
     for sub, module in _modules().items():

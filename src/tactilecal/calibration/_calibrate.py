@@ -63,6 +63,17 @@ class CommonOptions(MethodOptions):
     (:mod:`tactilecal.calibration._gains`), applied to the frames before the method's fit
     and kept as the result's ``equilibration``; the points need their frames
     (``CalibrationPoint.readings``).
+
+    Examples
+    --------
+    >>> from tactilecal.calibration import calibrate, points_from_frames
+    >>> CommonOptions.names()
+    ('saturated', 'sensel_area_mm2', 'n_interval_resamples', 'seed', 'gains')
+    >>> raw = np.zeros((3, 4, 4)); raw[:, 1:3, 1:3] = np.array([10, 20, 40])[:, None, None]
+    >>> points = points_from_frames(raw, 0.04 * np.array([10, 20, 40]) ** 1.2)  # 4 sensels
+    >>> cal = calibrate(points, method="power", objective="l2", sensel_area_mm2=2.0)
+    >>> cal.options["saturated"], cal.options["sensel_area_mm2"], round(cal.saturation_pressure_kPa)
+    ('drop', 2.0, 3862)
     """
 
     saturated: str = option(SATURATED_DEFAULT, "patches with a sensel at 255: drop them from "

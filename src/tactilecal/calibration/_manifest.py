@@ -237,6 +237,19 @@ def load_points(manifest_path, *, mask=None, equilibration=None, progress=None):
     ValueError
         Missing columns, a blank or non-numeric load, a missing file, a frame not in its
         file, a file that is not raw; messages name the manifest line.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from tactilecal.simulate import deadweight_session, make_sensor
+    >>> session = deadweight_session(make_sensor("5051"), n_patches=6, seed=3)
+    >>> points = load_points(session.write(tempfile.mkdtemp()))  # its manifest.csv
+    >>> len(points), bool(np.allclose([p.load_N for p in points], session.load_N))
+    (6, True)
+    >>> points[0].source, points[0].frame  # the manifest left this frame blank
+    ('2kg-1cm-001.csv', 8)
+    >>> print(points[0].note)  # doctest: +ELLIPSIS
+    frame blank: chose frame 8, middle of the plateau frames 5..12 ...
     """
     if is_tekscan_cal(manifest_path):
         return cal_points(manifest_path, mask=mask, equilibration=equilibration)

@@ -585,6 +585,16 @@ def calibrate_movie(recording, loads, *, method=DEFAULT_METHOD, time_col=None, l
     TactilecalError
         A recording that is not raw, loads that cannot be paired with the frames, a bad
         option, and every error of :func:`calibrate`.
+
+    Examples
+    --------
+    >>> from tactilecal.simulate import make_sensor, ramp_hold
+    >>> sensor = make_sensor("9500", seed=1)  # A_N = 0.0035, b = 1.16
+    >>> session = ramp_hold(sensor, loads_N=(100.0, 200.0, 300.0), hold_s=1.0, ramp_s=1.0,
+    ...                     seed=1)  # the load cell starts 0.37 s after the sensor
+    >>> cal = calibrate_movie(session.raw, session.loadcell, method="power")
+    >>> round(cal.params["b"], 2), round(cal.diagnostics["movie"]["lag_s"], 2)
+    (1.16, 0.37)
     """
     setup = method_options(method, options)  # before anything is read
     module, common, method_opts = setup

@@ -66,6 +66,16 @@ class CalibrationPoint(ShortRepr):
         The frame itself, ``(rows, cols)`` (NaN outside the sensor and at masked sensels):
         where each reading lies, which a gain map learned with the law needs
         (``calibrate(..., gains="learn")``); None for points known only by their histogram.
+
+    Examples
+    --------
+    >>> from tactilecal.calibration import points_from_frames
+    >>> raw = np.zeros((1, 3, 3)); raw[0, 1] = [10, 30, 255]
+    >>> point = points_from_frames(raw, [12.5], source="a.csv")[0]
+    >>> point.load_N, point.raw_sum, point.loaded_cells, point.saturated_cells
+    (12.5, 295.0, 3, 1)
+    >>> int(point.histogram.sum()), int(point.histogram[255]), round(point.mean_raw, 2)
+    (9, 1, 98.33)
     """
 
     histogram: np.ndarray

@@ -67,6 +67,19 @@ class NonWorkingSensels(SavedResult):
         (rows, cols), frames in which the sensel's neighbours responded.
     n_frames : int
         Frames examined.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, tactilecal
+    >>> from tactilecal.simulate import deadweight_session, make_sensor
+    >>> session = deadweight_session(make_sensor("5051", n_dead=3, seed=0), n_patches=30, seed=0)
+    >>> dead = find_dead_sensels(session.raw)  # only the dead sensel under a pad shows
+    >>> dead.sensels, np.argwhere(session.sensor.dead).tolist()
+    ([[20, 23]], [[8, 1], [20, 23], [34, 10]])
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "non_working.json"
+    >>> dead.to_json(path)
+    >>> tactilecal.load(path).report()
+    'non-working sensels: 1 found over 30 frames at (row, col) (20, 23); masked'
     """
 
     FORMAT_KIND = "non-working-sensels"
@@ -214,6 +227,17 @@ class Equilibration(SavedResult):
         (rows, cols) gains, NaN for non-working sensels and sensels outside the shape.
     levels : list of dict
         Per load level: frames, mean raw, coefficient of variation before and after.
+
+    Examples
+    --------
+    >>> from tactilecal.simulate import make_sensor, uniform_load
+    >>> sensor = make_sensor("9500", gain_spread=0.1, seed=0)  # 3 dead sensels
+    >>> raw, _ = uniform_load(sensor, [10.0, 20.0], frames_per_level=5)
+    >>> eq = equilibrate([raw[:5], raw[5:]])  # two load levels
+    >>> [(round(lv["cv_before"], 3), round(lv["cv_after"], 3)) for lv in eq.levels]
+    [(0.098, 0.005), (0.096, 0.002)]
+    >>> eq.gain.shape, int(np.isnan(eq.gain).sum())
+    ((14, 14), 3)
     """
 
     FORMAT_KIND = "equilibration"

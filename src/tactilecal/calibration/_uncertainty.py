@@ -11,7 +11,8 @@ scatter (gain spread, noise, contact) together.
 No parameter interval is reported (issue 12: an interval that does not hold 90-99 % is
 removed). Measured on ~50 sessions of each member of :data:`tactilecal.simulate.FAMILY`
 (a one-off study with 20 refits per session, in the git history before the asv suite;
-``benchmarks/bench_static.py`` tracks the prediction interval's coverage), the normal bootstrap interval of b (``b +/- 1.96 sd`` of the
+``benchmarks/bench_static.py`` tracks the prediction interval's coverage), the normal
+bootstrap interval of b (``b +/- 1.96 sd`` of the
 refits, Efron & Tibshirani eq. 13.2) held the true b in only 0.80 of the sessions on
 9500-b1.4 and 0.38 on 4010N-noisy (0.82 and 0.42 at 100 refits), for the power method and
 Zvyagin's default alike (whose robust mode ends with the same fit; equal intervals in every
@@ -19,7 +20,8 @@ session): there the best-fitting law itself is biased (gain spread and read nois
 the noise threshold), which resampling patches cannot see. A parametric bootstrap that
 re-reads each histogram's readings with the true gain spread and read noise held 0.46 on
 4010N-noisy and over-covered (1.00) elsewhere; reweighting patches by their share of
-near-threshold sensels made the bias worse (``docs/static-calibration.md``). A single fit's Jacobian errors held the true b in only
+near-threshold sensels made the bias worse (``docs/static-calibration.md``). A single fit's
+Jacobian errors held the true b in only
 0.22-0.90. The 95 % prediction interval held 0.90-0.93 of held-out unsaturated patches on
 every member.
 """
@@ -44,6 +46,19 @@ class PredictionInterval:
     ``load`` lies in ``[predicted * (1 + rel_low), predicted * (1 + rel_high)]`` with
     probability ``level`` (for unsaturated patches; a saturated patch's prediction is a
     lower bound).
+
+    Examples
+    --------
+    >>> from tactilecal.calibration import calibrate, points_from_frames
+    >>> from tactilecal.simulate import family_sessions
+    >>> train, _ = family_sessions("5051-sensor2", seed=1)
+    >>> cal = calibrate(points_from_frames(train.raw, train.load_N), method="power",
+    ...                 n_interval_resamples=40, seed=0)
+    >>> pi = cal.prediction_interval
+    >>> pi.level, round(pi.rel_low, 3), round(pi.rel_high, 3)
+    (0.95, -0.017, 0.023)
+    >>> [round(float(f), 1) for f in pi.bounds_N(100.0)]  # a patch predicted at 100 N
+    [98.3, 102.3]
     """
 
     level: float

@@ -31,6 +31,18 @@ class ValidationResult(SavedResult):
         within_5pct, within_10pct (fractions in 0..1), median_abs_error_pct,
         max_abs_error_pct, n_saturated_excluded, calibration_method (and
         interval_coverage).
+
+    Examples
+    --------
+    >>> from tactilecal.calibration import calibrate, points_from_frames, validate
+    >>> from tactilecal.simulate import family_sessions
+    >>> train, test = family_sessions("5051-sensor2", seed=1)
+    >>> cal = calibrate(points_from_frames(train.raw, train.load_N), method="power")
+    >>> check = validate(cal, points_from_frames(test.raw, test.load_N))
+    >>> check.metrics["n"], check.metrics["n_saturated_excluded"], check.metrics["within_5pct"]
+    (29, 7, 1.0)
+    >>> round(check.metrics["median_abs_error_pct"], 2)
+    0.78
     """
 
     FORMAT_KIND = "validation"

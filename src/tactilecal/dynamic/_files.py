@@ -45,6 +45,22 @@ def filter_timeseries_csv(filt, path, out, *, method="auto", causal=False, progr
     ------
     TactilecalError
         A value the filter made non-finite (nothing is written).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import pandas as pd
+    >>> from tactilecal.dynamic import CorrectionFilter
+    >>> filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=1000, band_hz=(1, 100))
+    >>> t, folder = np.arange(0, 4, 1e-3), pathlib.Path(tempfile.mkdtemp())
+    >>> table = pd.DataFrame({"Time (s)": t, "left (N)": 100 + np.sin(2 * np.pi * 99 * t),
+    ...                       "right (N)": 50 + np.sin(2 * np.pi * 10 * t)})
+    >>> table.to_csv(folder / "in.csv", index=False)
+    >>> filter_timeseries_csv(filt, folder / "in.csv", folder / "out.csv")  # (columns, rows)
+    (2, 4000)
+    >>> out = pd.read_csv(folder / "out.csv")  # each sine's amplitude, 1 N before
+    >>> [round(float((out[c] - out[c].mean())[1000:-1000].abs().max()), 2) for c in out.columns[1:]]
+    [1.22, 1.11]
     """
     import pandas as pd
     import xarray as xr
@@ -100,6 +116,21 @@ def filter_recording(filt, path, *, chunk_frames=65536, method="auto", causal=Fa
         :func:`tactilecal.io.write_netcdf`), with ``time_jitter_s``,
         ``sampling_rate_hz``, ``dynamic_filter`` (the filter) and ``provenance`` (JSON
         text: the input file with SHA-256, sensor, package version) attributes.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import xarray as xr
+    >>> from tactilecal.dynamic import CorrectionFilter
+    >>> from tactilecal.io import write_netcdf
+    >>> filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=1000, band_hz=(1, 100))
+    >>> t, folder = np.arange(0, 4, 1e-3), pathlib.Path(tempfile.mkdtemp())
+    >>> sine = (100 + np.sin(2 * np.pi * 99 * t))[:, None, None] * np.ones((1, 2, 2))
+    >>> write_netcdf(xr.DataArray(sine, dims=("frame", "row", "col"), attrs={"units": "N"},
+    ...                           coords={"time": ("frame", t)}), folder / "rec.nc")
+    >>> out = filter_recording(filt, folder / "rec.nc", chunk_frames=1000)  # read lazily
+    >>> out.shape, np.abs(out - 100)[1000:-1000].max("frame").round(2).values.tolist()
+    ((4000, 2, 2), [[1.22, 1.22], [1.22, 1.22]])
     """
     from tactilecal.io import open_recording, recording_format
 

@@ -143,6 +143,17 @@ class CorrectionFilter(SavedResult):
     rational : RationalModel or None
         For ``model="rational"``: the sensor response ``H``; the filter applies ``1 / H``,
         magnitude and phase (offline by the centred FIR, or causally by :meth:`sos`).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, tactilecal
+    >>> filt = CorrectionFilter.from_model(("log10", {"A": 0.11}), fs_hz=1000.0, band_hz=(1, 100))
+    >>> filt.n_taps, [round(float(g), 3) for g in filt.gain([0.0, 99.0, 400.0])]
+    (1001, [1.0, 1.22, 1.0])
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "FILTER.json"
+    >>> filt.to_json(path)
+    >>> tactilecal.load(path) == filt
+    True
     """
 
     FORMAT_KIND = "dynamic-filter"

@@ -58,6 +58,17 @@ class ZvyaginResult(ShortRepr):
     ``power_law`` (alpha, beta, R2, eq. 14), ``final`` ((A0, b0) and E, eq. 15),
     ``p_s_MPa`` (eq. 16), ``error_pct`` (per patch, Figure 11) and ``share_table`` (share
     of pairs giving (A, b) per load combination).
+
+    Examples
+    --------
+    >>> from tactilecal.calibration import calibrate, points_from_frames
+    >>> from tactilecal.simulate import deadweight_session, make_sensor
+    >>> s = deadweight_session(make_sensor("5051", seed=0), n_patches=30, seed=0)  # b = 1.16
+    >>> res = calibrate(points_from_frames(s.raw, s.load_N), method="zvyagin").method_result
+    >>> res.mode, res.separation, round(res.b0, 2)
+    ('robust', (8, 14, 44, 159), 1.15)
+    >>> res.category_counts()
+    {'N': 61, 'O': 34, 'R': 42, 'V': 298}
     """
 
     mode: str
