@@ -34,16 +34,16 @@ def _marks(ax):
 def test_every_map_marks_its_saturated_sensels():
     rec = moving_raw()
     # frame 3 (position 3) has raw 255 at row 4, col 5: a cross at (10 mm, 8 mm)
-    assert _marks(rec.tactile.plot_pressure_map(3)) == [(10.0, 8.0)]
-    assert _marks(rec.tactile.plot_pressure_map(2)) == []
+    assert _marks(rec.tactile.plot_pressure_map(position=3)) == [(10.0, 8.0)]
+    assert _marks(rec.tactile.plot_pressure_map(position=2)) == []
     assert _marks(rec.tactile.plot_pressure_map()) == [(10.0, 8.0)]  # saturated in any frame
     kpa = rec.where(rec < 255, 200.0).assign_attrs(units="kPa", saturation_pressure_kPa=200.0)
-    assert _marks(kpa.tactile.plot_pressure_map(3)) == [(10.0, 8.0)]
+    assert _marks(kpa.tactile.plot_pressure_map(position=3)) == [(10.0, 8.0)]
 
 
 def test_the_centre_of_force_is_drawn_over_the_map_at_the_sensor_scale():
     rec = moving_raw(saturate=()).assign_attrs(units="kPa")
-    ax = rec.tactile.plot_pressure_map(5)
+    ax = rec.tactile.plot_pressure_map(position=5)
     (line,) = [ln for ln in ax.lines if ln.get_label() == "centre of force"]
     # frame 5: rows 5-6, cols 3-4 at equal pressure: centre (row 11 mm, col 7 mm)
     assert (float(line.get_xdata()[0]), float(line.get_ydata()[0])) == (7.0, 11.0)
@@ -55,10 +55,10 @@ def test_units_and_saturated_frames_on_the_force_plot():
     raw = moving_raw()  # as MPa: 0.1 MPa under the patch, 0.25 MPa = saturation where 255
     rec = raw.where(raw < 255, 250.0) / 1000.0
     rec.attrs = {**raw.attrs, "units": "MPa", "saturation_pressure_kPa": 250.0}
-    ax = rec.tactile.plot_pressure_map(3)
+    ax = rec.tactile.plot_pressure_map(position=3)
     assert ax.images[0].colorbar.ax.get_ylabel() == "pressure [MPa]"  # its own unit
-    assert rec.tactile.plot_pressure_map(3, units="psi").images[0].colorbar.ax.get_ylabel() \
-        == "pressure [psi]"
+    psi = rec.tactile.plot_pressure_map(position=3, units="psi")
+    assert psi.images[0].colorbar.ax.get_ylabel() == "pressure [psi]"
     force = rec.tactile.plot_force_time()
     ticks = [ln for ln in force.lines if str(ln.get_label()).startswith("saturated frames")]
     assert len(ticks) == 1 and ticks[0].get_xdata().tolist() == [pytest.approx(0.3)]
@@ -78,7 +78,7 @@ def test_plot_a_recording_from_the_command_line(fscan_asf, iscan_csv, tmp_path, 
     assert sorted(p.name for p in (tmp_path / "raw").iterdir()) == ["frame.png", "peak_map.png"]
     assert main(["-q", "plot", str(iscan_csv), "--out", str(tmp_path / "x"),
                  "--frame", "999"]) == 1
-    assert "frame 999 is not in" in capsys.readouterr().err
+    assert "--frame 999 is not a frame of the recording (frames 1..309)" in capsys.readouterr().err
 
 
 def test_movie_gif_shows_every_frame_with_its_centre(tmp_path):

@@ -8,6 +8,8 @@ CAL_HST_n (256 counts), and flags. Point 1 is the SDK's sample: 170 PSI, raw sum
 sensels, a histogram summing to exactly 186 sensels and 6940 counts.
 """
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -77,8 +79,15 @@ def test_every_method_fits_the_points_of_a_cal_file_and_validate_scores_them(tmp
     np.testing.assert_allclose([p.load_N for p in read], load_N, rtol=1e-12)
     # a cubic through these points bends down above raw 147 and is refused; degree 2 is not
     options = {"polynomial": {"degree": 2}}
-    fits = {method: calibrate(path, method=method, **options.get(method, {}))
-            for method in METHODS}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fits = {method: calibrate(path, method=method, **options.get(method, {}))
+                for method in METHODS}
+    # a power-law sensor (b = 1.2) read without noise: the linear laws and a quadratic are
+    # said not to fit; no power law, no flexible law and not the default
+    said = {str(w.message).split(" calibration:")[0] for w in caught}
+    assert "linear" in said and not said & {"auto", "power", "zvyagin", "lut", "piecewise"}, \
+        [str(w.message) for w in caught]
     power = fits["power"]
     assert power.params["b"] == pytest.approx(B, abs=0.02)
     assert power.params["A"] == pytest.approx(A_N, rel=0.1)

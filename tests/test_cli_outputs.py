@@ -16,8 +16,9 @@ from tactilecal.dynamic import CorrectionFilter
 from tactilecal.io import write_tekscan
 from tactilecal.simulate import deadweight_session, make_sensor
 
-WRITERS = {"analyze", "apply", "calibrate", "compare", "convert", "demo", "equilibrate", "plot",
-           "report", "simulate deadweight", "simulate ramp-hold", "simulate sweep",
+WRITERS = {"analyze", "apply", "calibrate", "compare", "convert", "demo", "equilibrate", "movie",
+           "plot", "report", "simulate deadweight", "simulate ramp-hold", "simulate uniform",
+           "simulate sweep",
            "simulate blind", "dynamic fit", "dynamic apply", "dynamic evaluate"}
 
 
@@ -68,10 +69,12 @@ COMMANDS = {
     "convert": ("convert REC OUT", ".nc"),
     "demo": ("demo --out OUT", "/"),
     "equilibrate": ("equilibrate REC --out OUT", ".json"),
+    "movie": ("movie REC --out OUT", ".gif"),
     "plot": ("plot CAL --out OUT", "/"),
     "report": ("report CAL --out OUT", ".html"),
     "simulate deadweight": ("simulate deadweight OUT", "/"),
     "simulate ramp-hold": ("simulate ramp-hold OUT", "/"),
+    "simulate uniform": ("simulate uniform OUT", "/"),
     "simulate sweep": ("simulate sweep OUT", "/"),
     "simulate blind": ("simulate blind OUT", "/"),
     "dynamic fit": ("dynamic fit SENSOR REF --out OUT", ".json"),

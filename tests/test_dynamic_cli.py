@@ -234,6 +234,7 @@ def _actions(parser, *path):
     for name in path:
         sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
         parser = sub.choices[name]
+    parser.format_help()  # adds the flags whose defaults come from the library
     return {a.dest: a for a in parser._actions if a.option_strings}
 
 

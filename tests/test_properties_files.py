@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 
 from tactilecal import TactilecalError
 from tactilecal._errors import MAX_MESSAGE
-from tactilecal._units import G_STANDARD, force_to_N, mass_to_N, pressure_to_kPa, time_to_s
+from tactilecal._units import force_to_N, mass_to_N, pressure_to_kPa, time_to_s
 from tactilecal.calibration import load_points
 from tactilecal.io import (
     convert,
@@ -218,7 +218,7 @@ def manifests(draw, files):
         if by_mass:
             rows.append([name, "" if frame is None else str(frame), repr(load), repr(pad),
                          f"p{k}"])
-            loads.append((load + pad / 1000.0) * G_STANDARD)
+            loads.append(mass_to_N(load, "kg") + mass_to_N(pad, "g"))  # each weighed in N
         else:
             rows.append([name, "" if frame is None else str(frame), repr(load), f"p{k}"])
             loads.append(load)

@@ -35,6 +35,7 @@ OUTPUT_KINDS = {
     "zarr": ("a Zarr store", ("zarr",)),
     "tekscan": ("a Tekscan export", ("tekscan",)),
     "png": ("a PNG image", ("png",)),
+    "movie": ("a movie", ("movie",)),
 }
 
 #: kind of output folder -> the keyword arguments of :func:`check_folder` for it: the kinds
@@ -51,7 +52,8 @@ OVERWRITE_HINT = "pass overwrite=True to replace it"
 """How the library says to replace an existing output (the CLI says ``--overwrite``)."""
 
 _FOUND = {"zarr": "a Zarr store", "folder": "a folder", "netcdf": "a NetCDF file",
-          "png": "a PNG image", "tekscan": "a Tekscan export", "json": "a JSON file",
+          "png": "a PNG image",
+          "movie": "a movie (GIF or MP4)", "tekscan": "a Tekscan export", "json": "a JSON file",
           "html": "an HTML page", "text": "a text file", "empty": "an empty file",
           "binary": "a binary file", "special": "a device, pipe or socket"}
 

@@ -14,6 +14,7 @@ SNIFF_BYTES = 1 << 16
 NETCDF_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
 ZARR_METADATA = ("zarr.json", ".zgroup", ".zarray")
 _PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+_GIF_MAGIC = b"GIF8"
 _UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
 
 
@@ -27,9 +28,10 @@ def sniff(path):
     r"""Return what ``path`` holds: a kind below, or None when it does not exist.
 
     ``"zarr"`` (a folder with Zarr metadata), ``"folder"`` (any other folder), ``"netcdf"``
-    (HDF5 or NetCDF3 signature), ``"png"``, ``"tekscan"`` (``ASCII_DATA`` in the first 64 KiB,
-    in UTF-8, cp1252 or UTF-16 with its byte-order mark), ``"json"`` (text starting with
-    ``{`` or ``[``), ``"html"`` (text starting with ``<!doctype html`` or ``<html``),
+    (HDF5 or NetCDF3 signature), ``"png"``, ``"movie"`` (a GIF or an MP4), ``"tekscan"``
+    (``ASCII_DATA`` in the first 64 KiB, in UTF-8, cp1252 or UTF-16 with its byte-order
+    mark), ``"json"`` (text starting with ``{`` or ``[``), ``"html"`` (text starting with
+    ``<!doctype html`` or ``<html``),
     ``"text"`` (any other text), ``"empty"``, ``"binary"`` (NUL bytes without a UTF-16
     byte-order mark) or ``"special"`` (a device, pipe or socket).
 
@@ -57,6 +59,8 @@ def sniff(path):
         return "netcdf"
     if head.startswith(_PNG_MAGIC):
         return "png"
+    if head.startswith(_GIF_MAGIC) or head[4:8] == b"ftyp":  # GIF87a/89a, ISO base media
+        return "movie"
     if head.startswith(_UTF16_BOMS):
         head = head[:len(head) // 2 * 2].decode("utf-16", errors="replace").encode("utf-8")
     elif b"\x00" in head:

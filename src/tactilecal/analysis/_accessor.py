@@ -245,7 +245,7 @@ class TactileAccessor:
         ...                           "row_spacing_mm": 5.0, "col_spacing_mm": 5.0})
         >>> ax = rec.tactile.plot_cof_path(summary=rec.tactile.frame_summary())
         >>> ax.get_xlabel()
-        'centre of force, column [mm]'
+        'column [mm]'
         """
         if summary is None:
             summary = self.frame_summary(calibration=calibration)

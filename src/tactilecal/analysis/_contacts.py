@@ -115,6 +115,7 @@ def split_contacts(recording, *, gap_mm=None, min_share=DEFAULT_MIN_SHARE,
 
     Examples
     --------
+    >>> import numpy as np, xarray as xr
     >>> p = np.zeros((2, 3, 7)); p[:, 1, 0:2] = 50.0; p[:, 1, 5:7] = 80.0
     >>> rec = xr.DataArray(p, dims=("frame", "row", "col"),
     ...                    attrs={"units": "kPa", "row_spacing_mm": 2.0, "col_spacing_mm": 2.0})
@@ -251,6 +252,7 @@ def region_analysis(recording, regions="contacts", *, threshold_kPa=0.0, calibra
 
     Examples
     --------
+    >>> import numpy as np, xarray as xr
     >>> p = np.zeros((2, 1, 4)); p[:, 0, 0] = 100.0; p[:, 0, 3] = 300.0
     >>> rec = xr.DataArray(p, dims=("frame", "row", "col"),
     ...                    coords={"time": ("frame", [0.0, 1.0])},

@@ -111,6 +111,7 @@ def pressure_time_integral(recording, *, calibration=None):
 
     Examples
     --------
+    >>> import numpy as np, xarray as xr
     >>> rec = xr.DataArray(np.full((3, 1, 2), 100.0), dims=("frame", "row", "col"),
     ...                    coords={"time": ("frame", [0.0, 0.5, 1.0])}, attrs={"units": "kPa"})
     >>> pressure_time_integral(rec).values
@@ -128,6 +129,7 @@ def force_time_integral(recording, *, calibration=None):
 
     Examples
     --------
+    >>> import numpy as np, xarray as xr
     >>> rec = xr.DataArray(np.full((3, 1, 1), 10.0), dims=("frame", "row", "col"),
     ...                    coords={"time": ("frame", [0.0, 1.0, 2.0])}, attrs={"units": "N"})
     >>> force_time_integral(rec)
@@ -265,6 +267,7 @@ def steps(recording, *, threshold_N=None, min_duration_s=0.0, calibration=None, 
 
     Examples
     --------
+    >>> import numpy as np, xarray as xr
     >>> f = np.array([0, 5, 10, 5, 0, 0, 6, 12, 6, 0], float)
     >>> rec = xr.DataArray(f[:, None, None], dims=("frame", "row", "col"),
     ...                    coords={"time": ("frame", np.arange(10) * 0.1)},

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tactilecal._atomic import atomic_path
+from tactilecal._atomic import atomic_path, check_target
 from tactilecal._errors import TactilecalError
 from tactilecal.analysis._plots import SATURATED_STYLE, _centre_path, draw_map, map_figsize
 from tactilecal.analysis._units import display_unit, pressure_map_kPa, saturation_mask
@@ -34,7 +34,7 @@ def movie_frames(n_frames, max_frames=MAX_MOVIE_FRAMES):
 
 
 def write_movie(recording, path, *, calibration=None, units=None, fps=None,
-                max_frames=MAX_MOVIE_FRAMES, dpi=100, progress=None):
+                max_frames=MAX_MOVIE_FRAMES, dpi=100, progress=None, overwrite=False):
     """Write the recording as a movie: MP4 when ffmpeg is present, else an animated GIF.
 
     Parameters
@@ -56,6 +56,8 @@ def write_movie(recording, path, *, calibration=None, units=None, fps=None,
         Resolution.
     progress : callable, optional
         The progress protocol of :mod:`tactilecal._progress`, over the frames written.
+    overwrite : bool, default False
+        Replace an existing movie at the path written (never another kind of file).
 
     Returns
     -------
@@ -88,6 +90,7 @@ def write_movie(recording, path, *, calibration=None, units=None, fps=None,
         raise TactilecalError(f"movie {path} ends in {suffix!r}; expected .mp4 or .gif")
     if suffix == ".mp4" and not animation.writers.is_available("ffmpeg"):
         path, suffix = path.with_suffix(".gif"), ".gif"
+    check_target(path, overwrite=overwrite, kind="movie")
     positions = movie_frames(recording.sizes["frame"], max_frames)
     t = np.asarray(recording["time"].values, float) if "time" in recording.coords else \
         np.arange(recording.sizes["frame"], dtype=float)

@@ -55,7 +55,7 @@ def saturation_mask(recording):
 
     Examples
     --------
-    >>> import xarray as xr
+    >>> import numpy as np, xarray as xr
     >>> rec = xr.DataArray(np.array([[[255.0, 3.0]]]), dims=("frame", "row", "col"),
     ...                    attrs={"units": "raw"})
     >>> mask, rule = saturation_mask(rec)

@@ -105,7 +105,7 @@ def _number(text, column, where, **limits):
 
 
 def _row_load_N(row, where):
-    """Load of one manifest row: ``load_N``, else (mass_kg + pad_mass_g / 1000) * g."""
+    """Load of one manifest row: ``load_N``, else the weights of mass_kg and pad_mass_g [N]."""
     from tactilecal._units import mass_to_N
 
     positive = {"minimum": 0.0, "min_inclusive": False, "maximum": _MAX_LOAD_N}

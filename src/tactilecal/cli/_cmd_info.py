@@ -36,9 +36,19 @@ def _text(summary):
 
 def run(args):
     """Read the file and print its summary (text or JSON); return 0."""
-    from tactilecal.io import open_recording
+    from tactilecal.io import open_recording, recording_format
 
-    summary = open_recording(args.file).tactile.describe()
+    try:
+        known = recording_format(args.file) is not None
+    except (OSError, ValueError):
+        known = False
+    if known:
+        recording = open_recording(args.file)
+    else:  # a JSON result or another file: say what it is (the report's reader knows)
+        from tactilecal.cli._inputs import load_recording
+
+        recording = load_recording(args.file, what="FILE")
+    summary = recording.tactile.describe()
     if args.json:
         print_json(summary)
     else:

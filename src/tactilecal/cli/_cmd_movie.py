@@ -2,6 +2,7 @@
 
 from tactilecal.cli._common import info, progress_for
 from tactilecal.cli._inputs import load_calibration, load_recording
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_float, positive_int
 
 
@@ -15,7 +16,7 @@ def register(subparsers):
                     "asked for is then written as .gif next to it, and said so). Long "
                     "recordings show every k-th frame (--max-frames).")
     p.add_argument("recording", metavar="RECORDING")
-    p.add_argument("--out", required=True, metavar="rec.mp4|rec.gif")
+    add_output(p, "--out", kind="movie", required=True, metavar="rec.mp4|rec.gif")
     p.add_argument("--cal", metavar="CAL.json", help="calibration for raw readings")
     p.add_argument("--units", help="pressure unit shown (kPa, MPa, psi; default the "
                                    "recording's own)")
@@ -31,7 +32,8 @@ def run(args):
     path = recording.tactile.write_movie(args.out, calibration=load_calibration(args.cal),
                                          units=args.units, fps=args.fps,
                                          max_frames=args.max_frames,
-                                         progress=progress_for(args))
+                                         progress=progress_for(args),
+                                         overwrite=args.overwrite)
     if str(path) != str(args.out):
         info(args, f"ffmpeg is not installed: wrote an animated GIF, {path}, instead of "
                    f"{args.out}")

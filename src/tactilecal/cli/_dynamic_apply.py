@@ -10,8 +10,6 @@ from tactilecal.cli._types import positive_int
 
 def register(sub):
     """Add the ``apply`` action to the ``dynamic`` command's actions."""
-    from tactilecal.dynamic import filter_recording
-
     a = sub.add_parser("apply", help="correct a record or every sensel of a recording",
                        description="INPUT a time-series CSV (output CSV with the same "
                                    "columns, every value column filtered) or a Tekscan "
@@ -20,6 +18,13 @@ def register(sub):
     a.add_argument("filter", metavar="FILTER.json")
     a.add_argument("input", metavar="INPUT")
     add_output(a, "--out", kind=_kind, required=True, metavar="OUTPUT")
+    a.defer(_add_options)  # defaults read from the library: imported when used
+    a.set_defaults(func=run)
+
+
+def _add_options(a):
+    from tactilecal.dynamic import filter_recording
+
     add_option(a, "--chunk-frames", filter_recording, "chunk_frames", type=positive_int,
                help="frames per chunk when streaming NetCDF")
     add_option(a, "--causal", filter_recording, "causal",
@@ -32,7 +37,6 @@ def register(sub):
     add_option(a, "--dtype", filter_recording, "dtype", choices=("float64", "float32"),
                help="type of the corrected values (float32 halves the output and is the "
                     "fastest path for a float32 recording)")
-    a.set_defaults(func=run)
 
 
 def _kind(args):

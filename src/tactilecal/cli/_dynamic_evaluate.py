@@ -10,8 +10,6 @@ from tactilecal.cli._outputs import add_output
 
 def register(sub):
     """Add the ``evaluate`` action to the ``dynamic`` command's actions."""
-    from tactilecal.dynamic import evaluate
-
     e = sub.add_parser("evaluate", help="error before/after correction, figures",
                        description="RMS error of the dynamic part and amplitude and phase "
                                    "error against frequency, before and after correction, "
@@ -21,6 +19,16 @@ def register(sub):
     e.add_argument("filter", metavar="FILTER.json")
     e.add_argument("sensor", metavar="SENSOR")
     e.add_argument("reference", metavar="REFERENCE")
+    e.add_argument("--json", action="store_true", help="print the result as JSON")
+    add_output(e, "--out", kind="evaluation", metavar="DIR",
+               help="folder for evaluation.json and PNG figures")
+    e.defer(_add_options)  # defaults read from the library: imported when used
+    e.set_defaults(func=run)
+
+
+def _add_options(e):
+    from tactilecal.dynamic import evaluate
+
     add_option(e, "--lag", evaluate, "lag_s", type=float, metavar="S",
                help="the records' known clock offset in s (added to the reference's times; "
                     "default: found as the fit found the filter's)")
@@ -29,10 +37,6 @@ def register(sub):
                     "(what a perfectly re-timed record would give), labelled as such")
     add_option(e, "--causal", evaluate, "causal",
                help="evaluate a rational filter's causal inverse")
-    e.add_argument("--json", action="store_true", help="print the result as JSON")
-    add_output(e, "--out", kind="evaluation", metavar="DIR",
-               help="folder for evaluation.json and PNG figures")
-    e.set_defaults(func=run)
 
 
 def run(args):

@@ -10,8 +10,6 @@ from tactilecal.cli._types import positive_float, share
 
 def register(sub):
     """Add the ``fit`` action to the ``dynamic`` command's actions."""
-    from tactilecal.dynamic import fit_filter
-
     f = sub.add_parser("fit", help="fit a filter on a sweep (FILTER.json out)",
                        description="SENSOR and REFERENCE are time-series CSVs (time, value); "
                                    "SENSOR may also be a Tekscan recording or NetCDF, whose "
@@ -24,6 +22,13 @@ def register(sub):
                    help="another sweep (e.g. at another amplitude); repeatable")
     add_output(f, "--out", kind="json", required=True, metavar="FILTER.json")
     f.add_argument("--json", action="store_true", help="print the result as JSON")
+    f.defer(_add_options)  # defaults read from the library: imported when used
+    f.set_defaults(func=run)
+
+
+def _add_options(f):
+    from tactilecal.dynamic import fit_filter
+
     add_option(f, "--model", fit_filter, "model",
                help="auto: of log10, rational and wiener, the simplest that predicts held-out "
                     "bins within 10 %% of the best or to 1 %%; log10 / log: the thesis' "
@@ -46,7 +51,6 @@ def register(sub):
                help="refuse a filter whose gain exceeds this anywhere")
     add_option(f, "--force", fit_filter, "force",
                help="write the filter even when its model is refused (marked forced)")
-    f.set_defaults(func=run)
 
 
 def run(args):

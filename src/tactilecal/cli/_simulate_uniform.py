@@ -1,6 +1,7 @@
 """``tactilecal simulate uniform OUTDIR``: uniform-load recordings to equilibrate."""
 
 from tactilecal.cli._common import info
+from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_int
 
 __all__ = ["add_uniform"]
@@ -31,7 +32,8 @@ def add_uniform(sub, common_options):
         description="Write one I-Scan ASCII recording per uniform pressure level "
                     "(uniform-<k>-<p>kPa.csv) and truth.json (the sensor's law and "
                     "per-sensel gains): the input of 'tactilecal equilibrate'.")
-    p.add_argument("outdir", metavar="OUTDIR", help="output folder (created if missing)")
+    add_output(p, "outdir", kind="session", metavar="OUTDIR",
+               help="output folder (created if missing)")
     common_options(p)
     p.add_argument("--pressures-kpa", type=_pressures, default=[50.0, 100.0, 200.0],
                    metavar="P1,P2,...", help="pressure levels in kPa (50,100,200)")
@@ -47,7 +49,7 @@ def run_uniform(args):
     sensor = _sensor(args)
     session = uniform_load(sensor, args.pressures_kpa, frames_per_level=args.frames,
                            seed=args.seed)
-    paths = session.write(args.outdir, sensor)
+    paths = session.write(args.outdir, sensor, overwrite=args.overwrite)
     info(args, f"next: tactilecal equilibrate {args.outdir}/uniform-*.csv --out eq.json")
     _print(args, {**{k: str(v) for k, v in paths.items()}, "sensor": sensor.sensor_type,
                   "pressures_kPa": args.pressures_kpa, "frames_per_level": args.frames})

@@ -34,7 +34,7 @@ class UniformLoad(NamedTuple):
     raw: xr.DataArray
     pressure_kPa: np.ndarray
 
-    def write(self, outdir, sensor):
+    def write(self, outdir, sensor, *, overwrite=False):
         """Write one I-Scan ASCII file per pressure level and ``truth.json``.
 
         Parameters
@@ -43,6 +43,8 @@ class UniformLoad(NamedTuple):
             Folder, created if missing; every file is written atomically.
         sensor : SimulatedSensor
             The sensor simulated (its law and per-sensel gains go into ``truth.json``).
+        overwrite : bool, keyword-only
+            Write into a folder that holds files: only an earlier session's.
 
         Returns
         -------
@@ -58,14 +60,14 @@ class UniformLoad(NamedTuple):
         for k, level in enumerate(levels, 1):
             frames = self.raw.isel(frame=np.flatnonzero(self.pressure_kPa == level))
             files[f"level_{k}"] = (f"uniform-{k}-{level:g}kPa.csv",
-                                   partial(write_tekscan, frames))
+                                   partial(write_tekscan, frames, overwrite=True))
         truth = {"kind": "uniform pressure at each level (equilibration input)",
                  "pressures_kPa": levels,
                  "frames_per_level": int(self.raw.sizes["frame"] // len(levels)),
                  "equilibrated": "a sensel reading gain x its ideal reading is equalised by "
                                  "a gain near 1 / gain (the power law bends it slightly)",
                  "sensor": sensor.truth()}
-        return write_session(outdir, files, truth)
+        return write_session(outdir, files, truth, overwrite=overwrite)
 
 
 def uniform_load(sensor, pressures_kPa, *, frames_per_level=5, seed=0):
