@@ -20,7 +20,7 @@ from tactilecal._validate import shorten
 
 __all__ = ["G_STANDARD", "LB_KG", "LBF_N", "PSI_TO_KPA", "KPA_MM2_TO_N", "N_PER_MM2_TO_KPA",
            "normalise_unit", "length_to_mm", "area_to_mm2", "force_to_N", "mass_to_N",
-           "pressure_to_kPa", "time_to_s", "unit_kind", "unit_from_column"]
+           "pressure_to_kPa", "time_to_s", "unit_kind", "unit_from_column", "display_pressure"]
 
 G_STANDARD = 9.80665
 """Standard acceleration of gravity in m/s2 (exact, CGPM 1901)."""
@@ -229,3 +229,27 @@ def unit_from_column(column, *, where="column name"):
     if match is None:
         return None
     return normalise_unit(match.group(1), where=where)
+
+
+def display_pressure(own, units=None, *, where="units="):
+    """Return ``(unit, factor)`` to show pressures: ``value_kPa / factor`` is in ``unit``.
+
+    ``units`` when given (a pressure unit: kPa, MPa, psi...), else ``own`` (a recording's
+    unit) when it is a pressure (an MPa recording is shown in MPa), else kPa. ``where``
+    names the option in a message.
+
+    Examples
+    --------
+    >>> display_pressure("MPa")
+    ('MPa', 1000.0)
+    >>> display_pressure("raw", "psi")[0], display_pressure("raw")
+    ('psi', ('kPa', 1.0))
+    """
+    if units is None:
+        own = normalise_unit(own) if own is not None else None
+        units = own if own is not None and unit_kind(own) == "pressure" else "kPa"
+    unit = normalise_unit(units, where=where)
+    if unit_kind(unit) != "pressure":
+        raise TactilecalError(f"{where} {units!r} is a {unit_kind(unit)} unit; expected a "
+                              "pressure unit to show pressures in (kPa, MPa, psi...)")
+    return unit, float(pressure_to_kPa(1.0, unit))

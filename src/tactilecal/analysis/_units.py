@@ -219,14 +219,6 @@ def display_unit(recording=None, units=None):
     >>> unit, 2500.0 / factor
     ('MPa', 2.5)
     """
-    from tactilecal._units import normalise_unit, pressure_to_kPa, unit_kind
+    from tactilecal._units import display_pressure
 
-    if units is None:
-        own = None if recording is None else recording.attrs.get("units")
-        own = normalise_unit(own) if own is not None else None
-        units = own if own is not None and unit_kind(own) == "pressure" else "kPa"
-    unit = normalise_unit(units, where="units=")
-    if unit_kind(unit) != "pressure":
-        raise TactilecalError(f"units={units!r} is a {unit_kind(unit)} unit; expected a pressure "
-                              "unit to show pressures in (kPa, MPa, psi...)")
-    return unit, float(pressure_to_kPa(1.0, unit))
+    return display_pressure(None if recording is None else recording.attrs.get("units"), units)

@@ -12,7 +12,7 @@ import numpy as np
 
 from tactilecal._errors import TactilecalError
 from tactilecal._text import number, share
-from tactilecal._units import N_PER_MM2_TO_KPA, normalise_unit, pressure_to_kPa, unit_kind
+from tactilecal._units import N_PER_MM2_TO_KPA, display_pressure
 from tactilecal.report._figures import (
     figure_html,
     new_axes,
@@ -34,15 +34,7 @@ def display_units(recording, units):
 
     ``units`` when given, else the recording's own pressure unit, else kPa.
     """
-    if units is None:
-        own = recording.attrs.get("units")
-        own = normalise_unit(own) if own is not None else None
-        units = own if own is not None and unit_kind(own) == "pressure" else "kPa"
-    unit = normalise_unit(units, where="units (--units)")
-    if unit_kind(unit) != "pressure":
-        raise TactilecalError(f"units (--units) {units!r} is a {unit_kind(unit)} unit; expected "
-                              "a pressure unit: kPa, MPa or psi")
-    return unit, float(pressure_to_kPa(1.0, unit))
+    return display_pressure(recording.attrs.get("units"), units, where="units (--units)")
 
 
 def _record_table(recording):
