@@ -452,7 +452,7 @@ def run_cli(n, seed=0, folder=None, run=None, keep=None):
             mutant = source.parent / f"mutant{source.suffix}" if kind == "manifest" else \
                 folder / f"mutant_{k % 20}{source.suffix}"
             mutant.write_bytes(mutated)
-            for argv in filter(keep, _cli_commands(kind, mutant, good, folder / f"out_{k % 20}")):
+            for argv in filter(keep, _cli_commands(kind, mutant, good, folder / f"out_{k}")):
                 code, text = (run or _run_cli)(argv)
                 runs += 1
                 errors = [line for line in text.splitlines() if ": warning: " not in line

@@ -58,7 +58,7 @@ def test_mutated_inputs_through_every_reading_command_fail_in_one_line(fuzz, tmp
     test; ``info``, ``analyze`` and ``apply`` read those recordings here.
     """
     runs, failures = fuzz.run_cli(
-        14, seed=3, folder=tmp_path, run=lambda argv: _run_in_process(argv, capsys),
+        16, seed=3, folder=tmp_path, run=lambda argv: _run_in_process(argv, capsys),
         keep=lambda argv: argv[0] != "report" or argv[1].endswith(".json"))
     assert runs >= 30 and not failures, failures[:3]
 
