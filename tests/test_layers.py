@@ -151,12 +151,48 @@ def _breaches(where, source, dest, target, how, rank):
         yield f"{where}: imports private {target} of subpackage {dest}; use a public name"
 
 
+def _components(edges):
+    """Strongly connected components of ``{a: {b: ...}}`` (Tarjan 1972): ``{node: index}``."""
+    index, low, on_stack, stack, component = {}, {}, set(), [], {}
+
+    def connect(node):
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        on_stack.add(node)
+        for nxt in edges.get(node, {}):
+            if nxt not in index:
+                connect(nxt)
+                low[node] = min(low[node], low[nxt])
+            elif nxt in on_stack:
+                low[node] = min(low[node], index[nxt])
+        if low[node] == index[node]:
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                component[member] = node
+                if member == node:
+                    break
+
+    for node in sorted(set(edges) | {n for targets in edges.values() for n in targets}):
+        if node not in index:
+            connect(node)
+    return component
+
+
 def find_cycles(edges):
-    """Cycles of the subpackage graph ``{a: {b: where}}``, each as "a -> b -> a (where...)"."""
+    """Cycles of the graph ``{a: {b: where}}``, each as "a -> b -> a (where...)".
+
+    Every simple cycle lies inside one strongly connected component, so paths are followed
+    only inside components of two or more nodes (an acyclic graph has none, and its many
+    paths are never walked).
+    """
+    component = _components(edges)
     cycles, seen = [], set()
 
     def visit(node, trail):
         for nxt, where in edges.get(node, {}).items():
+            if component.get(nxt) != component[node]:
+                continue
             hops = [*trail, (node, where)]
             if nxt == hops[0][0]:
                 key = frozenset(n for n, _ in hops)

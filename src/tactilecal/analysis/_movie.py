@@ -163,7 +163,10 @@ def _write_mp4(rendered, path, fps, ffmpeg):
                 break
     finally:
         if process is not None:
-            process.stdin.close()
+            try:
+                process.stdin.close()  # flushes what is buffered: ffmpeg may have stopped
+            except BrokenPipeError:
+                pass
             with process.stderr:
                 error = process.stderr.read().decode(errors="replace").strip()
             if process.wait() != 0:
