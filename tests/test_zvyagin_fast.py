@@ -89,11 +89,11 @@ def _assert_same(new, old):
 
 
 def _saturation_cases():
-    """Each session with each saturation rule it can test; the 150-patch session's "drop"
-    and "censored" are slow (the 100-patch session, 40 % saturated, runs every rule fast)."""
+    """Each session with each saturation rule it can test; the 150-patch session is slow (the
+    100-patch session, 40 % saturated, runs every rule fast)."""
     for s in SESSIONS:
         for sat in ("keep", "drop", "censored") if s[6] else ("keep",):
-            marks = [pytest.mark.slow] if s[5] == 150 and sat != "keep" else []
+            marks = [pytest.mark.slow] if s[5] == 150 else []
             yield pytest.param(s, sat, marks=marks)
 
 
