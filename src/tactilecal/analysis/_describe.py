@@ -11,7 +11,7 @@ import xarray as xr
 from tactilecal._errors import TactilecalError
 from tactilecal._units import N_PER_MM2_TO_KPA, pressure_to_kPa, unit_kind
 from tactilecal.analysis._maps import summary
-from tactilecal.analysis._units import saturated_sensels
+from tactilecal.analysis._units import saturation_threshold
 
 __all__ = ["FRAME_COLUMNS", "describe", "frame_table", "overview"]
 
@@ -62,12 +62,15 @@ def describe(recording):
     """
     from tactilecal.sensors import match_sensor
 
+    # NumPy only: an xarray operation on a new process imports dask.array and SciPy (1 s)
     attrs, values = recording.attrs, recording.values
     blank = np.isnan(values).all(axis=0)
     never_loaded = ~blank & ~(np.nan_to_num(values, nan=0.0) > 0).any(axis=0)
-    times, frames, sizes = recording.time.values, recording.frame, recording.sizes
-    counts, rule = saturated_sensels(recording)
-    saturated = None if counts is None else counts.values > 0
+    sizes = recording.sizes
+    times = recording.coords.variables["time"].values
+    frames = recording.coords.variables["frame"].values
+    threshold, rule = saturation_threshold(recording)
+    saturated = None if threshold is None else (values >= threshold).any(axis=(1, 2))
     match = match_sensor(attrs.get("sensor_type"), rows=sizes["row"], cols=sizes["col"],
                          row_spacing_mm=attrs.get("row_spacing_mm"),
                          col_spacing_mm=attrs.get("col_spacing_mm"))
@@ -89,7 +92,7 @@ def describe(recording):
         "max_value": max_value, **_max_raw(max_value, attrs), "saturation_rule": rule,
         "saturated_frames": None if saturated is None else int(saturated.sum()),
         "saturated_frame_numbers": (None if saturated is None
-                                    else frames.values[saturated].tolist()),
+                                    else frames[saturated].tolist()),
     }
 
 

@@ -13,6 +13,7 @@ from tactilecal._model import check_recording, positive_attr, recording_name, re
 from tactilecal._units import KPA_MM2_TO_N, N_PER_MM2_TO_KPA
 
 __all__ = ["force_map_N", "pressure_map_kPa", "saturated_sensels", "saturation_mask",
+           "saturation_threshold",
            "sensel_area_mm2", "spacing_mm", "display_unit"]
 
 SATURATION_TOLERANCE = 1e-3
@@ -62,18 +63,34 @@ def saturation_mask(recording):
     >>> mask.values.tolist(), rule
     ([[[True, False]]], 'raw value 255')
     """
+    threshold, rule = saturation_threshold(recording)
+    return (None if threshold is None else recording >= threshold), rule
+
+
+def saturation_threshold(recording):
+    """Return the value from which a sensel is saturated (None: unknown) and the rule.
+
+    The rule of :func:`saturated_sensels`, as a number (NumPy callers compare with it).
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> rec = xr.DataArray(np.zeros((1, 1, 1)), dims=("frame", "row", "col"),
+    ...                    attrs={"units": "MPa", "saturation_pressure_kPa": 500.0})
+    >>> saturation_threshold(rec)
+    (0.4995, 'value >= 0.4995 MPa (saturation pressure - 0.1 %)')
+    """
     from tactilecal._units import pressure_to_kPa
 
     unit, kind = recording_units(recording)
     if kind == "raw":
-        return recording >= 255, "raw value 255"
+        return 255.0, "raw value 255"
     limit_kPa = recording.attrs.get("saturation_pressure_kPa")
     if limit_kPa is None or kind != "pressure" or not np.isfinite(float(limit_kPa)):
         return None, ("unknown (calibrated recording without a saturation pressure in a "
                       "pressure unit)")
     threshold = float(limit_kPa) / pressure_to_kPa(1.0, unit) * (1 - SATURATION_TOLERANCE)
-    return (recording >= threshold,
-            f"value >= {threshold:.6g} {unit} (saturation pressure - 0.1 %)")
+    return threshold, f"value >= {threshold:.6g} {unit} (saturation pressure - 0.1 %)"
 
 
 def sensel_area_mm2(recording):

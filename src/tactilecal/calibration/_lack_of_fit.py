@@ -29,7 +29,7 @@ from the shape of the law, whatever the residuals say.
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize
 
 from tactilecal._validate import check_type, require_keys
 
@@ -295,6 +295,8 @@ def power_law_curvature(hist, load_N):
     >>> power_law_curvature(hist, hist @ bent * noise)["p_value"] < 1e-4
     True
     """
+    from scipy import stats  # imported when used: it slows every import
+
     load = np.asarray(load_N, dtype=float)
     rows = np.linspace(0, len(load) - 1, min(len(load), MAX_POINTS)).astype(int)
     hist, load = np.asarray(hist[rows], dtype=float)[:, 1:], load[rows]
@@ -338,6 +340,8 @@ def _level_variance(residual, level):
 
 def _reading_trend(residual, mean_raw):
     """Range (percent) and p-value of the residual's quadratic trend over log mean reading."""
+    from scipy import stats  # imported when used: it slows every import
+
     z = np.log(np.asarray(mean_raw, dtype=float))
     if len(z) < 8 or not np.all(np.isfinite(z)) or np.ptp(z) == 0:
         return None, None
@@ -371,6 +375,8 @@ def _lof_p_value(residual, level, n_parameters):
 
 def _mean_is_zero_p(values):
     """Two-sided p-value of Student's one-sample t test that the mean is zero."""
+    from scipy import stats  # imported when used: it slows every import
+
     mean, sd = float(np.mean(values)), float(np.std(values, ddof=1))
     if sd == 0:
         return 0.0 if mean != 0 else 1.0
@@ -380,6 +386,8 @@ def _mean_is_zero_p(values):
 
 def _order_checks(load, residual, level, means):
     """Spearman rho of load with order; drift of the within-level residual over the run."""
+    from scipy import stats  # imported when used: it slows every import
+
     n = len(load)
     if n < 6 or np.ptp(load) == 0:
         return None, None, None
