@@ -9,12 +9,12 @@ the ratio of ``auto`` (the default) to the best method of the same session (an o
 knows which wins) and to the true law's error, whether the default said the law does not
 fit (lack of fit), and the CPU time of ``auto``.
 
-The ``track_*`` functions return the worst case over members and seeds; ``python
-benchmarks/bench_static_auto.py`` prints the whole table (median / worst per member).
+The tracks of :class:`Family` (asv) return the worst case over members and seeds, the
+family computed once per run; ``python benchmarks/bench_static_auto.py`` prints the whole
+table (median / worst per member), ``--gains`` the learned gains' ratios.
 """
 
 import argparse
-import functools
 import time
 import warnings
 
@@ -36,6 +36,8 @@ BENT = ("5051-bent", "5051-concave")
 """Members whose response bends away from any power law by more than the patches' scatter."""
 NO_GAIN_FIELD = ("5051-zvyagin", "5101-b1.0", "5051-saturating", "5051-curved")
 """Members whose sensels have independent random gains only (no spatial field)."""
+GAIN_MEMBERS = ("5051-edges", "9500-b1.4", *NO_GAIN_FIELD)
+"""Members the learned gains are measured on."""
 
 
 def _points(session):
@@ -47,9 +49,20 @@ def _rms(table, hist, load):
     return float(np.sqrt(np.mean((hist @ table / load - 1.0) ** 2)))
 
 
-@functools.cache
+_SESSIONS = {}
+"""Results of :func:`session_errors` by ``(member, seed)`` (asv fills it from its cache)."""
+_GAINS = {}
+"""Results of :func:`gains_ratio` by ``(member, seed)``."""
+
+
 def session_errors(member, seed, test_patches=500, floor_patches=2000):
     """Held-out RMS relative error of every method, the floor and the truth in one session."""
+    if (member, seed) not in _SESSIONS:
+        _SESSIONS[member, seed] = _session_errors(member, seed, test_patches, floor_patches)
+    return _SESSIONS[member, seed]
+
+
+def _session_errors(member, seed, test_patches, floor_patches):
     train, test = family_sessions(member, seed, n_test=test_patches)
     _, floor = family_sessions(member, seed, n_test=floor_patches, test_seed=10_000 + seed)
     held = [p for p in _points(test) if p.saturated_cells == 0]
@@ -79,13 +92,18 @@ def session_errors(member, seed, test_patches=500, floor_patches=2000):
     return out
 
 
-@functools.cache
 def gains_ratio(member, seed, test_patches=500):
     """Held-out RMS of the power law (relative objective) with learned gains over without.
 
     Both calibrations are applied to the held-out frames as a user applies them
     (``CalibrationResult.apply``, which applies learned gains first).
     """
+    if (member, seed) not in _GAINS:
+        _GAINS[member, seed] = _gains_ratio(member, seed, test_patches)
+    return _GAINS[member, seed]
+
+
+def _gains_ratio(member, seed, test_patches):
     train, test = family_sessions(member, seed, n_test=test_patches)
     clean = np.array([p.saturated_cells == 0 for p in _points(test)])
     load = np.asarray(test.load_N, dtype=float)[clean]
@@ -100,24 +118,21 @@ def gains_ratio(member, seed, test_patches=500):
     return errors[1] / errors[0]
 
 
-def track_learned_gains_edges():
+def learned_gains_edges():
     """Worst held-out RMS with learned gains over without, edges 15 % less sensitive."""
     return max(gains_ratio("5051-edges", s) for s in SEEDS)
 
 
-def track_learned_gains_spread():
+def learned_gains_spread():
     """Worst held-out RMS with learned gains over without, 12 % gain spread (9500-b1.4)."""
     return max(gains_ratio("9500-b1.4", s) for s in SEEDS)
 
 
-def track_learned_gains_no_field():
+def learned_gains_no_field():
     """Worst held-out RMS with learned gains over without, on members without a gain field."""
     return max(gains_ratio(m, s) for m in NO_GAIN_FIELD for s in SEEDS)
 
 
-for _track in (track_learned_gains_edges, track_learned_gains_spread,
-               track_learned_gains_no_field):
-    _track.unit = "ratio"
 
 
 def _ratios(key, against="floor", members=None, seeds=SEEDS):
@@ -147,34 +162,30 @@ def pooled(key, member, seeds=SEEDS):
     return float(np.sqrt(np.sum(n * rms**2) / n.sum()))
 
 
-def track_auto_over_oracle_pooled_worst():
+def auto_over_oracle_pooled_worst():
     """Worst over members of auto's pooled held-out RMS over the best method's."""
     return max(pooled("auto", m) / pooled("oracle", m) for m in FAMILY)
 
 
-def track_auto_over_truth_pooled_worst():
+def auto_over_truth_pooled_worst():
     """Worst over members of auto's pooled held-out RMS over the true law's."""
     return max(pooled("auto", m) / pooled("truth", m) for m in FAMILY)
 
 
-for _track in (track_auto_over_oracle_pooled_worst, track_auto_over_truth_pooled_worst):
-    _track.unit = "ratio"
 
 
-def track_auto_over_oracle_worst():
+def auto_over_oracle_worst():
     """Worst ratio of auto's held-out RMS error to the best method's in the same session."""
     return max(max(v) for v in _ratios("auto", "oracle").values())
 
 
-track_auto_over_oracle_worst.unit = "ratio"
 
 
-def track_auto_over_truth_worst():
+def auto_over_truth_worst():
     """Worst ratio of auto's held-out RMS error to the true law's in the same session."""
     return max(max(v) for v in _ratios("auto", "truth").values())
 
 
-track_auto_over_truth_worst.unit = "ratio"
 
 
 def _flag_share(members, seeds=SEEDS):
@@ -182,20 +193,57 @@ def _flag_share(members, seeds=SEEDS):
     return float(np.mean(flags))
 
 
-def track_lack_of_fit_on_bent_sessions():
+def lack_of_fit_on_bent_sessions():
     """Share of sessions of a bent response where the default says the law does not fit."""
     return _flag_share(BENT)
 
 
-track_lack_of_fit_on_bent_sessions.unit = "share"
 
 
-def track_lack_of_fit_on_power_law_sessions():
+def lack_of_fit_on_power_law_sessions():
     """Share of sessions of power-law sensors where the default says the law does not fit."""
     return _flag_share(POWER_LAW)
 
 
-track_lack_of_fit_on_power_law_sessions.unit = "share"
+
+
+class Family:
+    """The family computed once per asv run (``setup_cache``); each figure is a track."""
+
+    timeout = 3600
+
+    def setup_cache(self):
+        for member in FAMILY:
+            for seed in SEEDS:
+                session_errors(member, seed)
+        for member in GAIN_MEMBERS:
+            for seed in SEEDS:
+                gains_ratio(member, seed)
+        return {"sessions": dict(_SESSIONS), "gains": dict(_GAINS)}
+
+    def _use(self, cache):
+        _SESSIONS.update(cache["sessions"])
+        _GAINS.update(cache["gains"])
+
+
+def _track(function, unit):
+    def track(self, cache):
+        self._use(cache)
+        return function()
+
+    track.__name__, track.__doc__, track.unit = f"track_{function.__name__}", \
+        function.__doc__, unit
+    return track
+
+
+for _function, _unit in ((auto_over_oracle_pooled_worst, "ratio"),
+                         (auto_over_truth_pooled_worst, "ratio"),
+                         (auto_over_oracle_worst, "ratio"), (auto_over_truth_worst, "ratio"),
+                         (lack_of_fit_on_bent_sessions, "share"),
+                         (lack_of_fit_on_power_law_sessions, "share"),
+                         (learned_gains_edges, "ratio"), (learned_gains_spread, "ratio"),
+                         (learned_gains_no_field, "ratio")):
+    setattr(Family, f"track_{_function.__name__}", _track(_function, _unit))
 
 
 def main():
@@ -208,7 +256,7 @@ def main():
     seeds = tuple(range(args.seeds))
     if args.gains:
         print("held-out RMS with learned gains / without (power, relative objective), by seed")
-        for member in ("5051-edges", "9500-b1.4", *NO_GAIN_FIELD):
+        for member in GAIN_MEMBERS:
             ratios = [gains_ratio(member, s) for s in seeds]
             print(f"{member:<17}" + "".join(f"{r:8.3f}" for r in ratios)
                   + f"   worst {max(ratios):.3f}", flush=True)
