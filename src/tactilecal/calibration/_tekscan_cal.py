@@ -76,8 +76,11 @@ def _area_mm2(header, name):
     parts = text.split()
     value = parse_number(parts[0] if parts else "", f"SENSEL_AREA on {where}", minimum=0,
                          min_inclusive=False)
-    unit = " ".join(parts[1:]) or "mm2"
-    return float(area_to_mm2(value, normalise_unit(unit, where=f"SENSEL_AREA on {where}")))
+    unit = normalise_unit(" ".join(parts[1:]) or "mm2", where=f"SENSEL_AREA on {where}")
+    if unit_kind(unit) != "area":
+        raise TactilecalError(f"SENSEL_AREA on {where} is in {unit!r}, a {unit_kind(unit)} "
+                              "unit; expected an area (e.g. 'SENSEL_AREA 0.016129 cm2')")
+    return float(area_to_mm2(value, unit))
 
 
 def _load_unit(header, name):
