@@ -2,7 +2,7 @@
 
 A sensel at 255 says only "force >= f(255)". Fitting such a patch as if 255 were the true
 reading biases the law (Zvyagin's b0 came out ~1.30 instead of 1.20 on an independent
-simulator's sessions, issue 12), so by default a patch with any sensel at 255 is left out of
+simulator's sessions), so by default a patch with any sensel at 255 is left out of
 the fit and reported. The CLI (``--saturated``) and the API (``saturated=``) read the default
 from here, so the two give the same calibration from the same manifest.
 """
@@ -18,7 +18,7 @@ SATURATED_CHOICES = ("drop", "keep", "censored")
 :func:`tactilecal.calibration._methods.fit_censored`; Zvyagin keeps them out of its pairs)."""
 
 SATURATED_DEFAULT = "drop"
-"""The default: on the independent simulator of issue 12 (8 sessions, Sensor2 parameters),
+"""The default: on an independent simulator (8 sessions, Sensor2 parameters),
 dropping raised Zvyagin's worst-session share of held-out patches within 5 % from 61 % to
 78-83 %. On the simulated family (benchmarks/bench_static.py) ``censored`` reached the
 same worst cases as ``drop`` for every method benchmarked, so the simpler one stays."""

@@ -8,8 +8,8 @@ of bag) gives relative errors ``load / predicted - 1`` whose quantiles are the p
 interval of a new patch's load. It holds the parameters' uncertainty and the patch-to-patch
 scatter (gain spread, noise, contact) together.
 
-No parameter interval is reported (issue 12: an interval that does not hold 90-99 % is
-removed). Measured on ~50 sessions of each member of :data:`tactilecal.simulate.FAMILY`
+No parameter interval is reported (an interval that does not hold 90-99 % of the truth is
+not offered). Measured on ~50 sessions of each member of :data:`tactilecal.simulate.FAMILY`
 (a one-off study with 20 refits per session, in the git history before the asv suite;
 ``benchmarks/bench_static.py`` tracks the prediction interval's coverage), the normal
 bootstrap interval of b (``b +/- 1.96 sd`` of the

@@ -201,7 +201,7 @@ def _changed(block):
 def check_stray_f(f, index):
     """Raise for the first bad value of the first row of values holding an ``F``.
 
-    The reader before issue 16 gave this fault precedence over any other bad value (pandas
+    The earlier pandas-based reader gave this fault precedence over any other bad value (pandas
     read the ``F`` as a comment); so does this one.
     """
     if index.stray_f is None:

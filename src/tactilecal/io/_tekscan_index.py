@@ -4,7 +4,7 @@
 kernel :func:`~tactilecal.io._tekscan_kernels.index_lines`, and keeps per frame only its byte
 offset, line number, number, time and ``Raw Sum`` (about 40 bytes a frame, whatever the frame
 size). Every check that needs no value of the data is done here, in the order (and with the
-messages) of the reader before issue 16, so that the first fault a file has is the one
+messages) of the earlier pandas-based reader, so that the first fault a file has is the one
 reported: terminator, lines after it, unknown lines, frame lines, rows per frame, frame order,
 ``_`` inside a value, lone CR, row lengths, size.
 """

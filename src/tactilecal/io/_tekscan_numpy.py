@@ -1,4 +1,4 @@
-"""NumPy reader for plain Tekscan exports: whole numbers and ``B``, no numba (issue 16).
+"""NumPy reader for plain Tekscan exports: whole numbers and ``B``, no numba.
 
 numba's import and the load of its cached kernels cost 0.2-0.6 s in a new process, more than
 pandas' whole parse of a 10,000-frame export. This reader needs NumPy only. It reads the

@@ -105,7 +105,7 @@ CATALOGUE = {
     "5101": SensorModel(
         "5101", 44, 44, 2.54, 2.54,
         notes="44 x 44 sensels, twice the 5051's size (2.54 mm pitch, 111.8 mm matrix) "
-              "per tactilecal issue 2. Capacity depends on the pressure grade."),
+              "(Tekscan's catalogue). Capacity depends on the pressure grade."),
     "9500": SensorModel(
         "9500", 14, 14, 5.08, 5.08, max_rate_hz=4000.0,
         notes="Gillis (2013) MS thesis, U. Colorado: 14 x 14 sensels over 71.1 x 71.1 mm "
@@ -120,9 +120,9 @@ CATALOGUE = {
               "ROWS 60, COLS 21, ROW_SPACING 5.08 mm, SENSEL_AREA 25.8064 mm2."),
     "4010N": SensorModel(
         "4010N", 22, 34, 2.0, 2.0,
-        notes="I-Scan knee (tibiofemoral) sensor as its ASCII exports describe it (tactilecal "
-              "issue 11): 22 rows x 34 columns, 2.0 mm spacing, 4 mm2 sensels, the outline "
-              "of the two condyle pads written as B cells."),
+        notes="I-Scan knee (tibiofemoral) sensor as its ASCII exports describe it (a rebuilt "
+              "I-Scan 5.90I export): 22 rows x 34 columns, 2.0 mm spacing, 4 mm2 sensels, the "
+              "outline of the two condyle pads written as B cells."),
 }
 """Known sensor models by name (upper case)."""
 

@@ -28,7 +28,7 @@ __all__ = ["DynamicMember", "DYNAMIC_FAMILY", "DynamicFamilySession", "dynamic_f
 #: (1000 / 1250 Hz, 2 Hz steps, 10 cycles, 0.2 N / 0.05 N), for tests. The noise is below
 #: the simulator's default 1 N so that the blind tests are limited by the filters, not by
 #: noise the inverse amplifies (at 1 N the exact inverse of the viscoelastic member in its
-#: band gives 32x; at 0.4 N today's fit gives about the 76x issue 33 quotes for it).
+#: band gives 32x; at 0.4 N today's fit gives about the 76x quoted for it in review).
 _QUIET = {"sensor_noise_N": 0.4, "reference_noise_N": 0.1}
 RATES = {
     "thesis": (_QUIET, _QUIET),
@@ -123,7 +123,7 @@ DYNAMIC_FAMILY = {m.name: m for m in (
                          "amplitude_range_lbf": (0.2, 60.0)},
                   notes="the viscoelastic sensor; the sweep stops at 50 Hz, the blind test "
                         "reaches 150 Hz (30 sets, 0.2-60 lb: the exact inverse limited to the "
-                        "band gives about 5x, the 5.2x issue 33 quotes for its case)"),
+                        "band gives about 5x, the 5.2x quoted for its case in review)"),
     DynamicMember("amplitude", DynamicSensor(amplitude_exponent=0.5),
                   sweep_amplitudes_lbf=(20.0, 5.0), blind=_IN_BAND,
                   notes="the thesis' law with A growing at small amplitudes, A (20 lb / a)^0.5; "

@@ -81,7 +81,7 @@ FAMILY = {m.name: m for m in (
     FamilyMember("5051-zvyagin", notes="Zvyagin's Sensor1 law (A 0.0035 N, b 1.16), 5 % gains"),
     FamilyMember("5051-sensor2", A_N=0.00265, b=1.201, gain_spread=0.06, saturated_share=0.2,
                  notes="the paper's Sensor2 parameters, as the independent simulator of "
-                       "issue 12, with 20 % saturated patches"),
+                       "the independent review, with 20 % saturated patches"),
     FamilyMember("5101-b1.0", model="5101", b=1.0, gain_spread=0.03,
                  masses_kg=(2, 5, 10, 20), pad_sides_cm=(2, 3, 4),
                  notes="linear response, small gain spread, large sensels"),

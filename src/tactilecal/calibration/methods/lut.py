@@ -95,11 +95,12 @@ def _fit(data, options):
 
     Notes
     -----
-    Before issue 12's review the table was linear in raw, unpenalised and fitted by l2: on
-    ``9500-b1.4`` (12 % gains, readings 3-240 with most force above 64) its increments at
-    the lowest knots went to 0 (sensels below raw 8 carried no force) and the last segment,
-    fitted on the few readings between 169 and the largest training reading, extrapolated
-    up to 1.43x the true force at 240; its worst session reached 0.93 of the true law's.
+    Before the review of the static defaults the table was linear in raw, unpenalised and
+    fitted by l2: on ``9500-b1.4`` (12 % gains, readings 3-240 with most force above 64) its
+    increments at the lowest knots went to 0 (sensels below raw 8 carried no force) and the
+    last segment, fitted on the few readings between 169 and the largest training reading,
+    extrapolated up to 1.43x the true force at 240; its worst session reached 0.93 of the
+    true law's.
     """
     knots = np.asarray(DEFAULT_KNOTS if options.knots is None else options.knots, dtype=float)
     objective, smoothing = options.objective, options.smoothing

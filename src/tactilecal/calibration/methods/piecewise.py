@@ -126,7 +126,7 @@ def _fit(data, options):
 
     Notes
     -----
-    Until issue 12's review the fit was unpenalised least squares (``relative``). On
+    Until the review of the static defaults the fit was unpenalised least squares (``relative``). On
     ``9500-b1.4`` (readings 3-240, half the force above raw 91) the range 1-16 carries
     almost no force and its exponent went to 210 or 0.21 in some sessions (sensels below 16
     read as no force, or as 4x theirs), and least squares on patches with heavy-tailed errors

@@ -222,7 +222,7 @@ def minimise_energy_free(histograms, load_N, curve, *, censored=None, objective=
     b bounds. ``objective="cv"`` (robust mode's default) takes l1 or relative, whichever
     predicts held-out patches better in 5-fold cross-validation (:func:`choose_objective`).
     The curve of eq. 14 keeps its optimum as a diagnostic: where the pair cloud
-    is biased (e.g. b near 1, where roots Y <= 3 are cut, issue 12) the constrained minimum
+    is biased (e.g. b near 1, where roots Y <= 3 are cut) the constrained minimum
     is biased with it.
 
     Parameters
