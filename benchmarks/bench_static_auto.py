@@ -17,6 +17,7 @@ table (median / worst per member), ``--gains`` the learned gains' ratios.
 import argparse
 import time
 import warnings
+from dataclasses import replace
 
 import numpy as np
 
@@ -246,14 +247,37 @@ for _function, _unit in ((auto_over_oracle_pooled_worst, "ratio"),
     setattr(Family, f"track_{_function.__name__}", _track(_function, _unit))
 
 
+CURVATURES = {f"5051-bent c={c:g}": replace(FAMILY["5051-bent"], name=f"5051-bent c={c:g}",
+                                           curvature=c) for c in (0.05, 0.15, -0.05)}
+"""Bent members of other log-log curvatures (5051-bent is 0.08, 5051-concave -0.1)."""
+
+
+def says_no_fit(member, seed):
+    """Whether the default calibration of one training session says the law does not fit."""
+    train, _ = family_sessions(CURVATURES.get(member, member), seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return bool(tc.calibrate(_points(train)).lack_of_fit.flagged)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--members", nargs="*", default=list(FAMILY))
     parser.add_argument("--seeds", type=int, default=len(SEEDS))
+    parser.add_argument("--lack-of-fit", type=int, metavar="N",
+                        help="only the lack-of-fit flags of the default over N seeds, for "
+                             "every member and bent variants of curvature 0.05, 0.15, -0.05")
     parser.add_argument("--gains", action="store_true",
                         help="only the learned gains: held-out RMS with over without them")
     args = parser.parse_args()
     seeds = tuple(range(args.seeds))
+    if args.lack_of_fit:
+        print(f"sessions where the default (auto) says the law does not fit, of "
+              f"{args.lack_of_fit}")
+        for member in [*args.members, *CURVATURES]:
+            flags = [says_no_fit(member, s) for s in range(args.lack_of_fit)]
+            print(f"{member:<17}{sum(flags):>4} of {len(flags)}", flush=True)
+        return
     if args.gains:
         print("held-out RMS with learned gains / without (power, relative objective), by seed")
         for member in GAIN_MEMBERS:
