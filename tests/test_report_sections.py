@@ -6,6 +6,7 @@ import re
 import numpy as np
 import pytest
 
+from tactilecal._text import number
 from tactilecal.report import build_report
 from tactilecal.simulate import compartment_recording
 
@@ -177,3 +178,23 @@ def test_validation_shares_are_percentages():
     text = build_report([check])
     share = check.metrics["within_5pct"]
     assert f"<td>within_5pct</td><td>{100 * share:.1f} %</td>" in text
+
+
+def test_each_validation_is_matched_to_the_calibration_it_scored():
+    """Two calibrations of one method: matched by the calibration's fingerprint, not by name."""
+    from tactilecal.calibration import calibrate, points_from_frames, validate
+    from tactilecal.simulate import family_sessions
+
+    train, test = family_sessions("5051-zvyagin", seed=0)
+    points = points_from_frames(train.raw.values, train.load_N)
+    held_out = points_from_frames(test.raw.values, test.load_N)
+    l1 = calibrate(points, method="power", objective="l1")
+    relative = calibrate(points, method="power", objective="relative")
+    checks = [validate(cal, held_out) for cal in (l1, relative)]
+    assert checks[0].metrics["median_abs_error_pct"] != checks[1].metrics["median_abs_error_pct"]
+    text = build_report([l1, relative, *reversed(checks)], player=False)
+    comparison = text[text.index("<h2>Method comparison</h2>"):text.index("<h2>Calibration")]
+    rows = re.findall(r"<tr><td>[^<]*</td><td>power</td>.*?</tr>", comparison)
+    assert len(rows) == 2
+    for row, check in zip(rows, checks, strict=True):
+        assert f"<td>{number(check.metrics['median_abs_error_pct'])}</td>" in row, row

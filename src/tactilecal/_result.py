@@ -12,6 +12,7 @@ newer than its own, and a file without the tag.
 subpackages that define the kinds, then calls it).
 """
 
+import hashlib
 import html
 import re
 from pathlib import Path
@@ -168,6 +169,20 @@ class SavedResult(ShortRepr):
         return _without_created(self.to_dict()) == _without_created(other.to_dict())
 
     __hash__ = None  # mutable results
+
+    def fingerprint(self):
+        """SHA-256 of the saved JSON without the creation time: equal results, equal prints.
+
+        Examples
+        --------
+        >>> from tactilecal.calibration import header_calibration
+        >>> cal = header_calibration({"sensel_area_mm2": 2.0, "calibration_point_1_load_N": 10.0,
+        ...                           "calibration_point_1_raw_sum": 100.0})
+        >>> cal.fingerprint() == type(cal).from_dict(cal.to_dict()).fingerprint()
+        True
+        """
+        text = dumps(_without_created(self.to_dict()), indent=None, sort_keys=True)
+        return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
     # ---------------------------------------------------------------- dict and JSON
     def to_dict(self):

@@ -446,8 +446,9 @@ def validate(result, points, *, include_saturated=False, progress=None):
     ValidationResult
         ``points`` (file, frame, load_N, predicted_N, error_pct, saturated...) and
         ``metrics`` (those of :func:`tactilecal.calibration._metrics.fit_metrics`, plus
-        n_saturated_excluded, calibration_method and, for a calibration with a prediction
-        interval, interval_coverage).
+        n_saturated_excluded, calibration_method, calibration_sha256 (the calibration's
+        :meth:`~tactilecal._result.SavedResult.fingerprint`) and, for a calibration with a
+        prediction interval, interval_coverage).
 
     Raises
     ------
@@ -484,7 +485,8 @@ def validate(result, points, *, include_saturated=False, progress=None):
                               "load and no saturated sensels; expected at least one")
     metrics = {**fit_metrics(load[keep], predicted[keep]),
                "n_saturated_excluded": int((saturated & ~keep).sum()),
-               "calibration_method": result.method}
+               "calibration_method": result.method,
+               "calibration_sha256": result.fingerprint()}
     if inside is not None:
         metrics["interval_coverage"] = float(np.mean(inside[keep & ~saturated])) \
             if (keep & ~saturated).any() else float("nan")

@@ -29,8 +29,8 @@ class ValidationResult(SavedResult):
     metrics : dict
         The scores over the points summarised (the ``"summary"`` key): n, within_3pct,
         within_5pct, within_10pct (fractions in 0..1), median_abs_error_pct,
-        max_abs_error_pct, n_saturated_excluded, calibration_method (and
-        interval_coverage).
+        max_abs_error_pct, n_saturated_excluded, calibration_method, calibration_sha256
+        (the calibration's fingerprint; and interval_coverage).
 
     Examples
     --------

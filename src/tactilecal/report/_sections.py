@@ -42,17 +42,16 @@ def comparison_blocks(calibrations, validations):
     calibrations : list of (label, CalibrationResult)
     validations : list of (label, ValidationResult)
         Outputs of :func:`tactilecal.calibration.validate` (``tactilecal validate --json``);
-        each is matched to the calibration of its ``calibration_method`` when exactly one
-        calibration has that method.
+        each is matched to the calibration whose fingerprint it records
+        (``calibration_sha256``).
     """
-    by_method = {}
-    for position, (_, result) in enumerate(calibrations):
-        by_method.setdefault(result.method, []).append(position)
+    by_print = {result.fingerprint(): position
+                for position, (_, result) in enumerate(calibrations)}
     held_out = {}
     for _, check in validations:
-        positions = by_method.get(check.metrics.get("calibration_method"), ())
-        if len(positions) == 1:
-            held_out[positions[0]] = check.metrics
+        position = by_print.get(check.metrics.get("calibration_sha256"))
+        if position is not None:
+            held_out[position] = check.metrics
     rows = []
     for position, (label, result) in enumerate(calibrations):
         params = ", ".join(f"{k} = {number(v)}" for k, v in _scalar_params(result)) or "table"
