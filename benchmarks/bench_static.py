@@ -13,7 +13,7 @@ import warnings
 
 import numpy as np
 
-from benchmarks._common import ratio
+from benchmarks._common import cpu_seconds, ratio
 
 SEEDS = range(8)
 MEMBERS = ["5051-zvyagin", "5051-sensor2", "5101-b1.0", "9500-b1.4", "4010N-noisy",
@@ -144,6 +144,36 @@ class Speed:
                      rounds=5)
 
     track_time_over_earlier_default.unit = "ratio"
+
+
+class AutoSpeed:
+    """The default (``auto``: cross-validated choice of the law) on a ``5051-sensor2``
+    session of 45 or 150 patches: CPU seconds of one call, the best of three."""
+
+    params = [45, 150]
+    param_names = ["patches"]
+
+    def setup(self, patches):
+        import dataclasses
+
+        from tactilecal.simulate import FAMILY, family_sessions
+
+        member = dataclasses.replace(FAMILY["5051-sensor2"], n_train=patches)
+        self.points = _points(family_sessions(member, seed=0)[0])
+
+    def track_cpu_s(self, patches):
+        from tactilecal import calibrate
+
+        best = float("inf")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            for _ in range(3):
+                start = cpu_seconds()
+                calibrate(self.points)
+                best = min(best, cpu_seconds() - start)
+        return best
+
+    track_cpu_s.unit = "s"
 
 
 class EveryMethod:
