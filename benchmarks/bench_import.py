@@ -53,7 +53,7 @@ class LoadCalibration:
         points = points_from_frames(session.raw.values, session.load_N,
                                     sensel_area_mm2=session.sensor.sensel_area_mm2)
         path = Path(os.getcwd()) / "zvyagin.json"
-        calibrate(points, method="zvyagin").to_json(path)
+        calibrate(points, method="zvyagin").to_json(path, overwrite=True)
         return str(path)
 
     def setup(self, path):

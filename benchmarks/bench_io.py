@@ -154,7 +154,7 @@ class Write:
         frame = pd.DataFrame(self.rec.values.reshape(-1, self.rec.sizes["col"]))
         return ratio(lambda: frame.to_csv(folder / "plain.csv", header=False, index=False,
                                           na_rep="B", float_format="%.0f"),
-                     lambda: write_tekscan(self.rec, folder / "out.csv"))
+                     lambda: write_tekscan(self.rec, folder / "out.csv", overwrite=True))
 
     track_write_speed_over_to_csv.unit = "ratio"
 

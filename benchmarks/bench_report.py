@@ -45,14 +45,14 @@ class Report:
     def time_write_report(self, recording):
         from tactilecal.report import write_report
 
-        write_report([self.rec], self.out, **self.options)
+        write_report([self.rec], self.out, overwrite=True, **self.options)
 
     def track_report_over_frame_summary(self, recording):
         """CPU time of ``write_report`` / ``frame_summary()`` of the calibrated recording."""
         from tactilecal.report import write_report
 
         times = interleaved({
-            "report": lambda: write_report([self.rec], self.out, **self.options),
+            "report": lambda: write_report([self.rec], self.out, overwrite=True, **self.options),
             "summary": lambda: self.cal.apply(self.rec).tactile.frame_summary().compute()},
             rounds=2, warm=False)
         return float(times["report"].min() / times["summary"].min())
