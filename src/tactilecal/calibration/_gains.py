@@ -128,6 +128,8 @@ def spatial_folds(x, folds, seed=0):
     >>> folds = spatial_folds(x, 2)
     >>> sorted(np.bincount(folds).tolist())
     [4, 4]
+    >>> np.unique(spatial_folds(np.ones((6, 3, 3)), 2)).tolist()  # one place: at random
+    [0, 1]
     """
     from scipy.cluster.vq import kmeans2
 
@@ -141,6 +143,8 @@ def spatial_folds(x, folds, seed=0):
     with warnings.catch_warnings():  # an empty cluster only means fewer places
         warnings.filterwarnings("ignore", message="One of the clusters is empty")
         _, label = kmeans2(centres, places, seed=seed, minit="++")
+    if len(np.unique(label)) < 2:  # one place (a movie of one contact): patches at random
+        label = np.arange(len(w))
     return fold_of(label.astype(str), folds, seed=seed)
 
 
