@@ -122,3 +122,19 @@ def test_closed_pipe_is_not_a_traceback(iscan_csv):
     assert proc.wait(timeout=120) == 1
     assert "Traceback" not in stderr and "BrokenPipeError" not in stderr, stderr
     assert "Broken pipe" not in stderr, stderr  # a closed pipe is no error to report
+
+
+def test_info_on_a_calibrated_export_imports_no_fit_or_plot_library(fscan_asf):
+    """Its largest raw reading comes from the header's law, not from a calibration result."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from tactilecal.cli import main; "
+            f"assert main(['info', {str(fscan_asf)!r}, '--json']) == 0; "
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in "
+            "('scipy', 'dask', 'numba', 'matplotlib') or m.startswith('tactilecal.calibration')), "
+            "file=sys.stderr)")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert '"max_raw_source": "inverted header calibration' in run.stdout
+    assert run.stderr.strip() == "[]", run.stderr

@@ -12,6 +12,7 @@ from tactilecal._errors import TactilecalError
 from tactilecal._units import N_PER_MM2_TO_KPA, pressure_to_kPa, unit_kind
 from tactilecal.analysis._maps import summary
 from tactilecal.analysis._units import saturation_threshold
+from tactilecal.io import header_law
 
 __all__ = ["FRAME_COLUMNS", "describe", "frame_table", "overview"]
 
@@ -99,25 +100,22 @@ def describe(recording):
 def _max_raw(max_value, attrs):
     """Return the largest value as a raw reading and how it was found (see :func:`describe`).
 
-    A calibrated export is inverted through the calibration its header states
-    (:func:`tactilecal.calibration.header_calibration`), and the reading rounded to the
-    whole number the sensor gave.
+    A calibrated export is inverted through the law its header states
+    (:func:`tactilecal.io.header_law`: no fit, so no SciPy to import), and the reading
+    rounded to the whole number the sensor gave.
     """
     units = attrs.get("units")
     if max_value is None or units == "raw":
         return {"max_raw": max_value, "max_raw_source": "file" if max_value is not None else None}
     if units is None or unit_kind(units) != "pressure":
         return {"max_raw": None, "max_raw_source": None}
-    from tactilecal.calibration import header_calibration
-
     try:
-        cal = header_calibration(attrs)
+        law = header_law(attrs)
     except TactilecalError:  # no calibration in the header: no raw reading to give
         return {"max_raw": None, "max_raw_source": None}
-    force_N = pressure_to_kPa(max_value, units) * cal.sensel_area_mm2 / N_PER_MM2_TO_KPA
-    raw = (force_N / cal.params["A"]) ** (1.0 / cal.params["b"])
-    return {"max_raw": int(np.rint(raw)),
-            "max_raw_source": f"inverted header calibration ({cal.method})"}
+    force_N = pressure_to_kPa(max_value, units) * law.sensel_area_mm2 / N_PER_MM2_TO_KPA
+    return {"max_raw": int(np.rint(law.raw_of_force_N(force_N))),
+            "max_raw_source": f"inverted header calibration ({law.method})"}
 
 
 def frame_table(recording, *, calibration=None, threshold_kPa=0.0):
