@@ -70,6 +70,22 @@ def test_plain_movie_reads_as_the_numba_reader_reads_it(tmp_path, monkeypatch, n
     assert data.identical(expected)
 
 
+@pytest.mark.parametrize("block_bytes", [1, 1000, 2**21])
+def test_plain_reader_numbers_lines_and_offsets_as_the_numba_reader(tmp_path, monkeypatch,
+                                                                     block_bytes):
+    """Error messages after the parse (frame times, frame range) cite these line numbers."""
+    from tactilecal.io._tekscan_index import index_export
+
+    path = _movie(tmp_path, _raw(), newline="\r\n")
+    monkeypatch.setattr(_tekscan_numpy, "BLOCK_BYTES", block_bytes)
+    _, plain = _plain(path)
+    with open(path, "rb") as f:
+        numba = index_export(f, str(path), whole=True, header=read_header(f, str(path)))
+    np.testing.assert_array_equal(plain.lines, numba.lines)
+    np.testing.assert_array_equal(plain.starts, numba.starts)
+    np.testing.assert_array_equal(plain.numbers, numba.numbers)
+
+
 @pytest.mark.parametrize("high, units", [(10**4, "kPa"), (10**8, "kPa"), (10**15, "kPa")])
 def test_whole_numbers_of_up_to_15_digits_read_exactly(tmp_path, monkeypatch, high, units):
     """4, 8 and 15 digits: the 32-bit and 64-bit word paths and the digit-by-digit one."""

@@ -17,6 +17,7 @@ format, its checks and every error message, so a file reads the same, or fails w
 message, whichever reader took it.
 """
 
+import math
 import os
 import re
 from collections import deque
@@ -29,7 +30,15 @@ from tactilecal.io._tekscan_layout import Index
 __all__ = ["BLOCK_BYTES", "read_plain"]
 
 BLOCK_BYTES = 2**21
-"""Bytes of the file parsed at a time (whole frames; a frame larger than this is one block)."""
+"""Most bytes of the file parsed at a time (whole frames; a larger frame is one block)."""
+
+VALUES_PER_BLOCK = 2**15
+"""About as many values are parsed at a time (blocks of whole frames, at most BLOCK_BYTES).
+
+Each array of one number per value is then 256 KiB at most, which the C allocator serves
+again from block to block; from about 512 KiB on, each block's arrays came as fresh pages
+(one page fault per 4 KiB: more system time than the parse's own in a new process).
+"""
 
 _MAX_DIGITS = 15  # a whole number of up to 15 digits is below 2**53: exact in float64
 # per token length: the bytes of a little-endian word that are the token's (the last ones)
@@ -85,8 +94,9 @@ def _read(f, name, head):
     flat = values.reshape(-1)
     raw = head.attrs.get("units") in (None, "raw")
     f.seek(head.body)
+    block_bytes = min(BLOCK_BYTES, max(2**12, size * VALUES_PER_BLOCK // n_values))
     parts = _in_order(lambda job: _Block(head, flat, raw, n_frames == 0, *job),
-                      _jobs(f, head, n_frames))
+                      _jobs(f, head, block_bytes))
     if not parts or parts[-1].end is None or any(p.end is not None for p in parts[:-1]):
         raise _NotPlain  # no @@, or F lines after it
     return values, _index(f, name, head, parts, n_frames, raw)
@@ -116,33 +126,39 @@ def _count_frames(f, body):
     return count
 
 
-def _jobs(f, head, n_frames):
-    """Yield ``(bytes, file offset, first value, first line number)`` of each block.
+def _jobs(f, head, block_bytes):
+    """Yield ``(bytes, file offset, first value)`` of each block.
 
     A block is whole lines, cut before a frame (``F``) line, so that it holds whole frames and
-    its first value's index in the result follows from the frame lines before it.
+    its first value's index in the result follows from the frame lines before it. (Its lines
+    are counted by the thread that parses it: :func:`_index` numbers them.)
     """
-    carry, base, k, line = b"", head.body, 0, head.first_line
+    base, k = head.body, 0
+    pending, held = [], 0  # bytes read since the last cut (joined once, at the next cut)
     per_frame = head.rows * head.cols
     largest = 17 * per_frame + 2 * head.rows + 2**20  # a plain frame: 15 digits and a comma
     while True:
-        chunk = f.read(BLOCK_BYTES)
-        if len(carry) > largest:
+        chunk = f.read(block_bytes)
+        if held > largest:
             raise _NotPlain  # more bytes than a plain frame holds: the numba reader says why
-        data = carry + chunk
         if not chunk:
+            data = b"".join(pending)
             if data:
-                yield data if data.endswith(b"\n") else data + b"\n", base, k, line
+                yield data if data.endswith(b"\n") else data + b"\n", base, k
             return
-        cut = data.rfind(b"\nF")
+        tail = pending[-1][-1:] if pending else b""
+        found = (tail + chunk).rfind(b"\nF")  # the bytes held before were searched already
+        cut = found + held - len(tail) if found >= 0 else 0
         if cut <= 0:  # no frame line to cut before yet: read on
-            carry = data
+            pending.append(chunk)
+            held += len(chunk)
             continue
+        data = b"".join((*pending, chunk))
         block = data[:cut + 1]
-        yield block, base, k, line
+        yield block, base, k
         k += (block.count(b"\nF") + block.startswith(b"F")) * per_frame
-        line += block.count(b"\n")
-        carry, base = data[cut + 1:], base + cut + 1
+        pending, base = [data[cut + 1:]], base + cut + 1
+        held = len(pending[0])
 
 
 def _in_order(function, jobs):
@@ -171,7 +187,7 @@ def _in_order(function, jobs):
 class _Block:
     """Parse one block into ``flat``: its frame lines, each frame's sum and the ``@@`` line."""
 
-    def __init__(self, head, flat, raw, single, block, base, k, line):
+    def __init__(self, head, flat, raw, single, block, base, k):
         self.frames, self.sums, self.end = None, None, None
         self.n_values = 0
         if block.find(b"\x00") >= 0:
@@ -195,7 +211,8 @@ class _Block:
             is_frame[stop:], is_data[stop:] = False, False
         frame_lines, data_lines = np.flatnonzero(is_frame), np.flatnonzero(is_data)
         self.frames = _frame_lines(block, starts[frame_lines], ends[frame_lines])
-        self.frames = (base + starts[frame_lines], line + frame_lines, *self.frames)
+        self.frames = (base + starts[frame_lines], frame_lines, *self.frames)
+        self.n_lines = lf.size  # its frame lines are numbered from its first line
         _check_rows(frame_lines, data_lines, head.rows, single)
         self.n_values = data_lines.size * head.cols
         if data_lines.size:
@@ -208,23 +225,25 @@ class _Block:
 
 def _frame_lines(block, starts, ends):
     """``(numbers, times, raw sums)`` of the frame lines ``block[starts:ends]``."""
-    n = len(starts)
-    numbers, times, raw_sums = np.zeros(n, np.int64), np.full(n, np.nan), np.full(n, np.nan)
-    for j, (start, end) in enumerate(zip(starts.tolist(), ends.tolist(), strict=True)):
+    numbers, times, raw_sums = [], [], []
+    for start, end in zip(starts.tolist(), ends.tolist(), strict=True):
         text = block[start:end]
         if not text.isascii() or b"\r" in text:  # else numba: regexes on decoded text
             raise _NotPlain
         match = _FRAME.match(text)
         if match is None or len(match.group(1)) > 18:
             raise _NotPlain
-        numbers[j] = int(match.group(1))
-        times[j] = _number(match.group(2)) if match.group(2) else np.nan
+        numbers.append(int(match.group(1)))
+        times.append(_number(match.group(2)) if match.group(2) else math.nan)
         if b"Raw Sum" in text:
             raw_sum = _RAW_SUM.search(text)
             if raw_sum is None:
                 raise _NotPlain  # numba's "Raw Sum is ..."
-            raw_sums[j] = _number(raw_sum.group(1))
-    return numbers, times, raw_sums
+            raw_sums.append(_number(raw_sum.group(1)))
+        else:
+            raw_sums.append(math.nan)
+    return (np.array(numbers, dtype=np.int64), np.array(times, dtype=np.float64),
+            np.array(raw_sums, dtype=np.float64))
 
 
 def _check_rows(frame_lines, data_lines, rows, single):
@@ -271,8 +290,11 @@ def _index(f, name, head, parts, n_frames, raw):
     if n_frames == 0:
         starts, lines, numbers, times, raw_sums = _single_frame(head)
     else:
+        first_lines = np.cumsum([head.first_line] + [p.n_lines for p in parts[:-1]])
+        frames = [(p.frames[0], p.frames[1] + first, *p.frames[2:])
+                  for p, first in zip(parts, first_lines.tolist(), strict=True)]
         starts, lines, numbers, times, raw_sums = (
-            np.concatenate(column) for column in zip(*(p.frames for p in parts), strict=True))
+            np.concatenate(column) for column in zip(*frames, strict=True))
     if len(numbers) != max(n_frames, 1) or (np.diff(numbers) != 1).any():
         raise _NotPlain
     if sum(p.n_values for p in parts) != len(numbers) * head.rows * head.cols:
@@ -352,7 +374,7 @@ def _number(text):
     if not _TIME.fullmatch(text):
         raise _NotPlain
     value = float(text)
-    if not np.isfinite(value):
+    if not math.isfinite(value):
         raise _NotPlain
     return value
 
