@@ -48,6 +48,10 @@ _MASKS = {size: np.array([(2**(8 * size) - 1) ^ (2**(8 * (size - n)) - 1) if n <
 _FRAME = re.compile(rb"Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,]*?)[ \t]*(?:,|$))")
 _RAW_SUM = re.compile(rb"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)")
 _TIME = re.compile(rb"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+# the same, over frame lines joined by LF: one match per line, at its start
+_FRAMES = re.compile(rb"^Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,\n]*?)[ \t]*(?:,|$))", re.M)
+_RAW_SUMS = re.compile(rb"^[^\n]*?Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)", re.M)
+_TIMES = re.compile(rb"(?:[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\n)*")
 _SPACE = b" \t\x0b\x0c\r\n"
 _LF, _CR, _COMMA, _AT, _B, _F = 10, 13, 44, 64, 66, 70
 
@@ -224,7 +228,35 @@ class _Block:
 
 
 def _frame_lines(block, starts, ends):
-    """``(numbers, times, raw sums)`` of the frame lines ``block[starts:ends]``."""
+    """``(numbers, times, raw sums)`` of the frame lines ``block[starts:ends]``.
+
+    The lines are joined and parsed by one regular expression each (the per-line patterns
+    anchored at each line's start); lines with and without a ``Raw Sum`` in one block are
+    parsed one by one.
+    """
+    text = b"\n".join([block[start:end] for start, end in zip(starts.tolist(), ends.tolist(),
+                                                             strict=True)])
+    if not text.isascii() or b"\r" in text:  # else numba: regexes on decoded text
+        raise _NotPlain
+    heads = _FRAMES.findall(text)
+    if len(heads) != len(starts) or any(len(number) > 18 for number, _ in heads):
+        raise _NotPlain
+    has_sum = text.count(b"Raw Sum")
+    sums = _RAW_SUMS.findall(text) if has_sum else []
+    if has_sum and (has_sum != len(starts) or len(sums) != len(starts)):
+        return _frame_lines_one_by_one(block, starts, ends)
+    given = [time for _, time in heads if time]
+    if not _TIMES.fullmatch(b"\n".join(given) + b"\n" if given else b""):
+        raise _NotPlain
+    times = np.array([float(time) if time else math.nan for _, time in heads])
+    raw_sums = np.array([float(raw) for raw in sums]) if sums else np.full(len(heads), np.nan)
+    if np.isinf(times).any() or np.isinf(raw_sums).any():
+        raise _NotPlain
+    return np.array([int(number) for number, _ in heads], dtype=np.int64), times, raw_sums
+
+
+def _frame_lines_one_by_one(block, starts, ends):
+    """:func:`_frame_lines`, line by line."""
     numbers, times, raw_sums = [], [], []
     for start, end in zip(starts.tolist(), ends.tolist(), strict=True):
         text = block[start:end]
