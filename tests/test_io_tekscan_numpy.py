@@ -11,6 +11,8 @@ import sys
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from tactilecal.io import _tekscan_numpy, _tekscan_read, read_tekscan
 from tactilecal.io._tekscan_layout import read_header
@@ -202,3 +204,24 @@ def test_an_export_above_the_size_limit_goes_to_the_numba_reader(tmp_path, monke
     monkeypatch.setattr(_tekscan_numpy, "read_plain", refuse)
     monkeypatch.setattr(_tekscan_read, "PLAIN_MAX_BYTES", path.stat().st_size // 2)
     assert read_tekscan(path).identical(expected)
+
+
+_TOKEN = st.one_of(st.from_regex(rb"\A[0-9]{1,15}\Z"), st.just(b"B"),
+                   st.binary(min_size=1, max_size=15).filter(lambda t: b"," not in t))
+
+
+@given(st.lists(_TOKEN, min_size=1, max_size=40))
+def test_whole_numbers_are_the_tokens_or_the_block_is_handed_over(tokens):
+    """Any byte in a token: its whole number (``B``: blank), or not plain (``_NotPlain``)."""
+    text = b",".join(tokens) + b","
+    b = np.frombuffer(text, dtype=np.uint8)
+    stops = np.flatnonzero(b == ord(","))
+    length = np.array([len(t) for t in tokens])
+    plain = all(t == b"B" or t.isdigit() and t.isascii() for t in tokens)
+    if not plain:
+        with pytest.raises(_tekscan_numpy._NotPlain):
+            _tekscan_numpy._whole_numbers(b, stops, length)
+        return
+    whole, blank = _tekscan_numpy._whole_numbers(b, stops, length)
+    assert blank.tolist() == [t == b"B" for t in tokens]
+    assert whole.tolist() == [0 if t == b"B" else int(t) for t in tokens]

@@ -356,24 +356,32 @@ def _whole_numbers(b, stops, length):
     if width > 8:
         return _digit_by_digit(b, stops, length)
     dtype, size = (np.uint32, 4) if width <= 4 else (np.uint64, 8)
-    padded = np.zeros(b.size + 8, dtype=np.uint8)
-    padded[8:] = b
+    padded = np.empty(b.size + 8, dtype=np.uint8)
+    padded[:8], padded[8:] = 0, b
     words = np.ndarray((b.size + 1,), dtype=np.dtype(dtype).newbyteorder("<"),
                        buffer=padded, offset=8 - size, strides=(1,))
-    x = words.take(stops) ^ _bytes(dtype, b"0")  # word k ends at byte k - 1; digits now 0..9
+    x = words.take(stops)  # word k ends at byte k - 1
+    x ^= _bytes(dtype, b"0")  # digits now 0..9
     x &= _MASKS[size].take(length)
-    blank = (length == 1) & (x >> (8 * size - 8) == _B ^ 48)
-    high = _bytes(dtype, b"\xf0")
-    bad = (x & high) | ((x + _bytes(dtype, b"\x06")) & high)  # a byte above 9
-    np.copyto(bad, 0, where=blank)
+    blank = x == dtype((_B ^ 48) << (8 * size - 8))
+    blank &= length == 1
+    np.copyto(x, 0, where=blank)
+    bad = x + _bytes(dtype, b"\x76")  # a byte above 9 gets its high bit (or had it)
+    bad |= x
+    bad &= _bytes(dtype, b"\x80")
     if bad.any():
         raise _NotPlain
-    np.copyto(x, 0, where=blank)
-    x = (x * dtype(10) + (x >> dtype(8))) & _bytes(dtype, b"\xff\x00")
-    x = (x * dtype(100) + (x >> dtype(16))) & _bytes(dtype, b"\xff\xff\x00\x00")
-    if size == 8:
-        x = (x * dtype(10000) + (x >> dtype(32))) & dtype(0xFFFFFFFF)
+    steps = _SWAR_STEPS if size == 8 else _SWAR_STEPS[:2]  # digits in pairs, pairs in fours..
+    for shift, lanes in steps:
+        high = x >> dtype(shift)
+        x *= dtype(10 ** (shift // 8))
+        x += high
+        x &= _bytes(dtype, lanes)
     return x, blank
+
+
+_SWAR_STEPS = ((8, b"\xff\x00"), (16, b"\xff\xff\x00\x00"), (32, b"\xff" * 4 + b"\x00" * 4))
+"""``(shift, lanes kept)`` per SWAR step: ``x = (x * 10**(shift / 8) + (x >> shift)) & lanes``."""
 
 
 def _bytes(dtype, pattern):
