@@ -1,7 +1,7 @@
 """The ``.tactile`` accessor of :class:`xarray.DataArray`, registered by ``import tactilecal``.
 
-``import tactilecal`` does not import xarray (it would take the import from about 0.06 s to
-1.7 s, ``benchmarks/bench_import.py``), yet ``import tactilecal; import xarray`` must give
+``import tactilecal`` does not import xarray (it would make that import many times slower:
+``benchmarks/bench_import.py``), yet ``import tactilecal; import xarray`` must give
 ``DataArray.tactile`` whatever the order of the imports (isort puts ``tactilecal`` first).
 So the registration waits for xarray: if xarray is loaded, it happens at once; else a finder
 on :data:`sys.meta_path` (the import system's post-import hook, PEP 302/451) sees the first

@@ -63,7 +63,7 @@ def describe(recording):
     """
     from tactilecal.sensors import match_sensor
 
-    # NumPy only: an xarray operation on a new process imports dask.array and SciPy (1 s)
+    # NumPy only: an xarray operation on a new process imports dask.array and SciPy
     attrs, values = recording.attrs, recording.values
     blank = np.isnan(values).all(axis=0)
     never_loaded = ~blank & ~(np.nan_to_num(values, nan=0.0) > 0).any(axis=0)

@@ -6,7 +6,7 @@ so counting them should cost about one read of the frames. NumPy needs several p
 each chunk (round, check the range, add frame offsets, ``bincount``): 6-9 times a
 ``numpy.sum`` over the same float64 array. The numba kernels of
 :mod:`tactilecal.calibration._histogram_kernels` make one, 2-3 times a ``numpy.sum``
-(``benchmarks/bench_movie.py``), but numba's start-up in a new process (0.3-0.5 s here)
+(``benchmarks/bench_movie.py``), but numba's start-up in a new process
 outweighs that below about :data:`COMPILED_MIN_VALUES` readings, so smaller inputs
 (single frames, dead-weight sessions, short movies) are counted with NumPy. Both paths give
 the same counts and the same errors.

@@ -8,8 +8,8 @@ counter). uint8 readings are their own indices and are counted directly. Each ke
 returns -1, or the flat index of the first counted reading outside 0..255 (counting stops
 there).
 
-Imported only when a large input is counted: numba's start-up in a new process (about
-0.3-0.5 s here) costs more than it saves on a small one.
+Imported only when a large input is counted: numba's start-up in a new process costs more
+than it saves on a small one.
 """
 
 import numpy as np

@@ -9,7 +9,7 @@ round's A), so most trial exponents cost two passes over the points: one for the
 one for the cost.
 
 Imported only for large fits (:data:`tactilecal.calibration._powerfit.COMPILED_MIN_POINTS`): numba's
-start-up in a new process (0.3-0.5 s here) costs more than it saves on a small one.
+start-up in a new process costs more than it saves on a small one.
 """
 
 import numpy as np

@@ -135,8 +135,8 @@ def run_demo(out_dir="tactilecal-demo", *, quiet=False, overwrite=False):
 
     Examples
     --------
-    It takes 20-40 s (the report's figures most of it), so this example is not run as a
-    doctest; the test suite runs the demo.
+    It takes tens of seconds (the report's figures most of it), so this example is not run
+    as a doctest; the test suite runs the demo.
 
     >>> headline = run_demo("tactilecal-demo", quiet=True)  # doctest: +SKIP
     >>> sorted(headline)  # doctest: +SKIP

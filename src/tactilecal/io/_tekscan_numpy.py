@@ -1,7 +1,7 @@
 """NumPy reader for plain Tekscan exports: whole numbers and ``B``, no numba.
 
-numba's import and the load of its cached kernels cost 0.2-0.6 s in a new process, more than
-pandas' whole parse of a 10,000-frame export. This reader needs NumPy only. It reads the
+numba's import and the load of its cached kernels cost more, in a new process, than pandas'
+whole parse of a 10,000-frame export. This reader needs NumPy only. It reads the
 export the way the numba reader does, in blocks of whole frames, but with array operations
 over each block's bytes: the line ends (LF), each line's first byte (blank line, ``F`` frame
 line, row of values, ``@@``), the commas of the rows of values, and per value its last one to

@@ -35,10 +35,9 @@ __all__ = ["read_tekscan"]
 PLAIN_MAX_BYTES = 2**27
 """Largest data block (bytes after ``ASCII_DATA @@``) the NumPy reader tries; None: any.
 
-Below it numba's start-up (import and loading its cached kernels, 0.2-0.6 s once per process)
-outweighs its faster parse; above it the numba reader is the faster (about 1.75x the NumPy
-reader at 100,000 frames of 44 x 44, ``benchmarks/README.md``). 128 MiB is about 19,000
-frames of 44 x 44.
+Below it numba's start-up (import and loading its cached kernels, once per process)
+outweighs its faster parse; above it the numba reader is as fast or faster
+(``benchmarks/bench_cold_read.py``). 128 MiB is about 19,000 frames of 44 x 44.
 """
 
 
@@ -274,8 +273,8 @@ def _coordinates(dims, times):
     """Return the recording's coordinates, their indexes built here.
 
     Building them from NumPy arrays, xarray asks whether each is a dask array, which imports
-    dask (0.2 s) and, for the data, ``dask.array`` and SciPy (1 s in a new process): more
-    than the whole read of a 6,000-frame export, for a reader that uses neither.
+    dask and, for the data, ``dask.array`` and SciPy: in a new process more than the whole
+    read of a 6,000-frame export, for a reader that uses neither.
     """
     import pandas as pd
 
