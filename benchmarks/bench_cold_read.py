@@ -10,7 +10,10 @@ time / tactilecal time`` (above 1: tactilecal is faster). Peak memory is the chi
 peak resident size (``VmHWM`` of ``/proc/self/status``, which exec resets; ``ru_maxrss``
 keeps the parent's), compared with the array's size.
 
-    python benchmarks/bench_cold_read.py [--frames 6000 40000] [--repeat 5]
+    python -m benchmarks.bench_cold_read [--frames 6000 40000] [--repeat 5]
+
+tactilecal's bytecode is written first (:func:`benchmarks._common.compile_tactilecal`), as
+an installation does.
 
 The ``track_*`` functions return the ratios (for an asv suite); each makes its files once in
 a temporary folder.
@@ -25,6 +28,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+from benchmarks._common import compile_tactilecal
 
 ROWS = COLS = 44
 REALDATA = Path(os.environ.get("TACTILECAL_REALDATA",
@@ -73,6 +78,7 @@ def _run(argv):
 
 def compare(commands, repeat):
     """Run ``commands`` (name -> argv) alternately ``repeat`` times; return medians."""
+    compile_tactilecal()
     runs = {name: [] for name in commands}
     for _ in range(repeat):
         for name, argv in commands.items():
