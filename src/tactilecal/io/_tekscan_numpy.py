@@ -256,12 +256,10 @@ def _frame_lines(block, starts, ends):
 
 
 def _frame_lines_one_by_one(block, starts, ends):
-    """:func:`_frame_lines`, line by line."""
+    """:func:`_frame_lines`, line by line (the lines are ASCII without CR: checked there)."""
     numbers, times, raw_sums = [], [], []
     for start, end in zip(starts.tolist(), ends.tolist(), strict=True):
         text = block[start:end]
-        if not text.isascii() or b"\r" in text:  # else numba: regexes on decoded text
-            raise _NotPlain
         match = _FRAME.match(text)
         if match is None or len(match.group(1)) > 18:
             raise _NotPlain
