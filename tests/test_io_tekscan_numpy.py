@@ -88,6 +88,22 @@ def test_plain_reader_numbers_lines_and_offsets_as_the_numba_reader(tmp_path, mo
     np.testing.assert_array_equal(plain.numbers, numba.numbers)
 
 
+@pytest.mark.parametrize("new", [
+    b"Sum=,,",  # a frame line without its Raw Sum: the block is parsed line by line
+    b"Raw Sum=,,{sum},,Raw Sum=,,",  # two in one line (the first is the sum)
+])
+def test_frame_lines_with_and_without_raw_sum_read_as_numba_reads_them(tmp_path, monkeypatch,
+                                                                        new):
+    values = _raw()
+    path = _movie(tmp_path, values)
+    text = path.read_bytes()
+    at = text.index(b"Frame 3")
+    new = new.replace(b"{sum}", b"%d" % np.nansum(values[2]))
+    path.write_bytes(text[:at] + text[at:].replace(b"Raw Sum=,,", new, 1))
+    assert _plain(path) is not None  # the NumPy reader took it
+    assert read_tekscan(path).identical(_numba_read(path, monkeypatch))
+
+
 @pytest.mark.parametrize("high, units", [(10**4, "kPa"), (10**8, "kPa"), (10**15, "kPa")])
 def test_whole_numbers_of_up_to_15_digits_read_exactly(tmp_path, monkeypatch, high, units):
     """4, 8 and 15 digits: the 32-bit and 64-bit word paths and the digit-by-digit one."""
