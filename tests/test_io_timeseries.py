@@ -173,12 +173,13 @@ def test_a_wide_csv_is_read_without_holding_its_text(tmp_path, monkeypatch):
     from tactilecal import _textfile
 
     path = tmp_path / "wide.csv"
-    values = _wide_csv(path, 20_000, 40)
-    monkeypatch.setattr(_textfile, "PIECE_BYTES", 2**16)
+    _wide_csv(path, 100, 40)
     read_timeseries(path)  # imports done
+    values = _wide_csv(path, 8000, 40)
+    monkeypatch.setattr(_textfile, "PIECE_BYTES", 2**16)
     tracemalloc.start()
     series = read_timeseries(path)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     np.testing.assert_array_equal(series.values, values[:, 1] * 1000)
-    assert path.stat().st_size > 7e6 and peak < 2e6
+    assert peak < path.stat().st_size / 4, peak  # the text alone would be the size
