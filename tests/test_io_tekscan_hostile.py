@@ -4,6 +4,8 @@ Every file is built here, so these run on a fresh machine without ``../shared``.
 named after the input class it covers; each error must name the file and the line or key.
 """
 
+import subprocess
+import sys
 import tracemalloc
 
 import numpy as np
@@ -218,11 +220,46 @@ def test_a_line_of_40_mb_without_end_is_refused_before_it_is_held(tmp_path):
         out.write(b"ROWS 1\nCOLS 3\nASCII_DATA @@\nFrame 1\n")
         out.write(b"1," * (20 * 2**20))
     match = r"line 5 of .*line.csv: more than 33554432 bytes without a line end; expected rows"
-    with pytest.raises(ValueError, match=match):
-        read_tekscan(path)  # the first read also loads numba's kernels: measured on the second
     tracemalloc.start()
     with pytest.raises(ValueError, match=match):
         read_tekscan(path)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
-    assert peak < 100e6  # 3 x the array (none) + 100 MB; the index's buffer grows to 32 MiB
+    assert peak < 4 * 2**20  # read a MiB at a time, never held
+
+
+def test_a_line_without_end_is_refused_without_importing_numba(tmp_path):
+    """The check runs before either reader: numba's import alone is half the bound."""
+    path = tmp_path / "line.csv"
+    with open(path, "wb") as out:
+        out.write(b"ROWS 1\nCOLS 3\nASCII_DATA @@\nFrame 1\n" + b"1," * (20 * 2**20))
+    code = ("import sys; from tactilecal.io import read_tekscan\n"
+            f"try:\n    read_tekscan({str(path)!r})\n"
+            "except ValueError as exc:\n    print(exc)\n"
+            "print('numba' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.splitlines()
+    assert "more than 33554432 bytes without a line end" in out[0] and out[1] == "False"
+
+
+@pytest.mark.parametrize("chunks", [None, 2])
+@pytest.mark.parametrize("newline", ["\n", "\r\n"])
+def test_an_over_long_line_after_frames_is_refused_naming_its_line(tmp_path, monkeypatch,
+                                                                   chunks, newline):
+    """The limit applies anywhere in the data, eager or lazy; the line is counted exactly."""
+    from tactilecal.io import _tekscan_layout
+
+    limit = 40 + len(newline) - 1  # the CR of CR LF is a byte of its line
+    monkeypatch.setattr(_tekscan_layout, "max_line_bytes", lambda cols: limit)
+    monkeypatch.setattr(_tekscan_layout, "_LINE_STEP", 7)  # pieces smaller than a line
+    rows = [list(frame) for frame in ROWS]
+    rows[2][1] = "0," * 20 + "0"  # 41 bytes: one over the limit
+    path = _file(tmp_path, rows=rows, newline=newline)
+    line = _line_of(path, rows[2][1])
+    with pytest.raises(ValueError, match=rf"^line {line} of .*hostile.csv: more than {limit} "
+                                         r"bytes without a line end; expected rows of 3 values"):
+        read_tekscan(path, chunks=chunks)
+    rows[2][1] = "0," * 19 + "00"  # 40 bytes: as long as allowed, refused for its values
+    path = _file(tmp_path, rows=rows, newline=newline)
+    with pytest.raises(ValueError, match=rf"\(line {line}\) has 20 values; expected 3"):
+        read_tekscan(path, chunks=chunks)

@@ -132,3 +132,54 @@ def test_write_timeseries_refuses_what_it_cannot_read_back(tmp_path):
     write_timeseries(series([1.0, 2.0], [0.0, 1.0], units="unknown", column="Load"), out,
                      overwrite=True)
     assert out.read_text().splitlines()[0] == "Time (s),Load"
+
+
+def _wide_csv(path, rows, cols, encoding="utf-8", newline="\n"):
+    """A CSV of ``cols`` columns (time in µs first), a blank line, and the values it holds."""
+    rng = np.random.default_rng(3)
+    values = np.round(rng.normal(size=(rows, cols)), 6)
+    values[:, 0] = np.arange(rows) * 0.5
+    header = ",".join(["Time (µs)", "Load (kN)"] + [f"c{j}" for j in range(cols - 2)])
+    lines = [header] + [",".join(map(repr, row)) for row in values.tolist()]
+    lines.insert(rows // 2, "")
+    path.write_bytes(newline.join(lines + [""]).encode(encoding))
+    return values
+
+
+@pytest.mark.parametrize(("encoding", "newline"), [("utf-8", "\n"), ("utf-8-sig", "\r\n"),
+                                                   ("utf-16", "\r\n"), ("cp1252", "\n")])
+def test_a_csv_read_in_small_pieces_reads_the_same(tmp_path, monkeypatch, encoding, newline):
+    """The file is read a piece at a time: where the pieces are cut changes nothing."""
+    from tactilecal import _textfile
+
+    path = tmp_path / "lc.csv"
+    values = _wide_csv(path, 300, 5, encoding, newline)
+    whole = read_timeseries(path)
+    np.testing.assert_array_equal(whole.time.values, values[:, 0] * 1e-6)
+    np.testing.assert_array_equal(whole.values, values[:, 1] * 1000)
+    for size in (1, 7, 4096):
+        monkeypatch.setattr(_textfile, "PIECE_BYTES", size)
+        assert read_timeseries(path).identical(whole), size
+    text = path.read_bytes().decode(encoding).replace(f",{float(values[250, 1])!r},", ",x,", 1)
+    path.write_bytes(text.encode(encoding))
+    with pytest.raises(ValueError, match=r"line 253 of .*lc.csv, column 'Load \(kN\)': 'x'"):
+        read_timeseries(path)
+
+
+def test_a_wide_csv_is_read_without_holding_its_text(tmp_path, monkeypatch):
+    """Memory is the two columns and a piece of the file, not the file (40 columns here)."""
+    import tracemalloc
+
+    from tactilecal import _textfile
+
+    path = tmp_path / "wide.csv"
+    _wide_csv(path, 100, 40)
+    read_timeseries(path)  # imports done
+    values = _wide_csv(path, 8000, 40)
+    monkeypatch.setattr(_textfile, "PIECE_BYTES", 2**16)
+    tracemalloc.start()
+    series = read_timeseries(path)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    np.testing.assert_array_equal(series.values, values[:, 1] * 1000)
+    assert peak < path.stat().st_size / 4, peak  # the text alone would be the size

@@ -322,3 +322,46 @@ def test_every_saved_kind_compares_by_value_and_ignores_the_creation_time(calibr
     assert calibrations["power"] != "a calibration"
     for cls in _KINDS.values():  # every kind: the base's equality, not a dataclass's
         assert cls.__eq__ is _KINDS["calibration"].__eq__, cls
+
+
+def test_every_saved_kind_names_the_subpackage_that_defines_it():
+    """``tactilecal.load`` imports only the file's subpackage: the map must miss no kind."""
+    import tactilecal.analysis  # noqa: F401  (every subpackage with saved kinds)
+    from tactilecal import _KIND_MODULES
+    from tactilecal._result import _KINDS
+
+    assert set(_KINDS) == set(_KIND_MODULES)
+    for kind, cls in _KINDS.items():
+        assert cls.__module__.startswith(_KIND_MODULES[kind] + "."), kind
+
+
+def test_an_equilibration_loads_without_importing_dynamic_or_numba(tmp_path):
+    """numba's import alone (about 55 MB) was half the memory bound of a read."""
+    import subprocess
+    import sys
+
+    path = tmp_path / "eq.json"
+    _equilibration().to_json(path)
+    code = ("import sys, tactilecal\n"
+            f"eq = tactilecal.load({str(path)!r})\n"
+            "print(type(eq).__name__, *[m in sys.modules for m in "
+            "('tactilecal.dynamic', 'tactilecal.analysis', 'numba')])")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.split() == ["Equilibration", "False", "False", "False"]
+
+
+def test_a_gain_table_of_floats_ints_and_nulls_reads_as_before(tmp_path):
+    """Rows of floats and nulls are checked in NumPy, others value by value: same array."""
+    rows = [[0.5, None, 2.0], [1, 3, None], [None, None, None], [1e-300, 1e300, 7]]
+    path = tmp_path / "eq.json"
+    path.write_text(json.dumps({"format": "tactilecal-equilibration/1", "gain": rows}))
+    expected = np.array([[np.nan if v is None else v for v in row] for row in rows])
+    np.testing.assert_array_equal(tactilecal.load(path).gain, expected)
+    for bad, match in ((0.0, "0.0"), (-2, "-2"), (float("inf"), "inf"), (float("nan"), "nan"),
+                       (True, "True")):
+        rows[3][1] = bad
+        path.write_text(json.dumps({"format": "tactilecal-equilibration/1", "gain": rows}))
+        with pytest.raises(ValueError, match=rf"key 'gain' of .*eq.json, row 3 col 1 is "
+                                             rf"{match}"):
+            tactilecal.load(path)

@@ -62,16 +62,26 @@ _LAZY = {
 
 __all__ = ["__version__", "load", "TactilecalError", "TactilecalTypeError", *_LAZY]
 
-#: The subpackages that define the saved kinds (importing them registers the kinds).
-_SAVED_KINDS_IN = ("tactilecal.calibration", "tactilecal.dynamic", "tactilecal.analysis")
+#: The subpackage that defines each saved kind (importing it registers the kind).
+_KIND_MODULES = {
+    "calibration": "tactilecal.calibration",
+    "equilibration": "tactilecal.calibration",
+    "non-working-sensels": "tactilecal.calibration",
+    "validation": "tactilecal.calibration",
+    "dynamic-filter": "tactilecal.dynamic",
+    "dynamic-evaluation": "tactilecal.dynamic",
+    "creep": "tactilecal.analysis",
+    "hysteresis": "tactilecal.analysis",
+}
 
 
 def load(path):
     """Open a saved result of any kind by the format tag in its JSON.
 
-    The tag is ``"format": "tactilecal-<kind>/<version>"`` (:mod:`tactilecal._result`);
-    files of earlier versions without it (a calibration, ``"kind": "equilibration"``, the
-    output of ``validate --json``) are recognised by their keys.
+    The tag is ``"format": "tactilecal-<kind>/<version>"`` (:mod:`tactilecal._result`).
+    Only the subpackage that defines the file's kind is imported (an equilibration does
+    not import ``tactilecal.dynamic`` and numba); a file without a known tag imports them
+    all, so that the message lists every kind.
 
     Parameters
     ----------
@@ -99,11 +109,18 @@ def load(path):
     >>> load(path).gain.tolist()
     [[1.0, 1.0], [1.0, 1.0]]
     """
-    for module in _SAVED_KINDS_IN:
-        import_module(module)
     from tactilecal._result import load_result
 
-    return load_result(path)
+    return load_result(path, register=_import_kind)
+
+
+def _import_kind(data):
+    """Import the subpackage that defines the kind tagged in ``data``; every one if unknown."""
+    tag = data.get("format")
+    kind = tag[len("tactilecal-"):].partition("/")[0] if isinstance(tag, str) else None
+    for module in ([_KIND_MODULES[kind]] if kind in _KIND_MODULES
+                   else sorted(set(_KIND_MODULES.values()))):
+        import_module(module)
 
 
 def __getattr__(name):

@@ -93,10 +93,13 @@ def _number(convert):
     return parse
 
 
-def _check_depth(text, path):
-    """Raise unless arrays and objects nest at most :data:`MAX_JSON_DEPTH` deep."""
+def _check_depth(text, skeleton, path):
+    """Raise unless arrays and objects nest at most :data:`MAX_JSON_DEPTH` deep.
+
+    ``skeleton`` is ``text`` without its strings (``_STRING.sub("", text)``).
+    """
     depth, deepest = 0, 0
-    for bracket in re.finditer(r"[\[\]{}]", _STRING.sub("", text)):
+    for bracket in re.finditer(r"[\[\]{}]", skeleton):
         depth += 1 if bracket.group() in "[{" else -1
         if depth > MAX_JSON_DEPTH:
             line = text.count("\n", 0, _nth_bracket(text, bracket.start())) + 1
@@ -105,6 +108,27 @@ def _check_depth(text, path):
                                   "most")
         deepest = max(deepest, depth)
     return deepest
+
+
+_NUMBER_BYTES = bytes(48 if chr(c) in "+-.0123456789Ee" else 32 for c in range(256))
+
+
+def _short_numbers(skeleton):
+    """Return True when no run of number characters outside strings is over the limit.
+
+    Then no number is longer than :data:`tactilecal._validate.MAX_NUMBER_CHARS` and
+    :func:`json.loads` may convert them itself (a Python call per number costs more than the
+    rest of the parse). Checked a MiB at a time, each piece overlapping the next by the limit.
+    """
+    from tactilecal._validate import MAX_NUMBER_CHARS
+
+    long_run = b"0" * (MAX_NUMBER_CHARS + 1)
+    step = 2**20
+    for start in range(0, len(skeleton), step):
+        piece = skeleton[start:start + step + MAX_NUMBER_CHARS]
+        if long_run in piece.encode("utf-8", "replace").translate(_NUMBER_BYTES):
+            return False
+    return True
 
 
 def _nth_bracket(text, offset):
@@ -151,7 +175,7 @@ def read_json_object(path, expected):
         raise TactilecalError(f"{path} has {path.stat().st_size} bytes; expected {expected} of "
                               f"at most {MAX_JSON_BYTES} bytes")
     text = read_text(path, expected=expected)
-    nul = _NUL_ESCAPE.search(text)
+    nul = _NUL_ESCAPE.search(text) if "\\u0000" in text or "\\U0000" in text else None
     if nul:
         raise TactilecalError(f"line {text.count(chr(10), 0, nul.start()) + 1} of {path}: a NUL "
                               f"character (\\u0000) in a string; expected {expected}")
@@ -161,9 +185,13 @@ def read_json_object(path, expected):
         raise TactilecalError(f"line {text.count(chr(10), 0, long_string.start()) + 1} of {path}: "
                               f"a string of {long_string.end() - long_string.start() - 2} "
                               f"characters; expected at most {MAX_FIELD_CHARS}")
-    _check_depth(text, path)
+    skeleton = _STRING.sub("", text)
+    _check_depth(text, skeleton, path)
+    short = _short_numbers(skeleton)
+    del skeleton
+    checked = {} if short else {"parse_int": _number(int), "parse_float": _number(float)}
     try:
-        data = json.loads(text, parse_int=_number(int), parse_float=_number(float))
+        data = json.loads(text, **checked)
     except json.JSONDecodeError as exc:
         raise TactilecalError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}); "
                               f"expected {expected}") from None

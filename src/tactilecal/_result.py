@@ -8,8 +8,8 @@ dynamic filter, a validation) is a :class:`SavedResult`. Its JSON carries one ta
 ``version`` counts incompatible changes of that kind's keys; a reader refuses a version
 newer than its own, and a file without the tag.
 
-:func:`load_result` opens any saved result by its tag (``tactilecal.load`` imports the
-subpackages that define the kinds, then calls it).
+:func:`load_result` opens any saved result by its tag (``tactilecal.load`` calls it, importing
+the subpackage that defines the file's kind once the file is read).
 """
 
 import hashlib
@@ -278,12 +278,15 @@ def result_class(data, source):
     return _KINDS[kind]
 
 
-def load_result(path):
+def load_result(path, *, register=None):
     """Open a saved result of any registered kind by its format tag.
 
     Parameters
     ----------
     path : str or os.PathLike
+    register : callable, optional
+        Called with the file's JSON object before its class is looked up, to import what
+        defines its kind.
 
     Returns
     -------
@@ -297,4 +300,6 @@ def load_result(path):
         the key.
     """
     data = read_json_object(Path(path), "a tactilecal result JSON")
+    if register is not None:
+        register(data)
     return result_class(data, str(path)).from_dict(data, source=str(path))

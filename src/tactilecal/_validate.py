@@ -18,9 +18,10 @@ import re
 
 from tactilecal._errors import TactilecalError, TactilecalTypeError
 
-__all__ = ["decode_text", "read_text", "check_line_ends", "csv_rows", "parse_number",
-           "check_number", "check_numbers", "check_type", "require_keys", "check_size",
-           "float_type", "shorten", "MAX_VALUES", "MAX_FIELD_CHARS", "MAX_NUMBER_CHARS"]
+__all__ = ["decode_text", "read_text", "check_line_ends", "csv_rows", "csv_lines_rows",
+           "parse_number", "check_number", "check_numbers", "check_type", "require_keys",
+           "check_size", "float_type", "shorten", "MAX_VALUES", "MAX_FIELD_CHARS",
+           "MAX_NUMBER_CHARS"]
 
 _BOMS = ((b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
 
@@ -76,8 +77,9 @@ def decode_text(raw, name, *, expected="a text file"):
         if raw.startswith(bom):
             try:
                 text = raw.decode(codec)
-            except UnicodeDecodeError as exc:
-                raise TactilecalError(f"line {_line_of(raw, exc.start)} of {name}: bytes "
+            except UnicodeDecodeError as exc:  # utf-8-sig counts from after its mark
+                at = exc.start + (len(bom) if len(exc.object) < len(raw) else 0)
+                raise TactilecalError(f"line {_line_of(raw, at)} of {name}: bytes "
                                       f"that are not {codec.upper()} after its byte-order mark; "
                                       f"expected {expected}") from None
             text = text[1:] if text.startswith("\ufeff") else text
@@ -152,7 +154,16 @@ def csv_rows(text, name):
     tactilecal.TactilecalError: line 2 of m.csv has 3 values; expected 2, one per column ['a', 'b']
     """
     check_line_ends(text, name)
-    reader = csv.reader(_lines(text))  # line by line: no copy of the whole text
+    yield from csv_lines_rows(_lines(text), name)  # line by line: no copy of the whole text
+
+
+def csv_lines_rows(lines, name):
+    """:func:`csv_rows` of the lines ``lines`` (each with its line end), line ends unchecked.
+
+    For a file read line by line (:class:`tactilecal._textfile.TextFile`, which checks the
+    line ends as it is opened).
+    """
+    reader = csv.reader(lines)
     width = None
     for cells in _csv_lines(reader, name):
         if not any(cell.strip() for cell in cells):

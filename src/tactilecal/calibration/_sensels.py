@@ -318,16 +318,29 @@ def _num(value):
 
 
 def _gain_table(rows, source):
-    """Return the ``gain`` key as an array: positive gains, NaN for null (non-working)."""
+    """Return the ``gain`` key as an array: positive gains, NaN for null (non-working).
+
+    Filled row by row (no second list of lists); a row of floats and nulls is checked in
+    NumPy, any other value (and every value the check refuses) by
+    :func:`~tactilecal._validate.check_number`, which names its row and column.
+    """
     where = f"key 'gain' of {source}"
     check_type(rows, list, where, expected="a list of rows")
     if not rows or not all(isinstance(row, list) and len(row) == len(rows[0]) for row in rows):
         raise TactilecalError(f"{where} is not a table; expected rows of equal length")
+    gain = np.empty((len(rows), len(rows[0])))
+    plain = {float, type(None)}
     for i, row in enumerate(rows):
-        for j, value in enumerate(row):
-            check_number(value, f"{where}, row {i} col {j}", minimum=0.0, min_inclusive=False,
-                         allow_none=True)
-    return np.array([[np.nan if v is None else v for v in row] for row in rows], dtype=float)
+        if set(map(type, row)) <= plain:
+            gain[i] = row  # None is NaN
+            suspect = np.flatnonzero(~(gain[i] > 0) | np.isinf(gain[i])).tolist()
+        else:
+            suspect = range(len(row))
+        for j in suspect:
+            value = check_number(row[j], f"{where}, row {i} col {j}", minimum=0.0,
+                                 min_inclusive=False, allow_none=True)
+            gain[i, j] = np.nan if value is None else value
+    return gain
 
 
 def load_equilibration(path):

@@ -18,21 +18,13 @@ from tactilecal._errors import TactilecalError
 from tactilecal._validate import check_size, parse_number, shorten
 from tactilecal.io import _tekscan_kernels as kernels
 from tactilecal.io._header import integer
-from tactilecal.io._tekscan_layout import Index, line_text, read_header
+from tactilecal.io._tekscan_layout import Index, line_text, max_line_bytes, read_header
 
 __all__ = ["BLOCK_BYTES", "Index", "index_export", "line_text"]
 
 BLOCK_BYTES = 16 * 2**20
 """Bytes read at a time while indexing, and bytes of frames parsed at a time when eager."""
 
-
-def max_line_bytes(cols):
-    """Longest line a file of ``cols`` values a row may have: 32 bytes a value, 32 MiB at least.
-
-    A longer line is an error before it is held in memory whole (memory of any read stays
-    within 3x its array + 100 MB, whatever the file).
-    """
-    return max(2**25, 32 * cols)
 
 _FRAME = re.compile(r"Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,]*?)[ \t]*(?:,|$))")
 _RAW_SUM = re.compile(r"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)")

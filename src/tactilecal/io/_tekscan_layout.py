@@ -6,6 +6,7 @@ the NumPy parser of ``_tekscan_numpy``) find about the frames. Neither imports n
 NumPy parser can read a small export without numba's start-up.
 """
 
+import os
 import re
 from dataclasses import dataclass, field
 
@@ -15,10 +16,12 @@ from tactilecal._errors import TactilecalError
 from tactilecal._validate import MAX_FIELD_CHARS, check_line_ends, decode_text
 from tactilecal.io._header import header_attrs, integer, parse_header_lines
 
-__all__ = ["Header", "Index", "read_header", "line_text"]
+__all__ = ["Header", "Index", "read_header", "line_text", "max_line_bytes",
+           "check_line_lengths"]
 
 _MARKER = re.compile(rb"^[ \t]*ASCII_DATA[ \t]*@@[ \t]*\r?$", re.MULTILINE)
 _HEADER_STEP = 2**20
+_LINE_STEP = 2**20  # bytes read at a time by check_line_lengths
 
 
 @dataclass(frozen=True)
@@ -143,3 +146,66 @@ def line_text(f, offset, length):
     """Return the first 60 characters of the line at byte ``offset`` (``length`` bytes)."""
     f.seek(offset)
     return f.read(length).decode("utf-8", errors="replace")[:60]
+
+
+def max_line_bytes(cols):
+    """Longest line a file of ``cols`` values a row may have: 32 bytes a value, 32 MiB at least.
+
+    A longer line is an error before it is held in memory whole (memory of any read stays
+    within 3x its array + 100 MB, whatever the file).
+    """
+    return max(2**25, 32 * cols)
+
+
+def check_line_lengths(f, head, name):
+    """Refuse a line after the header longer than :func:`max_line_bytes`; hold 1 MiB at most.
+
+    Runs before either reader of the data, so that a file that is no export (one huge line,
+    a binary file) is refused before numba is imported or a line is held whole. A line of at
+    most ``limit`` bytes ends within ``limit + 1`` bytes of its start: the last line end in
+    that stretch starts the next one, found by reading back from the stretch's end in pieces
+    of 1 MiB. An ordinary file is read here at one piece every ``limit`` bytes; a line
+    without end is read through once, a piece at a time, and its line number counted (as
+    :func:`~tactilecal.io._tekscan_kernels.index_lines` numbers lines) only then.
+
+    Raises
+    ------
+    ValueError
+        ``line N of <file>: more than <limit> bytes without a line end; ...``.
+    """
+    limit = max_line_bytes(head.cols)
+    size = os.fstat(f.fileno()).st_size
+    start = head.body
+    while size - start > limit:
+        end = _last_line_end(f, start, start + limit + 1)
+        if end < 0:
+            line = head.first_line + _count_line_ends(f, head.body, start)
+            raise TactilecalError(f"line {line} of {name}: more than {limit} bytes without a "
+                                  f"line end; expected rows of {head.cols} values (COLS)")
+        start = end + 1
+    f.seek(head.body)
+
+
+def _last_line_end(f, start, stop):
+    """Return the offset of the last LF in the bytes ``start:stop`` of ``f``, or -1."""
+    while stop > start:
+        begin = max(start, stop - _LINE_STEP)
+        f.seek(begin)
+        found = f.read(stop - begin).rfind(b"\n")
+        if found >= 0:
+            return begin + found
+        stop = begin
+    return -1
+
+
+def _count_line_ends(f, start, stop):
+    """Count the LF bytes in the bytes ``start:stop`` of ``f``."""
+    f.seek(start)
+    count = 0
+    while start < stop:
+        piece = f.read(min(_LINE_STEP, stop - start))
+        if not piece:
+            break
+        count += piece.count(b"\n")
+        start += len(piece)
+    return count

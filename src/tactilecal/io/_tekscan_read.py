@@ -143,10 +143,11 @@ def _read(path, name, chunks):
     """Read the (ASCII-compatible) export at ``path``; messages name it ``name``."""
     from pathlib import Path
 
-    from tactilecal.io._tekscan_layout import read_header
+    from tactilecal.io._tekscan_layout import check_line_lengths, read_header
 
     with open(path, "rb") as f:
         head = read_header(f, name)
+        check_line_lengths(f, head, name)  # before numba, and before a line is held whole
         size = os.fstat(f.fileno()).st_size - head.body
         if chunks is None and (PLAIN_MAX_BYTES is None or size <= PLAIN_MAX_BYTES):
             # a plain export is read by NumPy alone, without numba's start-up

@@ -1,7 +1,12 @@
-"""Reader for load-cell / force-time CSV files with a header row."""
+"""Reader for load-cell / force-time CSV files with a header row.
+
+The file is read in pieces, never whole (:class:`tactilecal._textfile.TextFile`): checked and
+its encoding found as it is opened, its rows checked line by line, its two columns parsed by
+pandas from the file (or its text in UTF-8, a piece at a time). Memory is the two columns
+and a piece of the file, however many columns and rows it has.
+"""
 
 import array
-import io
 import math
 import re
 from pathlib import Path
@@ -12,6 +17,7 @@ import xarray as xr
 
 from tactilecal._atomic import check_target, write_text_atomic
 from tactilecal._errors import TactilecalError
+from tactilecal._textfile import TextFile
 from tactilecal._units import (
     _HINT,
     force_to_N,
@@ -21,7 +27,7 @@ from tactilecal._units import (
     unit_from_column,
     unit_kind,
 )
-from tactilecal._validate import csv_rows, parse_number, read_text, shorten
+from tactilecal._validate import parse_number, shorten
 
 __all__ = ["read_timeseries", "write_timeseries"]
 
@@ -43,7 +49,7 @@ def _pick(columns, choice, default, role, name):
 
 def _first_bad_cell(text, column, index, name):
     """Slow path (only after the fast parse failed): raise naming the first bad cell's line."""
-    for k, (line, cells) in enumerate(csv_rows(text, name)):
+    for k, (line, cells) in enumerate(text.rows()):
         cell = cells[index]
         if k and not _finite(cell):
             found = "an empty cell" if cell == "" else shorten(cell)
@@ -64,7 +70,7 @@ def _rows(text, name):
     Returns the header's cells and the file line number of each data row.
     """
     header, lines = None, array.array("q")
-    for line, cells in csv_rows(text, name):
+    for line, cells in text.rows():
         if header is None:
             header = cells
         else:
@@ -113,7 +119,7 @@ def read_timeseries(path, time_col=None, value_col=None):
     """
     path = Path(path)
     name = str(path)
-    text = read_text(path, expected="a CSV file with a header row")
+    text = TextFile(path, expected="a CSV file with a header row")
     columns, lines = _rows(text, name)
     t_name = _pick(columns, time_col, 0, "time_col", name)
     v_name = _pick(columns, value_col, 1, "value_col", name)
@@ -135,13 +141,14 @@ def read_timeseries(path, time_col=None, value_col=None):
 
 
 def _read_csv(text, name, **kwargs):
-    """pandas.read_csv on decoded text; a malformed row is a ValueError naming the file.
+    """pandas.read_csv of a :class:`TextFile`; a malformed row is a ValueError naming the file.
 
-    The text goes to pandas as UTF-8 bytes: a ``StringIO`` would hold it at 4 bytes a
-    character (memory of a read: 3x its array + 100 MB at most).
+    pandas reads the text as UTF-8 bytes, a block at a time (a ``StringIO`` would hold it at
+    4 bytes a character; memory of a read: 3x its array + 100 MB at most).
     """
     try:
-        return pd.read_csv(io.BytesIO(text.encode("utf-8")), encoding="utf-8", **kwargs)
+        with text.utf8() as source:
+            return pd.read_csv(source, encoding="utf-8", **kwargs)
     except pd.errors.ParserError as exc:
         detail = " ".join(str(exc).split()).replace("Error tokenizing data. C error: ", "")
         raise TactilecalError(f"{name}: {detail}; expected the same number of comma-separated "
