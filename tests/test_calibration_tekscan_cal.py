@@ -151,6 +151,8 @@ def test_calibrate_and_validate_take_a_cal_file_on_the_command_line(tmp_path, ca
     (lambda t: t.replace("SENSEL_AREA 0.016129 cm2\n", ""), r"s.cal has no SENSEL_AREA"),
     (lambda t: t.replace("SENSEL_AREA 0.016129 cm2", "SENSEL_AREA 256 KPa"),  # found by fuzz
      r"SENSEL_AREA on line \d+ of s.cal is in 'kPa', a pressure unit; expected an area"),
+    (lambda t: t.replace("SENSEL_AREA 0.016129 cm2", "SENSEL_AREA 1e308 cm2"),  # by fuzz
+     r"SENSEL_AREA on line \d+ of s.cal: 1e\+308 cm2 is beyond the largest number in mm2"),
     (lambda t: t.replace("CAL_FPI_1 170.0\n", ""),
      r"s.cal: calibration point 1 lacks CAL_FPI_1; expected CAL_FPI \(load\)"),
     (lambda t: t.replace("CAL_FPI_1 170.0", "CAL_FPI_1 -3"),

@@ -117,6 +117,16 @@ def test_impossible_header_number_is_an_error_naming_key_and_line(tmp_path, key,
         read_tekscan(path)
 
 
+@pytest.mark.parametrize(("key", "value"), [("SENSEL_AREA", "1e308 cm2"),
+                                            ("ROW_SPACING", "1e308 m")])
+def test_header_number_beyond_float_range_in_project_units_is_an_error(tmp_path, key, value):
+    path = _file(tmp_path, {key: value})
+    line = _line_of(path, f"{key} {value}")
+    with pytest.raises(ValueError, match=rf"line {line} of .*hostile.csv: {key} '{value}': "
+                                         r"1e\+308 c?m2? is beyond the largest number in mm"):
+        read_tekscan(path)
+
+
 @pytest.mark.parametrize(("key", "value", "which"), [("START_FRAME", "2", "first"),
                                                      ("END_FRAME", "5", "last")])
 def test_start_or_end_frame_disagreeing_with_the_frames_is_an_error(tmp_path, key, value,

@@ -13,6 +13,7 @@ Sensor constants (pitch, sensel area, capacity) are not here: they come from the
 catalogue, :mod:`tactilecal.sensors`.
 """
 
+import math
 import re
 
 from tactilecal._errors import TactilecalError
@@ -137,7 +138,10 @@ def _convert(value, unit, kinds, target):
     kind, factor = _UNITS[unit]
     if kind not in kinds:
         raise TactilecalError(f"cannot convert {unit!r} ({kind}) to {target}")
-    return value * factor
+    result = value * factor
+    if isinstance(value, float) and math.isfinite(value) and not math.isfinite(result):
+        raise TactilecalError(f"{value:g} {unit} is beyond the largest number in {target}")
+    return result
 
 
 def length_to_mm(value, unit):

@@ -80,7 +80,10 @@ def _area_mm2(header, name):
     if unit_kind(unit) != "area":
         raise TactilecalError(f"SENSEL_AREA on {where} is in {unit!r}, a {unit_kind(unit)} "
                               "unit; expected an area (e.g. 'SENSEL_AREA 0.016129 cm2')")
-    return float(area_to_mm2(value, unit))
+    try:
+        return float(area_to_mm2(value, unit))
+    except TactilecalError as exc:
+        raise TactilecalError(f"SENSEL_AREA on {where}: {exc}") from None
 
 
 def _load_unit(header, name):
