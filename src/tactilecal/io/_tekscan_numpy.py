@@ -86,7 +86,7 @@ def _read(f, name, head):
     raw = head.attrs.get("units") in (None, "raw")
     f.seek(head.body)
     parts = _in_order(lambda job: _Block(head, flat, raw, n_frames == 0, *job),
-                      _jobs(f, head, n_frames))
+                      _jobs(f, head, n_frames), threads=size > BLOCK_BYTES)
     if not parts or parts[-1].end is None or any(p.end is not None for p in parts[:-1]):
         raise _NotPlain  # no @@, or F lines after it
     return values, _index(f, name, head, parts, n_frames, raw)
@@ -145,14 +145,19 @@ def _jobs(f, head, n_frames):
         carry, base = data[cut + 1:], base + cut + 1
 
 
-def _in_order(function, jobs):
+def _in_order(function, jobs, *, threads=True):
     """``[function(job) for job in jobs]`` on one thread per core, a few jobs ahead at most.
 
     NumPy releases the GIL inside its array operations, so the blocks parse in parallel;
     at most two jobs per thread are read ahead (memory: a few blocks, whatever the file).
+    ``threads=False`` (a file no larger than a block, read as two jobs: its frames, then
+    the last frame, cut off to start a next block) runs the jobs here: a pool would only
+    add its threads' start-up, 1-3 ms, about half the read of a small export.
     """
     from concurrent.futures import ThreadPoolExecutor
 
+    if not threads:
+        return [function(job) for job in jobs]
     workers = os.cpu_count() or 1
     done, pending = [], deque()
     with ThreadPoolExecutor(max_workers=workers) as pool:
