@@ -37,6 +37,13 @@ def bent():
 
 
 @pytest.fixture(scope="module")
+def bent_auto(bent):
+    """The default (auto) calibration of the bent training session and what it said."""
+    train, _ = bent
+    return _quiet_calibrate(_points(train))
+
+
+@pytest.fixture(scope="module")
 def plain():
     return family_sessions("5051-zvyagin", seed=0, n_test=150)
 
@@ -55,9 +62,9 @@ def test_auto_is_the_default_and_keeps_the_power_law_where_it_fits(plain):
     assert "method chosen by auto" in text and "<- chosen" in text
 
 
-def test_auto_follows_a_bent_response_and_says_the_power_law_does_not_fit(bent):
+def test_auto_follows_a_bent_response_and_says_the_power_law_does_not_fit(bent, bent_auto):
     train, test = bent
-    cal, said = _quiet_calibrate(_points(train))
+    cal, said = bent_auto
     power, _ = _quiet_calibrate(_points(train), method="power")
     assert cal.method in ("lut", "piecewise")
     assert _held_out_rms(cal, test) < 0.85 * _held_out_rms(power, test)  # measured 0.72
@@ -93,9 +100,8 @@ def test_too_few_patches_fall_back_to_power_and_say_so(plain):
     assert cal.method == "power" and cal.selection.chosen == "power"
 
 
-def test_selection_and_lack_of_fit_survive_the_json(bent, tmp_path):
-    train, _ = bent
-    cal, _ = _quiet_calibrate(_points(train))
+def test_selection_and_lack_of_fit_survive_the_json(bent_auto, tmp_path):
+    cal, _ = bent_auto
     cal.to_json(tmp_path / "cal.json")
     back = tc.load(tmp_path / "cal.json")
     assert back == cal and back.selection == cal.selection

@@ -1,5 +1,6 @@
 """One saturation default for the CLI and the API (issue 12): same manifest, same numbers."""
 
+import copy
 import json
 import re
 
@@ -19,14 +20,22 @@ def saturated_session(tmp_path_factory):
     return folder / "manifest.csv"
 
 
+@pytest.fixture(scope="module")
+def read_points(saturated_session):
+    """The session's 40 points, read from the manifest once; each test gets its own copy."""
+    points = load_points(saturated_session)
+    return lambda: copy.deepcopy(points)
+
+
 def _cli(manifest, *flags, capsys):
     assert main(["-q", "calibrate", str(manifest), *flags, "--json"]) == 0
     return json.loads(capsys.readouterr().out)
 
 
 @pytest.mark.parametrize("method", ["power", "zvyagin"])
-def test_cli_and_api_give_the_same_calibration_by_default(saturated_session, method, capsys):
-    api = calibrate(load_points(saturated_session), method=method)
+def test_cli_and_api_give_the_same_calibration_by_default(saturated_session, read_points, method,
+                                                           capsys):
+    api = calibrate(read_points(), method=method)
     cli = _cli(saturated_session, "--method", method, capsys=capsys)
     for name in ("A", "b"):
         assert cli["params"][name] == pytest.approx(api.params[name], rel=1e-12)
@@ -37,19 +46,20 @@ def test_cli_and_api_give_the_same_calibration_by_default(saturated_session, met
 
 
 @pytest.mark.parametrize("method", ["power", "zvyagin"])
-def test_saturated_keep_is_the_same_option_in_cli_and_api(saturated_session, method, capsys):
+def test_saturated_keep_is_the_same_option_in_cli_and_api(saturated_session, read_points, method,
+                                                           capsys):
     # saturated patches kept as exact loads bend the response away from the law, and the
     # calibration says so
     with pytest.warns(UserWarning, match=rf"{method} calibration: .*(bends|misses)"):
-        api = calibrate(load_points(saturated_session), method=method, saturated="keep")
+        api = calibrate(read_points(), method=method, saturated="keep")
     cli = _cli(saturated_session, "--method", method, "--saturated", "keep", capsys=capsys)
     assert cli["params"]["b"] == pytest.approx(api.params["b"], rel=1e-12)
-    dropped = calibrate(load_points(saturated_session), method=method)
+    dropped = calibrate(read_points(), method=method)
     assert api.params["b"] != pytest.approx(dropped.params["b"], rel=1e-6)
 
 
-def test_an_unknown_saturation_treatment_is_refused(saturated_session):
-    points = load_points(saturated_session)
+def test_an_unknown_saturation_treatment_is_refused(read_points):
+    points = read_points()
     with pytest.raises(ValueError, match=r"saturated='censor' is not an option of every method; "
                                          r"expected one of \('drop', 'keep', 'censored'\)"):
         calibrate(points, method="zvyagin", saturated="censor")
@@ -58,8 +68,8 @@ def test_an_unknown_saturation_treatment_is_refused(saturated_session):
 @pytest.mark.filterwarnings("ignore:.* calibration. .*:UserWarning")  # law choice: not tested here
 @pytest.mark.parametrize("method", ["power", "linear", "linear-offset", "polynomial", "lut",
                                     "piecewise", "power-2pt", "zvyagin"])
-def test_every_method_takes_censored_and_counts_the_lower_bounds(saturated_session, method):
-    points = load_points(saturated_session)
+def test_every_method_takes_censored_and_counts_the_lower_bounds(read_points, method):
+    points = read_points()
     n_saturated = sum(p.saturated_cells > 0 for p in points)
     cal = calibrate(points, method=method, saturated="censored")
     assert cal.options["saturated"] == "censored"
@@ -74,8 +84,8 @@ def test_every_method_takes_censored_and_counts_the_lower_bounds(saturated_sessi
                                          & (cal.points["saturated_cells"] == 0)).sum())
 
 
-def test_a_two_point_law_takes_its_points_from_unsaturated_patches(saturated_session):
-    points = load_points(saturated_session)
+def test_a_two_point_law_takes_its_points_from_unsaturated_patches(read_points):
+    points = read_points()
     cal = calibrate(points, method="power-2pt", saturated="censored")
     pair = cal.points[cal.points["used"]]
     assert len(pair) == 2 and (pair["saturated_cells"] == 0).all()
@@ -94,8 +104,8 @@ def test_censored_fit_needs_two_unsaturated_patches():
                   saturated="censored")
 
 
-def test_censored_zvyagin_keeps_saturated_patches_out_of_the_pairs(saturated_session):
-    points = load_points(saturated_session)
+def test_censored_zvyagin_keeps_saturated_patches_out_of_the_pairs(read_points):
+    points = read_points()
     cal = calibrate(points, method="zvyagin", saturated="censored")
     saturated = {k for k, p in enumerate(points) if p.saturated_cells > 0}
     pairs = cal.diagnostics["pairs"]  # the stored pairs: those with a root, of usable patches

@@ -121,7 +121,11 @@ def _streamed_peak_bytes(tmp_path, n_frames, filt):
     return peak
 
 
+@pytest.mark.slow  # a memory profile of two long records (7.7 and 31 MB), 4 s
 def test_streamed_recording_memory_does_not_grow_with_its_length(tmp_path):
+    # the streamed path itself (a NetCDF recording opened lazily, filtered, written) runs in
+    # the default tests: tests/test_dynamic_cli.py (dynamic apply --chunk-frames,
+    # filter_recording) and tests/test_dynamic_apply_scale.py (the lazy read's graph)
     filt = CorrectionFilter.from_model(("log", {"A": 0.05}), fs_hz=1000.0, band_hz=(1, 40))
     assert plan_multirate(filt).factor == 5
     size = {n: n * 32 * 8 for n in (30_000, 120_000)}  # 7.7 and 31 MB of float64

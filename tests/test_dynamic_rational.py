@@ -6,6 +6,7 @@ must keep its log model.
 """
 
 import json
+from functools import cache
 
 import numpy as np
 import pytest
@@ -24,14 +25,27 @@ RESONANT = DynamicSensor(A=0.0, resonances=((80.0, 0.05),))
 LAG_S = 0.8373  # the simulator's clock offset of the sweep
 
 
-def _sweep(response):
+@cache
+def _simulated_sweep(response):
     sweep = sine_sweep(seed=0, response=response, **FAST)
     return sweep.sensor, sweep.reference
 
 
-def _blind(response):
+def _sweep(response):
+    """The test sweep of a sensor (simulated once per sensor; each caller gets a copy)."""
+    return tuple(record.copy() for record in _simulated_sweep(response))
+
+
+@cache
+def _simulated_blind(response):
     blind = random_sine_sets(seed=5, response=response, f_range_hz=(10.0, 140.0), **RATES)
     return blind.sensor, blind.reference, blind.lag_s
+
+
+def _blind(response):
+    """The blind test of a sensor (simulated once per sensor; each caller gets a copy)."""
+    sensor, reference, lag_s = _simulated_blind(response)
+    return sensor.copy(), reference.copy(), lag_s
 
 
 @pytest.fixture(scope="module")
@@ -39,10 +53,18 @@ def visco1():
     return fit_filter(*_sweep(VISCO1), model="auto")
 
 
+@pytest.fixture(scope="module")
+def visco1_log():
+    """The zero-phase log model forced on the first-order sensor."""
+    return fit_filter(*_sweep(VISCO1), model="log", force=True)
+
+
 @pytest.mark.parametrize(("truth", "sections", "rtol"), [
     (VISCO1, {"zeros": 1, "poles": 1}, 0.02), (VISCO2, {"zeros": 2, "poles": 2}, 0.08)])
-def test_auto_chooses_rational_and_finds_the_corners(truth, sections, rtol):
-    filt = fit_filter(*_sweep(truth), model="auto")
+def test_auto_chooses_rational_and_finds_the_corners(truth, sections, rtol, request):
+    # VISCO1's automatic fit is the module's fixture (the same call)
+    filt = (request.getfixturevalue("visco1") if truth is VISCO1
+            else fit_filter(*_sweep(truth), model="auto"))
     assert filt.model == "rational"
     assert {k: v for k, v in filt.params.items() if v} == sections
     assert filt.fit.model_choice.chosen.startswith("rational")
@@ -72,12 +94,11 @@ def test_thesis_sensor_keeps_its_log_model():
     assert filt.model == "log10" and filt.fit.model_choice.chosen == "log10"
 
 
-def test_both_inverses_cut_the_blind_test_error_tenfold(visco1):
+def test_both_inverses_cut_the_blind_test_error_tenfold(visco1, visco1_log):
     sensor, reference, lag_s = _blind(VISCO1)
     offline = evaluate(visco1, sensor, reference, lag_s=lag_s)
     causal = evaluate(visco1, sensor, reference, lag_s=lag_s, causal=True)
-    magnitude_only = evaluate(fit_filter(*_sweep(VISCO1), model="log", force=True), sensor,
-                              reference, lag_s=lag_s)
+    magnitude_only = evaluate(visco1_log, sensor, reference, lag_s=lag_s)
     assert offline.improvement >= 10 and causal.improvement >= 10
     assert magnitude_only.improvement < 1.5  # the zero-phase model cannot (measured 1.1x)
 
@@ -120,7 +141,7 @@ def test_dask_and_in_memory_causal_filtering_agree(visco1):
         np.testing.assert_allclose(lazy.values, eager.values, rtol=0, atol=1e-9)
 
 
-def test_rational_filter_json_round_trip_and_cli(visco1, tmp_path, capsys):
+def test_rational_filter_json_round_trip_and_cli(visco1, visco1_log, tmp_path, capsys):
     filt = visco1
     path = tmp_path / "FILTER.json"
     filt.to_json(path)
@@ -129,7 +150,7 @@ def test_rational_filter_json_round_trip_and_cli(visco1, tmp_path, capsys):
     assert back == filt  # by value, fit and model choice included
     np.testing.assert_allclose(back.sos(), filt.sos())
     log_filter = tmp_path / "LOG.json"
-    fit_filter(*_sweep(VISCO1), model="log", force=True).to_json(log_filter)
+    visco1_log.to_json(log_filter)
     series = tmp_path / "s.csv"
     series.write_text("t,x\n" + "".join(f"{k / 1000},{np.sin(k / 50)}\n" for k in range(3000)))
     assert main(["-q", "dynamic", "apply", str(log_filter), str(series), "--out",

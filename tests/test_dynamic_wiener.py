@@ -159,8 +159,14 @@ def test_the_report_says_a_filter_was_forced_and_how_its_model_was_chosen(tmp_pa
     assert "model_choice" in html and "-&gt; rational" in html and "forced" not in html
 
 
-def test_a_sweep_shorter_than_a_few_cycles_of_its_lowest_frequency_is_refused():
-    sweep = sine_sweep(seed=0, A=0.11, step_hz=2, cycles_high=10, **RATES)
+@pytest.fixture(scope="module")
+def thesis_sweep():
+    """The thesis sensor's short sweep (the log law, A = 0.11)."""
+    return sine_sweep(seed=0, A=0.11, step_hz=2, cycles_high=10, **RATES)
+
+
+def test_a_sweep_shorter_than_a_few_cycles_of_its_lowest_frequency_is_refused(thesis_sweep):
+    sweep = thesis_sweep
     with pytest.raises(ValueError, match=r"simulated sensor and simulated load cell \(.* s after "
                        r"alignment\): .* holds .* cycles of the lowest fitted frequency"):
         fit_filter(sweep.sensor.isel(time=slice(0, 2500)),
@@ -185,10 +191,10 @@ def test_a_filter_file_whose_parameters_give_no_usable_correction_is_refused(
         CorrectionFilter.from_json(path)
 
 
-def test_auto_takes_the_next_candidate_when_the_chosen_one_is_refused():
+def test_auto_takes_the_next_candidate_when_the_chosen_one_is_refused(thesis_sweep):
     """The thesis sensor: log10 chosen (complex R2 0.99981) but refused at min_r2 0.9999;
     wiener (held-out bins 0.99998) is next."""
-    sweep = sine_sweep(seed=0, A=0.11, step_hz=2, cycles_high=10, **RATES)
+    sweep = thesis_sweep
     assert fit_filter(sweep.sensor, sweep.reference, model="auto").model == "log10"
     filt = fit_filter(sweep.sensor, sweep.reference, model="auto", min_r2=0.9999)
     assert filt.model == "wiener" and filt.forced is None

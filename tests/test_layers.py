@@ -19,6 +19,7 @@ because it found nothing.
 
 import ast
 import re
+from functools import cache
 from pathlib import Path
 
 import pytest
@@ -71,9 +72,22 @@ def imports_of(path, root):
     ``a.b``'s subpackage, and a private ``_c`` shows). A call given a dotted name of the
     package as a literal (``import_module("pkg.x")``, or a helper that imports what it is
     given) yields that name with ``how="import_module"``.
+
+    Each file is parsed once per test process (and its text read again to see that it is
+    unchanged): the package's ~200 modules are read by four tests.
     """
+    text = path.read_text(encoding="utf-8")
+    yield from _parsed_imports(path, root, text)
+
+
+@cache
+def _parsed_imports(path, root, text):
+    return tuple(_imports_in(path, root, text))
+
+
+def _imports_in(path, root, text):
     module = module_name(path, root)
-    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    tree = ast.parse(text, filename=str(path))
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             for alias in node.names:

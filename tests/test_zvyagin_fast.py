@@ -9,6 +9,7 @@ pairs, against numpy.roots; both are exact to rounding, ~1e-14, once a double ro
 rounding is put at its mean).
 """
 
+import hashlib
 import importlib.util
 from functools import cache
 from pathlib import Path
@@ -52,6 +53,19 @@ def _session(model, a_n, b, masses_kg, pad_sides_cm, n_patches, saturated_share,
     return points_to_arrays(points_from_frames(s.raw, s.load_N))
 
 
+_SEARCHES = {}
+
+
+def _reference_search(histograms, *, domain="strict"):
+    """The plain search, once per distinct histograms and domain (both modes search alike)."""
+    h = np.ascontiguousarray(histograms)
+    key = (h.shape, h.dtype.str, hashlib.blake2b(h.tobytes()).hexdigest(), domain)
+    if key not in _SEARCHES:
+        _SEARCHES[key] = ref.search_separation(h, domain=domain)
+    separation, d_min, d_map = _SEARCHES[key]
+    return separation, d_min, d_map.copy()
+
+
 def _fit(monkeypatch, h, f, reference, *, mode, saturated):
     """Zvyagin's procedure as ``calibrate`` runs it for each saturation treatment."""
     if saturated == "drop":  # calibrate leaves the saturated patches out
@@ -59,7 +73,7 @@ def _fit(monkeypatch, h, f, reference, *, mode, saturated):
     censored = h[:, 255] > 0 if saturated == "censored" else None
     with monkeypatch.context() as m:
         if reference:
-            m.setattr(_calibrate, "search_separation", ref.search_separation)
+            m.setattr(_calibrate, "search_separation", _reference_search)
             m.setattr(_calibrate, "solve_pairs", ref.solve_pairs)
         return _calibrate.zvyagin_fit(h, f, Options(mode=mode), censored=censored,
                                       sensel_area_mm2=1.6129)

@@ -47,10 +47,23 @@ def search_separation(histograms, *, domain="strict"):
     return separation, float(d[best]), d
 
 
+_ROOTS = {}
+"""numpy.roots of each polynomial solved, by its coefficients: the faithful and the robust
+mode solve the same pairs (only their threshold differs)."""
+
+
+def _roots(c):
+    """``numpy.roots(c[::-1])``, once per coefficient vector."""
+    key = c.tobytes()
+    if key not in _ROOTS:
+        _ROOTS[key] = np.roots(c[::-1])
+    return _ROOTS[key]
+
+
 def _pair_roots(counts_i, counts_j, f_i, f_j, threshold):
     """Real roots Y > threshold of F_j Q_i(Y) - F_i Q_j(Y) = 0, Q(Y) = sum_m n_m Y**m."""
     c = f_j * counts_i - f_i * counts_j                   # c[m - 1] multiplies Y**m
-    roots = np.roots(c[::-1]) if np.any(c) else np.array([])  # / Y: the root Y = 0 is out
+    roots = _roots(c) if np.any(c) else np.array([])  # / Y: the root Y = 0 is out
     real = np.sort(roots[np.abs(roots.imag) <= REAL_TOL * np.maximum(1.0, np.abs(roots))].real)
     for k in range(len(real) - 1):  # a double root split by rounding: its mean is the root
         if abs(real[k + 1] - real[k]) <= REAL_TOL * abs(real[k + 1]):

@@ -277,7 +277,7 @@ def points_provenance(points):
     return provenance(files, [p.sensor for p in points])
 
 
-def fit_arrays(hist, load, meta, *, module, common, options, readings=None):
+def fit_arrays(hist, load, meta, *, module, common, options, readings=None, diagnose=True):
     """Fit a calibration to points given as arrays (the core of :func:`calibrate`).
 
     ``hist`` (n, 256), ``load`` (n,) and ``meta`` (dict of per-point arrays, keys
@@ -285,7 +285,9 @@ def fit_arrays(hist, load, meta, *, module, common, options, readings=None):
     without making a Python object per frame. ``module``, ``common`` and ``options`` come
     from :func:`method_options`; ``readings`` (n, rows, cols), the frames, are needed for
     ``gains="learn"``: the gains learned on the used points correct every frame before
-    ``hist`` is counted again and the method fitted.
+    ``hist`` is counted again and the method fitted. ``diagnose=False`` leaves out the
+    lack-of-fit checks (``lack_of_fit`` None): the prediction interval's refits, of which
+    only the law is used.
     """
     area = _sensel_area(meta["sensel_area_mm2"], common.sensel_area_mm2)
     used, reasons = select_points(load, meta, common.saturated)
@@ -334,15 +336,16 @@ def fit_arrays(hist, load, meta, *, module, common, options, readings=None):
                         options)
     result.selection = selection
     result.equilibration = gains
-    exact = used & ((meta["saturated_cells"] == 0) | (common.saturated != "censored"))
-    mean_raw = meta["raw_sum"][exact] / np.maximum(meta["loaded_cells"][exact], 1)
-    power_law = fit.model == "power" and module.NAME != "linear" or selection is not None
-    result.lack_of_fit = lack_of_fit(
-        load[exact], result.points["predicted_N"].to_numpy()[exact], mean_raw,
-        n_parameters=law_parameters(module.NAME, fit.model, fit.params), selection=selection,
-        hist=take_rows(hist, exact) if power_law else None)
-    for message in result.lack_of_fit.messages:
-        warnings.warn(f"{module.NAME} calibration: {message}", UserWarning, stacklevel=3)
+    if diagnose:
+        exact = used & ((meta["saturated_cells"] == 0) | (common.saturated != "censored"))
+        mean_raw = meta["raw_sum"][exact] / np.maximum(meta["loaded_cells"][exact], 1)
+        power_law = fit.model == "power" and module.NAME != "linear" or selection is not None
+        result.lack_of_fit = lack_of_fit(
+            load[exact], result.points["predicted_N"].to_numpy()[exact], mean_raw,
+            n_parameters=law_parameters(module.NAME, fit.model, fit.params),
+            selection=selection, hist=take_rows(hist, exact) if power_law else None)
+        for message in result.lack_of_fit.messages:
+            warnings.warn(f"{module.NAME} calibration: {message}", UserWarning, stacklevel=3)
     if common.n_interval_resamples:
         result.prediction_interval = _interval(hist, load, meta, module, common, options)
     return result
@@ -363,10 +366,11 @@ def _interval(hist, load, meta, module, common, options):
     if len(load) < 3:
         raise TactilecalError(f"{len(load)} patches; a prediction interval needs at least 3")
     once = CommonOptions(saturated=common.saturated, sensel_area_mm2=common.sensel_area_mm2)
-    # the gains learned once stay: the interval is that of the law on corrected frames
+    # the gains learned once stay: the interval is that of the law on corrected frames;
+    # of a refit only its law is used, so its lack-of-fit checks are not made
     boot = bootstrap_refits(lambda idx: fit_arrays(
         hist[idx], load[idx], {k: np.asarray(v)[idx] for k, v in meta.items()},
-        module=module, common=once, options=options), hist, load,
+        module=module, common=once, options=options, diagnose=False), hist, load,
         n_resamples=common.n_interval_resamples, seed=common.seed)
     return boot.prediction_interval(INTERVAL_LEVEL)
 

@@ -100,7 +100,7 @@ def _read(f, name, head):
     f.seek(head.body)
     block_bytes = min(BLOCK_BYTES, max(2**12, size * VALUES_PER_BLOCK // n_values))
     parts = _in_order(lambda job: _Block(head, flat, raw, n_frames == 0, *job),
-                      _jobs(f, head, block_bytes))
+                      _jobs(f, head, block_bytes), threads=size > block_bytes)
     if not parts or parts[-1].end is None or any(p.end is not None for p in parts[:-1]):
         raise _NotPlain  # no @@, or F lines after it
     return values, _index(f, name, head, parts, n_frames, raw)
@@ -165,14 +165,19 @@ def _jobs(f, head, block_bytes):
         held = len(pending[0])
 
 
-def _in_order(function, jobs):
+def _in_order(function, jobs, *, threads=True):
     """``[function(job) for job in jobs]`` on one thread per core, a few jobs ahead at most.
 
     NumPy releases the GIL inside its array operations, so the blocks parse in parallel;
     at most two jobs per thread are read ahead (memory: a few blocks, whatever the file).
+    ``threads=False`` (a file no larger than a block, read as two jobs: its frames, then
+    the last frame, cut off to start a next block) runs the jobs here: a pool would only
+    add its threads' start-up, about as long as the read of a small export.
     """
     from concurrent.futures import ThreadPoolExecutor
 
+    if not threads:
+        return [function(job) for job in jobs]
     workers = os.cpu_count() or 1
     done, pending = [], deque()
     with ThreadPoolExecutor(max_workers=workers) as pool:
