@@ -208,7 +208,8 @@ def check_stray_f(f, index):
         return
     line, offset, length, _ = index.stray_f
     f.seek(offset)
-    buf = np.frombuffer(f.read(length) + b"\n", dtype=np.uint8)
+    # writable, as the blocks' buffers: one compiled parse_rows for both
+    buf = np.frombuffer(bytearray(f.read(length) + b"\n"), dtype=np.uint8)
     out = np.empty(index.cols)
     status, pos, k, _ = kernels.parse_rows(
         buf, 0, buf.size, out, 0, index.cols, index.cols, index.spaced, False,
