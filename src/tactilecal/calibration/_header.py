@@ -44,19 +44,19 @@ def header_calibration(recording):
     5.94
     """
     law = header_law(recording)
-    params = {"A": law.A, "b": law.b}
-    if law.load_N is None:
-        return _result(params, law, np.zeros((0, 256)), np.zeros(0), [])
-    hist = np.zeros((1, 256))
+    hist = np.zeros((0 if law.load_N is None else 1, 256))
     cells, raw_sum = law.loaded_cells, law.raw_sum
     if cells:
         lo = min(int(raw_sum // cells), 254)
         hist[0, lo], hist[0, lo + 1] = cells - (raw_sum - lo * cells), raw_sum - lo * cells
-    return _result(params, law, hist, np.array([law.load_N]), [raw_sum, cells])
+    return _result(law, hist)
 
 
-def _result(params, law, hist, load, point):
-    area = law.sensel_area_mm2
+def _result(law, hist):
+    """Return the result of ``law`` with its point (none for the 2-point power law)."""
+    point = [] if law.load_N is None else [law.raw_sum, law.loaded_cells]
+    load = np.array([law.load_N] if point else [], dtype=float)
+    params, area = {"A": law.A, "b": law.b}, law.sensel_area_mm2
     meta = {"file": np.array(["header"] * len(load), dtype=object),
             "frame": np.zeros(len(load), int), "raw_sum": np.array(point[:1] * len(load)),
             "loaded_cells": np.array(point[1:] * len(load), dtype=int),
