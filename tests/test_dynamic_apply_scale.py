@@ -127,6 +127,28 @@ def test_float32_output_is_the_float64_result_rounded(path, source):
     np.testing.assert_allclose(values, wide.values, rtol=0, atol=2 * step)
 
 
+def test_every_type_combination_runs_on_few_compiled_kernels():
+    """Record type x precision x result type (8 paths, in memory and in dask chunks) share
+    the stage kernels: stage 1's long kernel per record type, stage 3's for five
+    combinations of types (numba compiles a kernel for every combination it is called with,
+    seconds each on a fresh install)."""
+    from tactilecal.dynamic import _multirate
+
+    x = _walk(3001, (2, 3), seed=12, offset=100.0)
+    for source in (np.float32, np.float64):
+        rec = _record(x.astype(source))
+        for precision in ("single", "double"):
+            wide = apply_filter(rec, FILTERS["log"], precision=precision)
+            for data in (rec, rec.chunk({"frame": 1500})):
+                narrow = apply_filter(data, FILTERS["log"], precision=precision,
+                                      dtype="float32").values
+                step = np.spacing(np.float32(np.abs(wide.values).max()))
+                np.testing.assert_allclose(narrow, wide.values, rtol=0, atol=2 * step)
+    assert len(_multirate._sum_tile.signatures) <= 2
+    assert len(_multirate._store_tile.signatures) <= 2
+    assert len(_multirate._interpolate_rows.signatures) <= 5
+
+
 @pytest.mark.parametrize("dtype", ["float16", "int32", "complex64", "pressure", 3])
 def test_an_output_type_other_than_float64_or_float32_is_refused(dtype):
     rec = _record(_walk(3001, (2,), seed=10))
@@ -247,6 +269,7 @@ def test_interpolation_kernel_sums_any_number_of_polyphase_taps(n_q):
     weights = rng.standard_normal((factor, n_q))
     corrected = rng.standard_normal((width, (n_frames + offset) // factor + n_q + 1))
     x = rng.standard_normal((n_frames, width))
+    x.flags.writeable = False  # as interpolate() passes the rows: no kernel of its own
     out = np.full_like(x, np.nan)
     _interpolate_rows(x, corrected, weights, offset, 0, n_frames, 0, width, out)
     frame = np.arange(n_frames) + offset

@@ -39,6 +39,7 @@ from tactilecal._validate import float_type
 from tactilecal.dynamic._filter import PRECISIONS
 from tactilecal.dynamic._multirate import (
     BlockLayout,
+    _read_only,
     apply_multirate,
     correct,
     decimate,
@@ -340,8 +341,8 @@ def _correct_interpolate_task(rows, *pieces, spec):
         window[:, end:end + piece.shape[-1]] = piece
         end += piece.shape[-1]
     window[:, end:] = 0
-    corrected = correct(window, plan, n_out, out=window)
-    return interpolate(_flat(rows), corrected, plan, spec["offset"],
+    correct(window, plan, n_out, out=window)
+    return interpolate(_flat(rows), window, plan, spec["offset"],
                        dtype=spec["dtype"]).reshape(rows.shape)
 
 
@@ -461,7 +462,7 @@ def _sosfilt_rows(sos, rows, first, state, s0, s1, out):  # pragma: no cover
 def _causal_block(rows, first, state, sos, workers=1, dtype=float):
     """Filter ``rows`` (time first) causally from ``state``; return ``(out, state)``."""
     shape = rows.shape
-    rows = _flat(rows)
+    rows = _read_only(_flat(rows))  # one kernel for a dask chunk and an array of our own
     m = rows.shape[1]
     first = np.asarray(first, dtype=float).reshape(m)
     state = np.zeros((sos.shape[0], 2, m)) if state is None else state.copy()

@@ -219,23 +219,22 @@ def _row(before, rows, after, t, reflect, spare):  # pragma: no cover
     return spare
 
 
-@njit(nogil=True, fastmath={"contract"})
 def _decimate_rows(before, rows, after, reflect, lowpass, factor, first, k0, k1, s0, s1, ref,
-                   lines, sums):  # pragma: no cover
+                   lines, sums):
     """``lines[s, k] = sum_j lowpass[j] x[first + factor k + j - c, s] - ref[s]``.
 
     For ``k0 <= k < k1`` and ``s0 <= s < s1``; ``x`` is ``rows`` extended by ``before``
     and ``after``, or with ``reflect`` by its odd reflection, computed row by row where
-    it is read (:func:`_row`): no margins are allocated. Two consecutive decimated rows
-    are summed in one pass over the ``len(lowpass) + P`` rows they read (each row loaded
-    once for both: 17 % faster than one at a time), in float64 over whole rows into a
-    tile of ``TILE`` decimated rows, then written sensel-major in the type of ``lines``;
-    ``sums`` (float64) accumulates the stored values, so a NaN anywhere in a sensel
-    shows in its sum.
+    it is read (:func:`_row`): no margins are allocated. A tile of ``TILE`` decimated
+    rows is summed in float64 (:func:`_sum_tile`), then written sensel-major in the type
+    of ``lines`` (:func:`_store_tile`); ``sums`` (float64) accumulates the stored values,
+    so a NaN anywhere in a sensel shows in its sum. The two are kernels of their own,
+    called tile by tile from here, so that numba compiles the long one once per type of
+    ``rows`` and the short one once per type of ``lines``, not both for every pair of
+    types (a kernel calling them would compile them again, inlined, for every pair).
     """
     width = s1 - s0
     n_taps = lowpass.size
-    c = n_taps // 2
     span = n_taps + factor
     taps0, taps1 = np.zeros(span), np.zeros(span)  # of rows k and k + 1 over the span
     taps0[:n_taps] = lowpass
@@ -244,47 +243,71 @@ def _decimate_rows(before, rows, after, reflect, lowpass, factor, first, k0, k1,
     spare = np.empty((4, rows.shape[1]), dtype=rows.dtype)  # reflected rows r0 .. r3
     for a in range(k0, k1, TILE):
         b = min(a + TILE, k1)
-        for k in range(a, b - 1, 2):
-            base = first + factor * k - c
-            acc0, acc1 = tile[k - a], tile[k + 1 - a]
-            acc0[:] = 0.0
-            acc1[:] = 0.0
-            j = 0
-            while j + 4 <= span:
-                r0 = _row(before, rows, after, base + j, reflect, spare[0])[s0:s1]
-                r1 = _row(before, rows, after, base + j + 1, reflect, spare[1])[s0:s1]
-                r2 = _row(before, rows, after, base + j + 2, reflect, spare[2])[s0:s1]
-                r3 = _row(before, rows, after, base + j + 3, reflect, spare[3])[s0:s1]
-                p0, p1, p2, p3 = taps0[j], taps0[j + 1], taps0[j + 2], taps0[j + 3]
-                q0, q1, q2, q3 = taps1[j], taps1[j + 1], taps1[j + 2], taps1[j + 3]
-                for s in range(width):
-                    v0, v1, v2, v3 = r0[s], r1[s], r2[s], r3[s]
-                    acc0[s] += (p0 * v0 + p1 * v1) + (p2 * v2 + p3 * v3)
-                    acc1[s] += (q0 * v0 + q1 * v1) + (q2 * v2 + q3 * v3)
-                j += 4
-            while j < span:
-                r0 = _row(before, rows, after, base + j, reflect, spare[0])[s0:s1]
-                p0, q0 = taps0[j], taps1[j]
-                for s in range(width):
-                    acc0[s] += p0 * r0[s]
-                    acc1[s] += q0 * r0[s]
-                j += 1
-        if (b - a) % 2:  # the tile's last row alone, reading only its own rows
-            base = first + factor * (b - 1) - c
-            acc0 = tile[b - 1 - a]
-            acc0[:] = 0.0
-            for j in range(n_taps):
-                r0 = _row(before, rows, after, base + j, reflect, spare[0])[s0:s1]
-                p0 = lowpass[j]
-                for s in range(width):
-                    acc0[s] += p0 * r0[s]
-        for s in range(width):
-            line, offset, total = lines[s0 + s], ref[s0 + s], 0.0
-            for k in range(a, b):
-                value = tile[k - a, s] - offset
-                line[k] = value
-                total += value
-            sums[s0 + s] += total
+        _sum_tile(before, rows, after, reflect, lowpass, taps0, taps1, factor, first, a, b,
+                  s0, s1, tile, spare)
+        _store_tile(tile, a, b, s0, ref, lines, sums)
+
+
+@njit(nogil=True, fastmath={"contract"})
+def _sum_tile(before, rows, after, reflect, lowpass, taps0, taps1, factor, first, a, b, s0,
+              s1, tile, spare):  # pragma: no cover
+    """``tile[k - a, s - s0] = sum_j lowpass[j] x[first + factor k + j - c, s]``, float64.
+
+    For ``a <= k < b`` (at most ``TILE`` rows). Two consecutive decimated rows are summed
+    in one pass over the ``len(lowpass) + P`` rows they read (``taps0`` and ``taps1``:
+    the low-pass placed for each over that span; each row loaded once for both: 17 %
+    faster than one at a time), over whole rows.
+    """
+    width = s1 - s0
+    n_taps = lowpass.size
+    c = n_taps // 2
+    span = n_taps + factor
+    for k in range(a, b - 1, 2):
+        base = first + factor * k - c
+        acc0, acc1 = tile[k - a], tile[k + 1 - a]
+        acc0[:] = 0.0
+        acc1[:] = 0.0
+        j = 0
+        while j + 4 <= span:
+            r0 = _row(before, rows, after, base + j, reflect, spare[0])[s0:s1]
+            r1 = _row(before, rows, after, base + j + 1, reflect, spare[1])[s0:s1]
+            r2 = _row(before, rows, after, base + j + 2, reflect, spare[2])[s0:s1]
+            r3 = _row(before, rows, after, base + j + 3, reflect, spare[3])[s0:s1]
+            p0, p1, p2, p3 = taps0[j], taps0[j + 1], taps0[j + 2], taps0[j + 3]
+            q0, q1, q2, q3 = taps1[j], taps1[j + 1], taps1[j + 2], taps1[j + 3]
+            for s in range(width):
+                v0, v1, v2, v3 = r0[s], r1[s], r2[s], r3[s]
+                acc0[s] += (p0 * v0 + p1 * v1) + (p2 * v2 + p3 * v3)
+                acc1[s] += (q0 * v0 + q1 * v1) + (q2 * v2 + q3 * v3)
+            j += 4
+        while j < span:
+            r0 = _row(before, rows, after, base + j, reflect, spare[0])[s0:s1]
+            p0, q0 = taps0[j], taps1[j]
+            for s in range(width):
+                acc0[s] += p0 * r0[s]
+                acc1[s] += q0 * r0[s]
+            j += 1
+    if (b - a) % 2:  # the tile's last row alone, reading only its own rows
+        base = first + factor * (b - 1) - c
+        acc0 = tile[b - 1 - a]
+        acc0[:] = 0.0
+        for j in range(n_taps):
+            r0 = _row(before, rows, after, base + j, reflect, spare[0])[s0:s1]
+            p0 = lowpass[j]
+            for s in range(width):
+                acc0[s] += p0 * r0[s]
+
+
+@njit(nogil=True)
+def _store_tile(tile, a, b, s0, ref, lines, sums):  # pragma: no cover
+    """``lines[s0 + s, k] = tile[k - a, s] - ref[s0 + s]`` for ``a <= k < b``; ``sums`` too."""
+    for s in range(tile.shape[1]):
+        line, offset, total = lines[s0 + s], ref[s0 + s], 0.0
+        for k in range(a, b):
+            value = tile[k - a, s] - offset
+            line[k] = value
+            total += value
+        sums[s0 + s] += total
 
 
 @njit(nogil=True, fastmath={"contract"})
@@ -492,10 +515,26 @@ def interpolate(rows, corrected, plan, offset, *, workers=1, progress=None, dtyp
     """Stage 3: ``rows + P (h * up(corrected))`` as ``dtype`` (see :class:`BlockLayout`).
 
     ``corrected`` is sensel-major, its column 0 the corrected sample ``q_half`` grid points
-    before the block's first one; ``offset`` is the block's first frame modulo ``P``.
+    before the block's first one, and may have more columns than are read (pass the
+    buffer :func:`correct` wrote into, which is contiguous, rather than its first
+    columns); ``offset`` is the block's first frame modulo ``P``.
+
+    numba compiles the kernel once for every combination of argument types (seconds
+    each), so it sees five: float32 rows with a float32 correction into either type, and
+    float64 rows with a float64 correction into float64 or with a float32 one into either.
+    A float64 correction for a float32 result is rounded to float32 first (a fifth of the
+    rows or fewer, and the result is float32 anyway); float32 rows with a float64
+    correction are widened into the result, which the kernel corrects in place (the same
+    sums).
     """
     n, m = rows.shape
     out = np.empty((n, m), dtype=dtype)
+    if out.dtype == np.float32 and corrected.dtype != np.float32:
+        corrected = corrected[:, :BlockLayout.of(plan, offset, n).corrected].astype(np.float32)
+    corrected = np.ascontiguousarray(corrected)
+    if corrected.dtype == np.float64 and rows.dtype != np.float64:
+        out[...] = rows
+        rows = out
     weights = plan.polyphase(corrected.dtype)
     rows = _read_only(rows)
     threads = _threads(workers)
@@ -560,9 +599,9 @@ def filter_block(before, rows, after, offset, plan, *, precision="single", worke
     lap("decimate")
     if check is not None:
         check(sums)
-    corrected = correct(lines, plan, layout.corrected, workers=workers, out=lines)
+    correct(lines, plan, layout.corrected, workers=workers, out=lines)
     lap("correct")
-    out = interpolate(rows, corrected, plan, layout.offset, workers=workers, progress=progress,
+    out = interpolate(rows, lines, plan, layout.offset, workers=workers, progress=progress,
                       dtype=dtype)
     lap("interpolate into the new output")
     return out
