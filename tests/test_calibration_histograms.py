@@ -126,6 +126,30 @@ def test_out_of_range_integer_and_first_one_named(count):
         count(frames)
 
 
+def test_compiled_counts_of_every_type_use_three_kernels(movie):
+    """Frames of any type into counts of any type, over several kernel blocks: float32,
+    float64 or uint8 frames into int64 counts are all the kernels see (numba compiles one
+    for every pair of types it is called with)."""
+    from tactilecal.calibration import _histogram_kernels as kernels
+    from tactilecal.calibration._histogram import KERNEL_FRAMES
+
+    frames = np.concatenate([np.nan_to_num(movie)] * (2 * KERNEL_FRAMES // len(movie) + 1))
+    expected = reference_histograms(frames)
+    for dtype in (np.float64, np.float32, np.uint8, np.uint16, np.int16, np.int64):
+        for counts in (np.int64, np.uint16, np.float64):
+            out = np.empty((len(frames), 256), counts)
+            _frame_histograms(frames.astype(dtype), compiled=True, out=out)
+            np.testing.assert_array_equal(out, expected)
+    bad = frames.astype(np.int32)
+    bad[2 * KERNEL_FRAMES + 3, 1, 2] = -7  # in the third block: its flat index is kept
+    with pytest.raises(ValueError, match="contain the value -7; expected"):
+        _frame_histograms(bad, compiled=True, out=np.empty((len(bad), 256), np.uint16))
+    kinds = {(sig[0].dtype.name, sig[2].dtype.name)
+             for kernel in (kernels._count_values, kernels._count_uint8)
+             for sig in kernel.signatures}
+    assert kinds <= {("float64", "int64"), ("float32", "int64"), ("uint8", "int64")}
+
+
 def test_bad_types_and_shapes(count):
     with pytest.raises(TypeError, match="raw frames have dtype complex128; expected real"):
         count(np.zeros((1, 2, 2), complex))

@@ -178,7 +178,7 @@ def test_hist_products_equal_the_dense_product(n, dtype, columns):
     if n >= 2 * powerfit.PRODUCT_ROWS_PER_THREAD:  # blocks of rows on the cores, each row as alone
         from tactilecal.calibration._powerfit_kernels import hist_dot
 
-        whole = hist_dot(hist, matrix, np.empty((columns, n)))
+        whole = hist_dot(hist, matrix, np.empty((columns, n)), 0)
         np.testing.assert_array_equal(powerfit.hist_products(hist, matrix), whole)
 
 

@@ -21,6 +21,9 @@ SATURATION_RAW = 255
 #: Readings from which the compiled kernel is used (2**26: 35,000 frames of 44 x 44, where
 #: the NumPy path takes about as long as numba's start-up).
 COMPILED_MIN_VALUES = 2 ** 26
+#: Frames per kernel call when the counts are copied into another type (an int64 block of
+#: 512 KiB, which stays in cache while it is copied).
+KERNEL_FRAMES = 256
 
 
 def count_into(frames, skip, out, *, compiled):
@@ -34,8 +37,9 @@ def count_into(frames, skip, out, *, compiled):
     skip : numpy.ndarray of bool, shape (n_sensels,)
         Sensels not to count (non-working); their readings are not checked either.
     out : numpy.ndarray, shape (m, 256)
-        Filled in place (any numeric dtype; uint16, int64 and float64 are written
-        directly; uint16 holds the counts of frames of fewer than 2**16 sensels).
+        Filled in place (any numeric dtype; uint16 holds the counts of frames of fewer
+        than 2**16 sensels). The NumPy path writes uint16, int64 and float64 directly, the
+        compiled one int64, and other types through blocks of int64 counts.
     compiled : bool
         Use the numba kernel (one pass) rather than NumPy (a few passes per 64 frames).
 
@@ -60,22 +64,48 @@ def count_into(frames, skip, out, *, compiled):
         raise TypeError(f"raw frames have dtype {frames.dtype}; expected real numbers "
                         "(raw readings 0..255)")
     frames = np.ascontiguousarray(frames)
-    direct = out.dtype in (np.uint16, np.int64, np.float64) and out.flags.c_contiguous
-    target = out if direct else np.empty(out.shape, np.int64)
     if compiled:
-        from tactilecal.calibration._histogram_kernels import kernel_for
-
-        bad = kernel_for(frames.dtype)(frames, np.flatnonzero(skip), target)
+        bad = _count_compiled(frames, np.flatnonzero(skip), out)
     else:
+        direct = out.dtype in (np.uint16, np.int64, np.float64) and out.flags.c_contiguous
+        target = out if direct else np.empty(out.shape, np.int64)
         bad = _count_numpy(frames, skip, target)
+        if not direct:
+            out[...] = target
     if bad >= 0:
         value = frames.flat[bad]
         value = np.rint(value) if frames.dtype.kind == "f" else value
         raise TactilecalError(f"raw frames contain the value {value:g}; expected raw readings "
                               "0..255")
-    if not direct:
-        out[...] = target
     return out
+
+
+def _count_compiled(frames, skipped, out):
+    """Count with the numba kernels; return -1 or the flat index of the first bad reading.
+
+    The kernels see uint8, float32 or float64 frames and int64 counts only: numba compiles
+    a kernel for every pair of types, each in about half a second. Other integer frames
+    are widened to float64 (exact below 2**53; larger values are out of range either way,
+    and the error quotes the reading itself) and counts of another type or layout are
+    copied from an int64 block, :data:`KERNEL_FRAMES` frames at a time.
+    """
+    from tactilecal.calibration._histogram_kernels import kernel_for
+
+    widen = frames.dtype not in (np.uint8, np.float32, np.float64)
+    if not widen and out.dtype == np.int64 and out.flags.c_contiguous:
+        return kernel_for(frames.dtype)(frames, skipped, out)
+    n, m = frames.shape
+    target = np.empty((min(n, KERNEL_FRAMES), N_LEVELS), np.int64)
+    for start in range(0, n, KERNEL_FRAMES):
+        block = frames[start:start + KERNEL_FRAMES]
+        if widen:
+            block = block.astype(np.float64)
+        counts = target[:len(block)]
+        bad = kernel_for(block.dtype)(block, skipped, counts)
+        if bad >= 0:
+            return start * m + bad
+        out[start:start + len(block)] = counts
+    return -1
 
 
 def _count_numpy(frames, skip, out, chunk_frames=64):

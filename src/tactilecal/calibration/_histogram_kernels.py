@@ -45,10 +45,11 @@ def _count_row(index, counts, out, i):  # pragma: no cover (compiled)
 
 @njit(nogil=True)
 def _count_values(frames, skipped, out):  # pragma: no cover (compiled)
-    """Histograms of float or integer frames (m, n_sensels), rounded like ``numpy.rint``.
+    """Histograms of float frames (m, n_sensels), rounded half to even like ``numpy.rint``.
 
-    Floats are rounded half to even; integers pass through ``rint`` unchanged (compiled
-    once per dtype, so a second kernel for integers would only repeat this one).
+    Compiled once per type of ``frames`` and ``out``, so
+    :func:`~tactilecal.calibration._histogram.count_into` passes only float32 or float64
+    frames (integers widened to float64) and int64 counts.
 
     ``skipped`` lists the sensels not counted. Returns -1, or the flat index of the first
     finite, counted reading whose rounded value lies outside 0..255 (counting stops there).

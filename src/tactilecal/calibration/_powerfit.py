@@ -87,7 +87,7 @@ def hist_products(hist, matrix):
         threads = 1
     bounds = np.linspace(0, len(hist), threads + 1).astype(int)
     with ThreadPoolExecutor(max_workers=threads) as pool:  # the kernel releases the GIL
-        for _ in pool.map(lambda a, b: hist_dot(hist[a:b], matrix, out[:, a:b]),
+        for _ in pool.map(lambda a, b: hist_dot(hist[a:b], matrix, out, a),
                           bounds[:-1], bounds[1:]):
             pass
     return out
@@ -290,7 +290,11 @@ def _costs_many(sums, load_N, objective, censored, window=None):
         flags = np.zeros(len(load_N), bool) if censored is None else censored
         if window is None:
             window = np.full(len(sums), -np.inf), np.full(len(sums), np.inf)
-        return l1_costs(sums, load_N, flags, *window)
+        # contiguous, as the kernel was compiled for (a strided load would compile again)
+        return l1_costs(np.ascontiguousarray(sums, dtype=float),
+                        np.ascontiguousarray(load_N, dtype=float),
+                        np.ascontiguousarray(flags, dtype=bool),
+                        *(np.ascontiguousarray(w, dtype=float) for w in window))
     return _costs_numpy(sums, load_N, objective)
 
 

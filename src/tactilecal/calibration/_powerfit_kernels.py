@@ -164,20 +164,22 @@ DENSE_MAX_COLUMNS = 4
 
 
 @njit(nogil=True)
-def hist_dot(hist, matrix, out):  # pragma: no cover (compiled)
-    """``(hist @ matrix).T`` into ``out`` (c, n) in one thread.
+def hist_dot(hist, matrix, out, start):  # pragma: no cover (compiled)
+    """``(hist @ matrix).T`` into ``out[:, start:start + len(hist)]`` in one thread.
 
     Up to :data:`DENSE_MAX_COLUMNS` columns every bin is multiplied (:func:`_dense_dot`);
-    beyond, empty bins are skipped (:func:`_sparse_dot`).
+    beyond, empty bins are skipped (:func:`_sparse_dot`). ``out`` is the whole (c, n)
+    result, contiguous, whichever block of rows a thread fills: a block of its columns
+    would be another array type, for which numba would compile the kernels again.
     """
     if matrix.shape[1] <= DENSE_MAX_COLUMNS:
-        return _dense_dot(hist, np.ascontiguousarray(matrix.T), out)
-    return _sparse_dot(hist, matrix, out)
+        return _dense_dot(hist, np.ascontiguousarray(matrix.T), out, start)
+    return _sparse_dot(hist, matrix, out, start)
 
 
 @njit(nogil=True, fastmath={"reassoc", "contract"})
-def _dense_dot(hist, matrix_t, out):  # pragma: no cover (compiled)
-    """``(hist @ matrix_t.T).T`` into ``out`` (c, n): every bin, in vector registers.
+def _dense_dot(hist, matrix_t, out, start):  # pragma: no cover (compiled)
+    """``(hist @ matrix_t.T).T`` into ``out[:, start:]`` (c, n): every bin, in vector registers.
 
     Each sum is reassociated (``fastmath``) so that the compiler keeps several partial
     sums in SIMD registers: equal to the ordered sum to round-off, and exact for
@@ -195,13 +197,13 @@ def _dense_dot(hist, matrix_t, out):  # pragma: no cover (compiled)
             acc = 0.0
             for j in range(k):
                 acc += row[j] * weights[j]
-            out[q, i] = acc
+            out[q, start + i] = acc
     return out
 
 
 @njit(nogil=True)
-def _sparse_dot(hist, matrix, out):  # pragma: no cover (compiled)
-    """``(hist @ matrix).T`` into ``out`` (c, n), skipping empty bins, in one thread.
+def _sparse_dot(hist, matrix, out, start):  # pragma: no cover (compiled)
+    """``(hist @ matrix).T`` into ``out[:, start:]`` (c, n), skipping empty bins, one thread.
 
     ``hist`` (n, 256) holds counts (any dtype; uint16 for a movie) and ``matrix`` (256, c)
     a few functions of the raw level. A frame's histogram is mostly empty bins (29 of 256
@@ -222,5 +224,5 @@ def _sparse_dot(hist, matrix, out):  # pragma: no cover (compiled)
                 for q in range(c):
                     acc[q] += x * matrix[j, q]
         for q in range(c):
-            out[q, i] = acc[q]
+            out[q, start + i] = acc[q]
     return out

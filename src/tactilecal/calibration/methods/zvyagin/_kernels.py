@@ -196,8 +196,9 @@ def _roots_above(a, deg, lo, hi, crit, found):  # pragma: no cover (compiled)
     if changes == 0:
         return 0
     if changes == 1:
-        p_lo, _dp, _s = _eval(a, deg, 0, lo)
-        found[0] = _polish(a, deg, 0, lo, hi, p_lo, _start(a, deg, 0, lo, hi, p_lo))
+        k = np.int64(0)  # typed: a literal 0 would compile each callee once more for it
+        p_lo, _dp, _s = _eval(a, deg, k, lo)
+        found[0] = _polish(a, deg, k, lo, hi, p_lo, _start(a, deg, k, lo, hi, p_lo))
         return 1
     return _isolate(a, deg, lo, hi, crit, found)
 
@@ -230,7 +231,7 @@ def pair_roots(counts, load_n, first, second, threshold, roots, n_roots,
     found = np.empty(4)
     for p in range(first.size):
         i, j = first[p], second[p]
-        deg = 0
+        deg = np.int64(0)  # typed: as the literal 0, the callees would compile for it too
         for m in range(5):
             a[m] = load_n[j] * counts[i, m] - load_n[i] * counts[j, m]
             if a[m] != 0.0:
