@@ -464,7 +464,7 @@ def _causal_block(rows, first, state, sos, workers=1, dtype=float):
     shape = rows.shape
     rows = _read_only(_flat(rows))  # one kernel for a dask chunk and an array of our own
     m = rows.shape[1]
-    first = np.asarray(first, dtype=float).reshape(m)
+    first = np.array(first, dtype=float).reshape(m)  # writable, as the kernel was compiled
     state = np.zeros((sos.shape[0], 2, m)) if state is None else state.copy()
     out = np.empty(rows.shape, dtype=dtype)
     threads = (os.cpu_count() or 1) if workers == -1 else max(int(workers), 1)
