@@ -1,12 +1,18 @@
 """NumPy reader for plain Tekscan exports: whole numbers and ``B``, no numba.
 
 numba's import and the load of its cached kernels cost more, in a new process, than pandas'
-whole parse of a 10,000-frame export. This reader needs NumPy only. It reads the
-export the way the numba reader does, in blocks of whole frames, but with array operations
-over each block's bytes: the line ends (LF), each line's first byte (blank line, ``F`` frame
-line, row of values, ``@@``), the commas of the rows of values, and per value its last one to
-:data:`_MAX_DIGITS` bytes (digits, ``B`` alone), combined in integers (:func:`_whole_numbers`),
-exact, so that each value equals ``float(token)``.
+whole parse of a 10,000-frame export. This reader needs NumPy only. It reads the export
+the way the numba reader does, in blocks of whole frames, but with array operations over
+each block's bytes: the line ends (LF), each line's first byte (blank line, ``F`` frame
+line, row of values, ``@@``), the commas of the rows of values, and per value its last one
+to :data:`_MAX_DIGITS` bytes (digits, ``B`` alone), combined in integers
+(:func:`_whole_numbers`), exact, so that each value equals ``float(token)``.
+
+The blocks are parsed one after another, through arrays kept from block to block
+(:class:`_Scratch`): a block's operations are a few long calls, and the only fresh pages
+they map hold the positions NumPy returns (in a new process, a page fault per 4 KiB of
+every temporary array cost more than the parse). The next block's first value is where the
+last one ended.
 
 It reads only the *plain* form every real export seen has (``docs/data-model.md``): rows of
 whole numbers and ``B`` separated by single commas, LF or CR LF line ends, frame lines the
@@ -20,7 +26,6 @@ message, whichever reader took it.
 import math
 import os
 import re
-from collections import deque
 
 import numpy as np
 
@@ -29,22 +34,15 @@ from tactilecal.io._tekscan_layout import Index
 
 __all__ = ["BLOCK_BYTES", "read_plain"]
 
-BLOCK_BYTES = 2**21
-"""Most bytes of the file parsed at a time (whole frames; a larger frame is one block)."""
+BLOCK_BYTES = 2**20
+"""Bytes of the file read at a time; each read's whole frames are parsed as one block.
 
-VALUES_PER_BLOCK = 2**15
-"""About as many values are parsed at a time (blocks of whole frames, at most BLOCK_BYTES).
-
-Each array of one number per value is then 256 KiB at most, which the C allocator serves
-again from block to block; from about 512 KiB on, each block's arrays came as fresh pages
-(one page fault per 4 KiB: more system time than the parse's own in a new process).
+About 300,000 values of raw readings: each array of the parse is then a few MB, kept from
+block to block; larger blocks were no faster and need more memory.
 """
 
 _MAX_DIGITS = 15  # a whole number of up to 15 digits is below 2**53: exact in float64
-# per token length: the bytes of a little-endian word that are the token's (the last ones)
-_MASKS = {size: np.array([(2**(8 * size) - 1) ^ (2**(8 * (size - n)) - 1) if n <= size else 0
-                          for n in range(_MAX_DIGITS + 1)], dtype=f"<u{size}")
-          for size in (4, 8)}
+_PAD = 8  # bytes before a block, so that a word can end at any of its bytes
 _FRAME = re.compile(rb"Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,]*?)[ \t]*(?:,|$))")
 _RAW_SUM = re.compile(rb"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)")
 _TIME = re.compile(rb"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
@@ -95,15 +93,11 @@ def _read(f, name, head):
     if n_values > MAX_VALUES or 2 * n_values > size:
         raise _NotPlain  # more values than the file has room for (a value and a comma each)
     values = np.empty((max(n_frames, 1), head.rows, head.cols))
-    flat = values.reshape(-1)
     raw = head.attrs.get("units") in (None, "raw")
     f.seek(head.body)
-    block_bytes = min(BLOCK_BYTES, max(2**12, size * VALUES_PER_BLOCK // n_values))
-    parts = _in_order(lambda job: _Block(head, flat, raw, n_frames == 0, *job),
-                      _jobs(f, head, block_bytes), threads=size > block_bytes)
-    if not parts or parts[-1].end is None or any(p.end is not None for p in parts[:-1]):
-        raise _NotPlain  # no @@, or F lines after it
-    return values, _index(f, name, head, parts, n_frames, raw)
+    parser = _Parser(head, values.reshape(-1), raw, single=n_frames == 0)
+    parser.read(f)
+    return values, _index(f, name, head, parser, n_frames, raw)
 
 
 def _header_frames(head):
@@ -130,106 +124,131 @@ def _count_frames(f, body):
     return count
 
 
-def _jobs(f, head, block_bytes):
-    """Yield ``(bytes, file offset, first value)`` of each block.
+class _Scratch:
+    """Arrays kept from block to block: views of the first ``n`` items, grown when needed."""
 
-    A block is whole lines, cut before a frame (``F``) line, so that it holds whole frames and
-    its first value's index in the result follows from the frame lines before it. (Its lines
-    are counted by the thread that parses it: :func:`_index` numbers them.)
+    def __init__(self):
+        self._arrays = {}
+
+    def get(self, key, n, dtype):
+        array = self._arrays.get((key, np.dtype(dtype)))
+        if array is None or array.size < n:
+            array = np.empty(max(n, 2 * (0 if array is None else array.size)), dtype=dtype)
+            self._arrays[key, np.dtype(dtype)] = array
+        return array[:n]
+
+
+class _Parser:
+    """Parse the blocks of an export, one after another, into ``flat``.
+
+    Each read of :data:`BLOCK_BYTES` is appended to the bytes held; the whole frames among
+    them (up to the last frame line, or to ``@@``) are parsed, the rest held for the next.
+    Collected per block: the frame lines (file offsets, line numbers, frame numbers, times,
+    raw sums) and, for raw files, each frame's sum.
     """
-    base, k = head.body, 0
-    pending, held = [], 0  # bytes read since the last cut (joined once, at the next cut)
-    per_frame = head.rows * head.cols
-    largest = 17 * per_frame + 2 * head.rows + 2**20  # a plain frame: 15 digits and a comma
-    while True:
-        chunk = f.read(block_bytes)
-        if held > largest:
-            raise _NotPlain  # more bytes than a plain frame holds: the numba reader says why
-        if not chunk:
-            data = b"".join(pending)
-            if data:
-                yield data if data.endswith(b"\n") else data + b"\n", base, k
-            return
-        tail = pending[-1][-1:] if pending else b""
-        found = (tail + chunk).rfind(b"\nF")  # the bytes held before were searched already
-        cut = found + held - len(tail) if found >= 0 else 0
-        if cut <= 0:  # no frame line to cut before yet: read on
-            pending.append(chunk)
-            held += len(chunk)
-            continue
-        data = b"".join((*pending, chunk))
-        block = data[:cut + 1]
-        yield block, base, k
-        k += (block.count(b"\nF") + block.startswith(b"F")) * per_frame
-        pending, base = [data[cut + 1:]], base + cut + 1
-        held = len(pending[0])
 
+    def __init__(self, head, flat, raw, single):
+        self.head, self.flat, self.raw, self.single = head, flat, raw, single
+        self.scratch = _Scratch()
+        self.frames, self.sums = [], []
+        self.end = None  # file offset of the ``@@`` line
+        self.k = 0  # values parsed
+        self.line = head.first_line  # number of the first line held
 
-def _in_order(function, jobs, *, threads=True):
-    """``[function(job) for job in jobs]`` on one thread per core, a few jobs ahead at most.
+    def read(self, f):
+        """Parse the file ``f`` from its current offset (the header's end)."""
+        head = self.head
+        largest = 17 * head.rows * head.cols + 2 * head.rows + 2**20  # a plain frame, at most
+        buf = np.zeros(_PAD + BLOCK_BYTES + largest + 1, dtype=np.uint8)  # pages as used
+        view, held, base = memoryview(buf), 0, head.body
+        while self.end is None:
+            n = f.readinto(view[_PAD + held:_PAD + held + BLOCK_BYTES])
+            held += n
+            if not n and held and buf[_PAD + held - 1] != _LF:
+                buf[_PAD + held], held = _LF, held + 1  # a last line without its LF
+            done = self._block(buf[:_PAD + held], base, last=not n)
+            if self.end is not None or not n:
+                break
+            buf[_PAD:_PAD + held - done] = buf[_PAD + done:_PAD + held]
+            held, base = held - done, base + done
+            if held > largest:
+                raise _NotPlain  # more bytes than a plain frame holds: numba says why
+        if self.end is None:
+            raise _NotPlain  # no @@
+        while chunk := f.read(2**20):
+            _check_space(chunk)
 
-    NumPy releases the GIL inside its array operations, so the blocks parse in parallel;
-    at most two jobs per thread are read ahead (memory: a few blocks, whatever the file).
-    ``threads=False`` (a file no larger than a block, read as two jobs: its frames, then
-    the last frame, cut off to start a next block) runs the jobs here: a pool would only
-    add its threads' start-up, about as long as the read of a small export.
-    """
-    from concurrent.futures import ThreadPoolExecutor
-
-    if not threads:
-        return [function(job) for job in jobs]
-    workers = os.cpu_count() or 1
-    done, pending = [], deque()
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        try:
-            for job in jobs:
-                pending.append(pool.submit(function, job))
-                if len(pending) > 2 * workers:
-                    done.append(pending.popleft().result())
-            done.extend(future.result() for future in pending)
-        finally:
-            for future in pending:
-                future.cancel()
-    return done
-
-
-class _Block:
-    """Parse one block into ``flat``: its frame lines, each frame's sum and the ``@@`` line."""
-
-    def __init__(self, head, flat, raw, single, block, base, k):
-        self.frames, self.sums, self.end = None, None, None
-        self.n_values = 0
-        if block.find(b"\x00") >= 0:
-            raise _NotPlain  # numba's "a NUL byte"
-        b = np.frombuffer(block, dtype=np.uint8)
-        lf = np.flatnonzero(b == _LF)
+    def _block(self, padded, base, last):
+        """Parse the whole frames of ``padded[_PAD:]``; return the bytes parsed."""
+        b = padded[_PAD:]
+        lf = np.flatnonzero(np.equal(b, _LF, out=self.scratch.get("bytes", b.size, bool)))
+        if not lf.size:
+            return 0
         starts = np.empty_like(lf)
         starts[0], starts[1:] = 0, lf[:-1] + 1
         first = b[starts]
-        ends = lf - ((lf > starts) & (b[lf - 1] == _CR))  # before CR LF
-        is_frame, is_data = first == _F, (first == _B) | (first - 48 <= 9)
+        is_frame = first == _F
         at = np.flatnonzero(first == _AT)
-        stop = len(lf) if at.size == 0 else int(at[0])
-        if not (is_frame | is_data | (ends == starts))[:stop].all():
-            raise _NotPlain  # another line (numba's "expected a 'Frame N' line ..."), lone CR
-        if at.size:
-            if block[starts[stop]:ends[stop]].strip(_SPACE) != b"@@":
+        if at.size:  # the end: its lines, then what follows it
+            stop = int(at[0])
+            if bytes(b[starts[stop]:lf[stop]]).strip(_SPACE) != b"@@":
                 raise _NotPlain
-            _check_space(block[lf[stop] + 1:])
+            _check_space(bytes(b[lf[stop] + 1:]))
             self.end = base + int(starts[stop])
-            is_frame[stop:], is_data[stop:] = False, False
+        elif last:
+            stop = lf.size
+        else:  # up to the last frame line: the frames before it are whole
+            frame_lines = np.flatnonzero(is_frame)
+            stop = int(frame_lines[-1]) if frame_lines.size else 0
+        if stop == 0:
+            return 0
+        lf, starts, first, is_frame = lf[:stop], starts[:stop], first[:stop], is_frame[:stop]
+        ends = lf - ((lf > starts) & (b[lf - 1] == _CR))  # before CR LF
+        is_data = (first == _B) | (first - 48 <= 9)
+        if not (is_frame | is_data | (ends == starts)).all():
+            raise _NotPlain  # another line (numba's "expected a 'Frame N' line ..."), lone CR
         frame_lines, data_lines = np.flatnonzero(is_frame), np.flatnonzero(is_data)
-        self.frames = _frame_lines(block, starts[frame_lines], ends[frame_lines])
-        self.frames = (base + starts[frame_lines], frame_lines, *self.frames)
-        self.n_lines = lf.size  # its frame lines are numbered from its first line
-        _check_rows(frame_lines, data_lines, head.rows, single)
-        self.n_values = data_lines.size * head.cols
+        view = memoryview(b)
+        numbers, times, raw_sums = _frame_lines(view, starts[frame_lines], ends[frame_lines])
+        self.frames.append((base + starts[frame_lines], self.line + frame_lines, numbers,
+                            times, raw_sums))
+        _check_rows(frame_lines, data_lines, self.head.rows, self.single)
         if data_lines.size:
-            whole = _values(b, starts[data_lines], ends[data_lines], starts[frame_lines],
-                            ends[frame_lines], head.cols, flat, k, raw)
-            if raw:
-                self.sums = whole.reshape(-1, head.rows * head.cols).sum(axis=1,
-                                                                          dtype=np.int64)
+            whole = self._values(padded[:_PAD + int(lf[-1]) + 1], starts[data_lines],
+                                 ends[data_lines], starts[frame_lines], ends[frame_lines])
+            if self.raw:
+                per_frame = self.head.rows * self.head.cols
+                self.sums.append(whole.reshape(-1, per_frame).sum(axis=1, dtype=np.int64))
+        self.line += stop
+        return int(lf[-1]) + 1
+
+    def _values(self, padded, row_starts, row_ends, frame_starts, frame_ends):
+        """Parse the rows of values into ``flat``; return them as whole numbers (B as 0)."""
+        cols, b = self.head.cols, padded[_PAD:]
+        n = len(row_starts) * cols
+        if self.k + n > self.flat.size:
+            raise _NotPlain
+        sep = np.equal(b, _COMMA, out=self.scratch.get("bytes", b.size, bool))
+        for start, end in zip(frame_starts.tolist(), frame_ends.tolist(), strict=True):
+            sep[start:end] = False
+        sep[row_ends] = True
+        stops = np.flatnonzero(sep)  # one past each value's last byte
+        if stops.size != n or (stops[cols - 1::cols] != row_ends).any():
+            raise _NotPlain  # a row without COLS values (or a comma outside the rows)
+        length = self.scratch.get("length", n, np.int32)  # a line is shorter than 2**31
+        np.subtract(stops[1:], stops[:-1], out=length[1:], casting="unsafe")
+        length[1:] -= 1
+        length[::cols] = stops[::cols] - row_starts
+        if length.min() < 1 or length.max() > _MAX_DIGITS:
+            raise _NotPlain
+        whole, blank = _whole_numbers(padded, stops, length, self.scratch)
+        if self.raw and whole.max() > 255:
+            raise _NotPlain  # numba's "expected a whole number 0..255"
+        out = self.flat[self.k:self.k + n]
+        np.copyto(out, whole, casting="unsafe")
+        np.copyto(out, np.nan, where=blank)
+        self.k += n
+        return whole
 
 
 def _frame_lines(block, starts, ends):
@@ -241,7 +260,7 @@ def _frame_lines(block, starts, ends):
     """
     text = b"\n".join([block[start:end] for start, end in zip(starts.tolist(), ends.tolist(),
                                                              strict=True)])
-    if not text.isascii() or b"\r" in text:  # else numba: regexes on decoded text
+    if not text.isascii() or b"\r" in text or b"\x00" in text:  # numba: decoded text
         raise _NotPlain
     heads = _FRAMES.findall(text)
     if len(heads) != len(starts) or any(len(number) > 18 for number, _ in heads):
@@ -264,7 +283,7 @@ def _frame_lines_one_by_one(block, starts, ends):
     """:func:`_frame_lines`, line by line (the lines are ASCII without CR: checked there)."""
     numbers, times, raw_sums = [], [], []
     for start, end in zip(starts.tolist(), ends.tolist(), strict=True):
-        text = block[start:end]
+        text = bytes(block[start:end])
         match = _FRAME.match(text)
         if match is None or len(match.group(1)) > 18:
             raise _NotPlain
@@ -294,89 +313,65 @@ def _check_rows(frame_lines, data_lines, rows, single):
         raise _NotPlain
 
 
-def _values(b, row_starts, row_ends, frame_starts, frame_ends, cols, flat, k, raw):
-    """Parse the rows of values into ``flat[k:]``; return them as whole numbers (B as 0)."""
-    n = len(row_starts) * cols
-    if k + n > flat.size:
-        raise _NotPlain
-    sep = b == _COMMA
-    for start, end in zip(frame_starts.tolist(), frame_ends.tolist(), strict=True):
-        sep[start:end] = False
-    sep[row_ends] = True
-    stops = np.flatnonzero(sep)  # one past each value's last byte
-    if stops.size != n or (stops[cols - 1::cols] != row_ends).any():
-        raise _NotPlain  # a row without COLS values (or a comma outside the rows)
-    length = np.empty_like(stops)
-    np.subtract(stops[1:], stops[:-1] + 1, out=length[1:])
-    length[::cols] = stops[::cols] - row_starts
-    if length.min() < 1 or length.max() > _MAX_DIGITS:
-        raise _NotPlain
-    whole, blank = _whole_numbers(b, stops, length)
-    if raw and whole.max() > 255:
-        raise _NotPlain  # numba's "expected a whole number 0..255"
-    out = flat[k:k + n]
-    np.copyto(out, whole, casting="unsafe")
-    np.copyto(out, np.nan, where=blank)
-    return whole
-
-
-def _index(f, name, head, parts, n_frames, raw):
+def _index(f, name, head, parser, n_frames, raw):
     """Return the :class:`Index` of the file from its blocks; check what spans blocks."""
     if n_frames == 0:
         starts, lines, numbers, times, raw_sums = _single_frame(head)
     else:
-        first_lines = np.cumsum([head.first_line] + [p.n_lines for p in parts[:-1]])
-        frames = [(p.frames[0], p.frames[1] + first, *p.frames[2:])
-                  for p, first in zip(parts, first_lines.tolist(), strict=True)]
         starts, lines, numbers, times, raw_sums = (
-            np.concatenate(column) for column in zip(*frames, strict=True))
+            np.concatenate(column) for column in zip(*parser.frames, strict=True))
     if len(numbers) != max(n_frames, 1) or (np.diff(numbers) != 1).any():
         raise _NotPlain
-    if sum(p.n_values for p in parts) != len(numbers) * head.rows * head.cols:
+    if parser.k != len(numbers) * head.rows * head.cols:
         raise _NotPlain  # numba's "... rows of values and no 'Frame N' line ..."
-    if raw:
-        sums = np.concatenate([p.sums for p in parts if p.sums is not None])
+    if raw and parser.sums:
+        sums = np.concatenate(parser.sums)
         if (~np.isnan(raw_sums) & (np.abs(sums - raw_sums) > 0.5)).any():
             raise _NotPlain  # numba's "Raw Sum in the frame line is ..."
     stat = os.fstat(f.fileno())
     return Index(name=name, rows=head.rows, cols=head.cols, header=head.header,
                  attrs=head.attrs, first_line=head.first_line, numbers=numbers,
                  times=times, raw_sums=raw_sums, lines=lines.astype(np.int64),
-                 starts=np.append(starts, parts[-1].end).astype(np.int64), spaced=False,
+                 starts=np.append(starts, parser.end).astype(np.int64), spaced=False,
                  stat=(stat.st_size, stat.st_mtime_ns), stray_f=None)
 
 
-def _whole_numbers(b, stops, length):
+def _whole_numbers(padded, stops, length, scratch=None):
     """Values of the tokens ending before ``stops``: whole numbers (0 for ``B``), ``B`` mask.
 
-    Up to 8 digits, the bytes before each stop are loaded as one little-endian word, those
-    before the token masked to 0 (leading zeros) and the digits combined pairwise by SWAR
+    ``stops`` index the bytes ``padded[_PAD:]`` (the block; any bytes before it). Up to 8
+    digits, the bytes before each stop are loaded as one little-endian word, those before
+    the token masked to 0 (leading zeros) and the digits combined pairwise by SWAR
     multiplications (``x * 10 + (x >> 8)``, then ``* 100`` and ``* 10000``; the eight-digit
     SWAR step of Lemire 2021, "Number parsing at a gigabyte per second", Software: Practice
-    and Experience 51(8)); longer tokens digit by digit.
+    and Experience 51(8)); longer tokens digit by digit. The results are views of
+    ``scratch``'s arrays (:class:`_Scratch`), valid until its next use.
     """
+    scratch = scratch or _Scratch()
     width = int(length.max())
     if width > 8:
-        return _digit_by_digit(b, stops, length)
+        return _digit_by_digit(padded[_PAD:], stops, length)
     dtype, size = (np.uint32, 4) if width <= 4 else (np.uint64, 8)
-    padded = np.empty(b.size + 8, dtype=np.uint8)
-    padded[:8], padded[8:] = 0, b
-    words = np.ndarray((b.size + 1,), dtype=np.dtype(dtype).newbyteorder("<"),
-                       buffer=padded, offset=8 - size, strides=(1,))
-    x = words.take(stops)  # word k ends at byte k - 1
+    n = stops.size
+    words = np.ndarray((padded.size - _PAD + 1,), dtype=np.dtype(dtype).newbyteorder("<"),
+                       buffer=padded, offset=_PAD - size, strides=(1,))
+    x = words.take(stops, out=scratch.get("x", n, dtype))  # word k ends at byte k - 1
+    other = scratch.get("other", n, dtype)
     x ^= _bytes(dtype, b"0")  # digits now 0..9
-    x &= _MASKS[size].take(length)
-    blank = x == dtype((_B ^ 48) << (8 * size - 8))
-    blank &= length == 1
+    before = np.subtract(size, length, out=other, casting="unsafe")  # bytes before the token
+    before <<= dtype(3)
+    x &= np.left_shift(dtype(2**(8 * size) - 1), before, out=other)  # only the token's
+    blank = np.equal(x, dtype((_B ^ 48) << (8 * size - 8)), out=scratch.get("blank", n, bool))
+    blank &= np.equal(length, 1, out=scratch.get("one", n, bool))
     np.copyto(x, 0, where=blank)
-    bad = x + _bytes(dtype, b"\x76")  # a byte above 9 gets its high bit (or had it)
-    bad |= x
+    bad = np.add(x, _bytes(dtype, b"\x76"), out=other)  # a byte above 9: its high bit set
+    bad |= x  # (or had it)
     bad &= _bytes(dtype, b"\x80")
     if bad.any():
         raise _NotPlain
     steps = _SWAR_STEPS if size == 8 else _SWAR_STEPS[:2]  # digits in pairs, pairs in fours..
     for shift, lanes in steps:
-        high = x >> dtype(shift)
+        high = np.right_shift(x, dtype(shift), out=other)
         x *= dtype(10 ** (shift // 8))
         x += high
         x &= _bytes(dtype, lanes)

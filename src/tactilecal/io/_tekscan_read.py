@@ -10,12 +10,12 @@ Layout, as written by Tekscan I-Scan 6.10I and F-Scan 6.33 (the two real exports
     ...
     @@
 
-An export of up to :data:`PLAIN_MAX_BYTES` of data in the plain form every real export seen
-has (whole numbers and ``B``) is read in one pass by NumPy alone (``_tekscan_numpy``), without
-importing numba. Any other file, a larger one and every lazy read go to the numba reader,
-which defines the checks and the messages (the NumPy reader hands over at the first
-departure, raising nothing): the file is read twice, in blocks, by numba kernels over its
-bytes (``_tekscan_kernels``): once to index the frames and check the structure
+An export in the plain form every real export seen has (whole numbers and ``B``), read
+eagerly, is read in one pass by NumPy alone (``_tekscan_numpy``), without importing numba
+(:data:`PLAIN_MAX_BYTES` can bound its size). Any other file and every lazy read go to the
+numba reader, which defines the checks and the messages (the NumPy reader hands over at the
+first departure, raising nothing): the file is read twice, in blocks, by numba kernels over
+its bytes (``_tekscan_kernels``): once to index the frames and check the structure
 (``_tekscan_index``), once to parse the values of whole frames straight into the result
 (``_tekscan_blocks``). Memory is the result plus a few blocks of bytes; with ``chunks`` the
 second pass is left to dask, block by block.
@@ -32,12 +32,12 @@ from tactilecal.io._header import integer
 
 __all__ = ["read_tekscan"]
 
-PLAIN_MAX_BYTES = 2**27
+PLAIN_MAX_BYTES = None
 """Largest data block (bytes after ``ASCII_DATA @@``) the NumPy reader tries; None: any.
 
-Below it numba's start-up (import and loading its cached kernels, once per process)
-outweighs its faster parse; above it the numba reader is as fast or faster
-(``benchmarks/bench_cold_read.py``). 128 MiB is about 19,000 frames of 44 x 44.
+From a cold start the NumPy reader was faster than numba's (its import and the load of its
+cached kernels) at every size measured, to 40,000 frames of 44 x 44
+(``benchmarks/bench_cold_read.py``).
 """
 
 
