@@ -272,7 +272,7 @@ def index_lines(buf, n, lf, base, final, cols, state, info):
     values = np.full((n_frames, 2), np.nan)
     k_frame, rows_before = -1, 0
     line = state[s_line]
-    pos = 0
+    pos = np.int64(0)  # typed: as the literal 0, the line parsers would compile for it too
     for j in range(lf.size + (1 if final else 0)):
         stop = lf[j] if j < lf.size else n
         commas, special = 0, 0
