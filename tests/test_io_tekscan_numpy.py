@@ -6,6 +6,7 @@ over (``read_plain`` returns None) so that the numba reader's message is raised 
 """
 
 import random
+import re
 import subprocess
 import sys
 
@@ -70,6 +71,51 @@ def test_plain_movie_reads_as_the_numba_reader_reads_it(tmp_path, monkeypatch, n
     data = read_tekscan(path)
     np.testing.assert_array_equal(data.values, values)
     assert data.identical(expected)
+
+
+@pytest.mark.parametrize("frame_line", ["I-Scan", "F-Scan"])
+@pytest.mark.parametrize("newline", ["\n", "\r\n"])
+@pytest.mark.parametrize("cores", [2, 3, 5])
+def test_parts_on_threads_read_as_the_numba_reader_reads_it(tmp_path, monkeypatch, cores,
+                                                            newline, frame_line):
+    """The data cut into one part per core, at frame lines found after evenly spaced bytes."""
+    from tactilecal.io._tekscan_index import index_export
+
+    values = _raw(n=40, seed=cores)
+    path = _movie(tmp_path, values, newline=newline)
+    if frame_line == "F-Scan":  # "Frame N" alone
+        path.write_bytes(re.sub(rb"(Frame \d+),[^\r\n]*", rb"\1", path.read_bytes()))
+    expected = _numba_read(path, monkeypatch)
+    monkeypatch.setattr(_tekscan_numpy.os, "cpu_count", lambda: cores)
+    monkeypatch.setattr(_tekscan_numpy, "PART_BYTES", 64)
+    monkeypatch.setattr(_tekscan_numpy, "BLOCK_BYTES", 300)
+    parts = []
+    run = _tekscan_numpy._run
+    monkeypatch.setattr(_tekscan_numpy, "_run",
+                        lambda parsers, fd: parts.append(len(parsers)) or run(parsers, fd))
+    _, plain = _plain(path)
+    assert parts == [cores]
+    assert read_tekscan(path).identical(expected)
+    with open(path, "rb") as f:
+        numba = index_export(f, str(path), whole=True, header=read_header(f, str(path)))
+    np.testing.assert_array_equal(plain.lines, numba.lines)
+    np.testing.assert_array_equal(plain.starts, numba.starts)
+
+
+@pytest.mark.parametrize("old, new", [
+    (b"Frame 21,", b"Frame 22,"),  # a cut's frame number that does not follow
+    (b"\nFrame 21,", b"\n1,2,3,4,5,6,7\nFrame 21,"),  # a row too many before a cut
+    (b"\n@@", b"\nFrame 41,\n@@"),  # a frame line too many at the end
+])
+def test_parts_that_do_not_join_go_to_the_numba_reader(tmp_path, monkeypatch, old, new):
+    values = _raw(n=40)
+    path = _movie(tmp_path, values)
+    path.write_bytes(path.read_bytes().replace(old, new, 1))
+    monkeypatch.setattr(_tekscan_numpy.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(_tekscan_numpy, "PART_BYTES", 64)
+    assert _plain(path) is None
+    assert str(_outcome(read_tekscan, path)) == str(
+        _outcome(lambda p: _numba_read(p, monkeypatch), path))
 
 
 @pytest.mark.parametrize("block_bytes", [1, 1000, 2**21])
@@ -164,8 +210,13 @@ def test_huge_rows_and_cols_are_refused_before_allocating(tmp_path):
     assert _plain(path) is None  # 2e9 values cannot fit in the file: not even allocated
 
 
-def test_mutated_exports_read_or_fail_as_with_the_numba_reader(fuzz, tmp_path, monkeypatch):
-    """300 seeded mutations (byte flips, lines dropped or repeated, lone CR, hostile cells)."""
+@pytest.mark.parametrize("cores", [1, 2])
+def test_mutated_exports_read_or_fail_as_with_the_numba_reader(fuzz, tmp_path, monkeypatch,
+                                                               cores):
+    """300 seeded mutations (byte flips, lines dropped or repeated, lone CR, hostile cells),
+    read as one part, or as one part per core of two."""
+    monkeypatch.setattr(_tekscan_numpy.os, "cpu_count", lambda: cores)
+    monkeypatch.setattr(_tekscan_numpy, "PART_BYTES", 64)
     seeds = [path for kind, path in fuzz.make_seeds(tmp_path / "seeds") if kind == "recording"]
     rng = random.Random(16)
     taken = 0

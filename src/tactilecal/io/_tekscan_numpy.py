@@ -8,11 +8,14 @@ line, row of values, ``@@``), the commas of the rows of values, and per value it
 to :data:`_MAX_DIGITS` bytes (digits, ``B`` alone), combined in integers
 (:func:`_whole_numbers`), exact, so that each value equals ``float(token)``.
 
-The blocks are parsed one after another, through arrays kept from block to block
-(:class:`_Scratch`): a block's operations are a few long calls, and the only fresh pages
-they map hold the positions NumPy returns (in a new process, a page fault per 4 KiB of
-every temporary array cost more than the parse). The next block's first value is where the
-last one ended.
+The data is cut at frame lines into one part per core (:func:`_parts`: a part's first
+value follows from its first frame's number, checked when the parts are joined), each
+parsed by its own thread. A part's blocks are parsed one after another, through arrays
+kept from block to block (:class:`_Scratch`): a block's operations are a few long calls,
+which release the GIL, and the only fresh pages they map hold the positions NumPy returns
+(in a new process, a page fault per 4 KiB of every temporary array cost more than the
+parse; blocks of a few thousand values on a thread pool fought over the GIL and were no
+faster than one thread).
 
 It reads only the *plain* form every real export seen has (``docs/data-model.md``): rows of
 whole numbers and ``B`` separated by single commas, LF or CR LF line ends, frame lines the
@@ -26,6 +29,7 @@ message, whichever reader took it.
 import math
 import os
 import re
+from itertools import pairwise
 
 import numpy as np
 
@@ -87,17 +91,74 @@ def _read(f, name, head):
     per_frame = head.rows * head.cols
     size = os.fstat(f.fileno()).st_size - head.body
     n_frames = _header_frames(head)
+    first = int(head.header["START_FRAME"][0]) if n_frames else None
     if n_frames is None or 2 * n_frames * per_frame > size:
-        n_frames = _count_frames(f, head.body)
+        n_frames, first = _count_frames(f, head.body), None
     n_values = max(n_frames, 1) * per_frame
     if n_values > MAX_VALUES or 2 * n_values > size:
         raise _NotPlain  # more values than the file has room for (a value and a comma each)
     values = np.empty((max(n_frames, 1), head.rows, head.cols))
     raw = head.attrs.get("units") in (None, "raw")
-    f.seek(head.body)
-    parser = _Parser(head, values.reshape(-1), raw, single=n_frames == 0)
-    parser.read(f)
-    return values, _index(f, name, head, parser, n_frames, raw)
+    parsers = [_Parser(head, values.reshape(-1), raw, n_frames == 0, part)
+               for part in _parts(f, head, size, first, n_values)]
+    _run(parsers, f.name)
+    return values, _index(f, name, head, parsers, n_frames, raw)
+
+
+PART_BYTES = 2**23
+"""Smallest part of the data a thread parses on its own (one part per core at most)."""
+
+
+def _parts(f, head, size, first, n_values):
+    """``(start, stop, first value, last)`` of each part of the data, cut at frame lines.
+
+    One part per core, each at least :data:`PART_BYTES`. A cut's first value follows from
+    its frame's number and the first frame's (``first``, the header's ``START_FRAME``; None:
+    one part); the parse checks it (each part must end at the value where the next begins).
+    """
+    end = head.body + size
+    cores = min(os.cpu_count() or 1, size // PART_BYTES) if first is not None else 1
+    cuts = [(head.body, 0)]
+    for i in range(1, cores):
+        found = _frame_line_after(f, head.body + size * i // cores, end, head)
+        if found is not None:
+            offset, number = found
+            k = (number - first) * head.rows * head.cols
+            if offset > cuts[-1][0] and cuts[-1][1] < k < n_values:
+                cuts.append((offset, k))
+    stops = [offset for offset, _ in cuts[1:]] + [end]
+    return [(start, stop, k, stop == end) for (start, k), stop in zip(cuts, stops, strict=True)]
+
+
+def _frame_line_after(f, offset, end, head):
+    """``(offset, frame number)`` of the first frame line after ``offset``, or None."""
+    f.seek(offset)
+    chunk = f.read(min(end - offset, 2 * _largest(head)))
+    at = chunk.find(b"\nF") + 1
+    line_end = chunk.find(b"\n", at)
+    match = _FRAME.match(chunk[at:line_end].rstrip(b"\r")) if at and line_end > 0 else None
+    if match is None or len(match.group(1)) > 18:
+        return None
+    return offset + at, int(match.group(1))
+
+
+def _largest(head):
+    """Return the most bytes a plain frame holds (15 digits and a comma a value, CR LF a row)."""
+    return 17 * head.rows * head.cols + 2 * head.rows + 2**20
+
+
+def _run(parsers, path):
+    """Run each parser's :meth:`_Parser.read`, the first here, the others on threads."""
+    if len(parsers) == 1:
+        parsers[0].read(path)
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=len(parsers) - 1) as pool:
+        others = [pool.submit(parser.read, path) for parser in parsers[1:]]
+        parsers[0].read(path)
+        for other in others:
+            other.result()
 
 
 def _header_frames(head):
@@ -139,30 +200,38 @@ class _Scratch:
 
 
 class _Parser:
-    """Parse the blocks of an export, one after another, into ``flat``.
+    """Parse the blocks of a part of an export, one after another, into ``flat``.
 
     Each read of :data:`BLOCK_BYTES` is appended to the bytes held; the whole frames among
     them (up to the last frame line, or to ``@@``) are parsed, the rest held for the next.
-    Collected per block: the frame lines (file offsets, line numbers, frame numbers, times,
-    raw sums) and, for raw files, each frame's sum.
+    Collected per block: the frame lines (file offsets, line numbers from the part's start,
+    frame numbers, times, raw sums) and, for raw files, each frame's sum. ``part`` is
+    ``(start, stop, first value, last part)``: the bytes ``start:stop`` of the file, whose
+    first value is ``flat[first value]``; only the last part ends with ``@@``.
     """
 
-    def __init__(self, head, flat, raw, single):
+    def __init__(self, head, flat, raw, single, part):
         self.head, self.flat, self.raw, self.single = head, flat, raw, single
+        self.start, self.stop, self.k0, self.last = part
         self.scratch = _Scratch()
         self.frames, self.sums = [], []
         self.end = None  # file offset of the ``@@`` line
-        self.k = 0  # values parsed
-        self.line = head.first_line  # number of the first line held
+        self.k = self.k0  # next value
+        self.line = 0  # number of the first line held, from the part's first
 
-    def read(self, f):
-        """Parse the file ``f`` from its current offset (the header's end)."""
-        head = self.head
-        largest = 17 * head.rows * head.cols + 2 * head.rows + 2**20  # a plain frame, at most
+    def read(self, path):
+        """Parse the part of the file at ``path`` (opened here: one offset per thread)."""
+        with open(path, "rb") as f:
+            f.seek(self.start)
+            self._read(f)
+
+    def _read(self, f):
+        largest = _largest(self.head)
         buf = np.zeros(_PAD + BLOCK_BYTES + largest + 1, dtype=np.uint8)  # pages as used
-        view, held, base = memoryview(buf), 0, head.body
-        while self.end is None:
-            n = f.readinto(view[_PAD + held:_PAD + held + BLOCK_BYTES])
+        view, held, base = memoryview(buf), 0, self.start
+        while True:
+            want = min(BLOCK_BYTES, self.stop - base - held)
+            n = f.readinto(view[_PAD + held:_PAD + held + want]) if want else 0
             held += n
             if not n and held and buf[_PAD + held - 1] != _LF:
                 buf[_PAD + held], held = _LF, held + 1  # a last line without its LF
@@ -173,10 +242,10 @@ class _Parser:
             held, base = held - done, base + done
             if held > largest:
                 raise _NotPlain  # more bytes than a plain frame holds: numba says why
-        if self.end is None:
-            raise _NotPlain  # no @@
-        while chunk := f.read(2**20):
-            _check_space(chunk)
+        if (self.end is None) == self.last:
+            raise _NotPlain  # no @@ (or one before the last part)
+        while self.last and (chunk := f.read(2**20)):
+            _check_space(chunk)  # after @@
 
     def _block(self, padded, base, last):
         """Parse the whole frames of ``padded[_PAD:]``; return the bytes parsed."""
@@ -313,26 +382,32 @@ def _check_rows(frame_lines, data_lines, rows, single):
         raise _NotPlain
 
 
-def _index(f, name, head, parser, n_frames, raw):
-    """Return the :class:`Index` of the file from its blocks; check what spans blocks."""
+def _index(f, name, head, parsers, n_frames, raw):
+    """Return the :class:`Index` of the file from its parts; check what spans blocks."""
     if n_frames == 0:
         starts, lines, numbers, times, raw_sums = _single_frame(head)
     else:
+        first_lines = np.cumsum([head.first_line] + [p.line for p in parsers[:-1]])
+        frames = [(start, line + first, *rest) for parser, first
+                  in zip(parsers, first_lines.tolist(), strict=True)
+                  for start, line, *rest in parser.frames]
         starts, lines, numbers, times, raw_sums = (
-            np.concatenate(column) for column in zip(*parser.frames, strict=True))
+            np.concatenate(column) for column in zip(*frames, strict=True))
     if len(numbers) != max(n_frames, 1) or (np.diff(numbers) != 1).any():
         raise _NotPlain
-    if parser.k != len(numbers) * head.rows * head.cols:
-        raise _NotPlain  # numba's "... rows of values and no 'Frame N' line ..."
-    if raw and parser.sums:
-        sums = np.concatenate(parser.sums)
+    if any(p.k != q.k0 for p, q in pairwise(parsers)) or (
+            parsers[-1].k != len(numbers) * head.rows * head.cols):
+        raise _NotPlain  # a part not ending where the next begins, or rows without a frame
+    sums = [s for parser in parsers for s in parser.sums]
+    if raw and sums:
+        sums = np.concatenate(sums)
         if (~np.isnan(raw_sums) & (np.abs(sums - raw_sums) > 0.5)).any():
             raise _NotPlain  # numba's "Raw Sum in the frame line is ..."
     stat = os.fstat(f.fileno())
     return Index(name=name, rows=head.rows, cols=head.cols, header=head.header,
                  attrs=head.attrs, first_line=head.first_line, numbers=numbers,
                  times=times, raw_sums=raw_sums, lines=lines.astype(np.int64),
-                 starts=np.append(starts, parser.end).astype(np.int64), spaced=False,
+                 starts=np.append(starts, parsers[-1].end).astype(np.int64), spaced=False,
                  stat=(stat.st_size, stat.st_mtime_ns), stray_f=None)
 
 
