@@ -49,6 +49,12 @@ def objective_weights(load_N, objective):
 #: Rows per thread of :func:`hist_products` (the 100,000-frame benchmark movie: two threads
 #: 0.015 s, one 0.022 s per product, best of 9 at load 0.2-0.4).
 PRODUCT_ROWS_PER_THREAD = 4096
+#: Count types :func:`hist_products` passes to the kernel as they are: a movie's uint16 and
+#: float64. numba compiles the product kernels again for every other type (about a second
+#: of CPU per type in each new process), so other counts are widened to float64 this many
+#: rows at a time (exact below 2**53; 8 MiB per block).
+KERNEL_COUNT_TYPES = (np.uint16, np.float64)
+WIDEN_ROWS = 4096
 
 
 def hist_products(hist, matrix):
@@ -56,7 +62,8 @@ def hist_products(hist, matrix):
 
     From :data:`COMPILED_MIN_POINTS` rows the numba kernel
     :func:`._powerfit_kernels.hist_dot` reads the counts as they are (a movie's
-    uint16 histograms, with no float64 copy): up to four columns every bin in vector
+    uint16 histograms, with no float64 copy; counts of other types are widened to float64
+    :data:`WIDEN_ROWS` rows at a time): up to four columns every bin in vector
     registers, in one thread (90,821 rows, one column: 5.0 ms against 11.9 ms in a pool of
     two threads, best of 9 at load 2.6); for more, skipping empty bins, on one block of rows per
     core (of at least :data:`PRODUCT_ROWS_PER_THREAD` rows) in threads; below, NumPy's
@@ -86,9 +93,18 @@ def hist_products(hist, matrix):
     if matrix.shape[1] <= DENSE_MAX_COLUMNS:  # a few ms of SIMD work: no thread pool
         threads = 1
     bounds = np.linspace(0, len(hist), threads + 1).astype(int)
+    direct = hist.dtype in KERNEL_COUNT_TYPES
+
+    def product(a, b):
+        if direct:
+            return hist_dot(hist[a:b], matrix, out, a)
+        for c in range(a, b, WIDEN_ROWS):
+            d = min(c + WIDEN_ROWS, b)
+            hist_dot(hist[c:d].astype(np.float64), matrix, out, c)
+        return out
+
     with ThreadPoolExecutor(max_workers=threads) as pool:  # the kernel releases the GIL
-        for _ in pool.map(lambda a, b: hist_dot(hist[a:b], matrix, out, a),
-                          bounds[:-1], bounds[1:]):
+        for _ in pool.map(product, bounds[:-1], bounds[1:]):
             pass
     return out
 
