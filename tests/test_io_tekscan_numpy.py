@@ -118,6 +118,29 @@ def test_parts_that_do_not_join_go_to_the_numba_reader(tmp_path, monkeypatch, ol
         _outcome(lambda p: _numba_read(p, monkeypatch), path))
 
 
+def test_a_part_that_departs_stops_the_others(tmp_path, monkeypatch):
+    """A decimal in the first part: the second stops at its next block, not at its end."""
+    values = _raw(n=40)
+    values[:, 1:, :2] = 17
+    path = _movie(tmp_path, values)
+    path.write_bytes(path.read_bytes().replace(b"\n17,", b"\n17.5,", 1))
+    monkeypatch.setattr(_tekscan_numpy.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(_tekscan_numpy, "PART_BYTES", 64)
+    monkeypatch.setattr(_tekscan_numpy, "BLOCK_BYTES", 200)
+    parsed = []
+    block = _tekscan_numpy._Parser._block
+
+    def slow_block(parser, padded, base, last):
+        if parser.k0:  # the second part waits for the first to fail
+            assert parser.failed.wait(timeout=30)
+        parsed.append(parser.k0)
+        return block(parser, padded, base, last)
+
+    monkeypatch.setattr(_tekscan_numpy._Parser, "_block", slow_block)
+    assert _plain(path) is None
+    assert 1 <= sum(k > 0 for k in parsed) <= 2  # a block in hand when it was told to stop
+
+
 @pytest.mark.parametrize("block_bytes", [1, 1000, 2**21])
 def test_plain_reader_numbers_lines_and_offsets_as_the_numba_reader(tmp_path, monkeypatch,
                                                                      block_bytes):

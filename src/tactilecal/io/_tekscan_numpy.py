@@ -148,12 +148,19 @@ def _largest(head):
 
 
 def _run(parsers, path):
-    """Run each parser's :meth:`_Parser.read`, the first here, the others on threads."""
+    """Run each parser's :meth:`_Parser.read`, the first here, the others on threads.
+
+    The first part to fail stops the others at their next block.
+    """
     if len(parsers) == 1:
         parsers[0].read(path)
         return
+    import threading
     from concurrent.futures import ThreadPoolExecutor
 
+    failed = threading.Event()
+    for parser in parsers:
+        parser.failed = failed
     with ThreadPoolExecutor(max_workers=len(parsers) - 1) as pool:
         others = [pool.submit(parser.read, path) for parser in parsers[1:]]
         parsers[0].read(path)
@@ -218,12 +225,18 @@ class _Parser:
         self.end = None  # file offset of the ``@@`` line
         self.k = self.k0  # next value
         self.line = 0  # number of the first line held, from the part's first
+        self.failed = None  # set by any part's failure (:func:`_run`): stop at the next block
 
     def read(self, path):
         """Parse the part of the file at ``path`` (opened here: one offset per thread)."""
-        with open(path, "rb") as f:
-            f.seek(self.start)
-            self._read(f)
+        try:
+            with open(path, "rb") as f:
+                f.seek(self.start)
+                self._read(f)
+        except BaseException:
+            if self.failed is not None:
+                self.failed.set()
+            raise
 
     def _read(self, f):
         largest = _largest(self.head)
@@ -242,6 +255,8 @@ class _Parser:
             held, base = held - done, base + done
             if held > largest:
                 raise _NotPlain  # more bytes than a plain frame holds: numba says why
+            if self.failed is not None and self.failed.is_set():
+                raise _NotPlain  # another part departed from the plain form
         if (self.end is None) == self.last:
             raise _NotPlain  # no @@ (or one before the last part)
         while self.last and (chunk := f.read(2**20)):
