@@ -26,9 +26,8 @@ def _count_row(index, counts, out, i):  # pragma: no cover (compiled)
 
     Zeros (the unloaded sensels: often half a frame or more, in long runs) are counted on
     their own behind a well-predicted branch; the other readings go to two interleaved
-    sub-histograms. Against four sub-histograms for every reading, the kernels took 0.97
-    (float64), 0.90 (float32) and 0.73 (uint8) of the time on 30,000 frames of
-    ``benchmarks/bench_movie.py``'s movie (best of 9, interleaved, load 4.6).
+    sub-histograms (faster than four sub-histograms for every reading, most for uint8
+    frames: ``benchmarks/bench_movie.py``).
     """
     counts[:] = 0
     zeros = 0

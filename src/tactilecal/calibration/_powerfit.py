@@ -46,13 +46,13 @@ def objective_weights(load_N, objective):
     return 1.0 / load_N if objective == "relative" else np.ones_like(load_N)
 
 
-#: Rows per thread of :func:`hist_products` (the 100,000-frame benchmark movie: two threads
-#: 0.015 s, one 0.022 s per product, best of 9 at load 0.2-0.4).
+#: Rows per thread of :func:`hist_products` (fewer, and a thread's start-up outweighs its
+#: share: ``benchmarks/bench_movie.py``).
 PRODUCT_ROWS_PER_THREAD = 4096
 #: Count types :func:`hist_products` passes to the kernel as they are: a movie's uint16 and
-#: float64. numba compiles the product kernels again for every other type (about a second
-#: of CPU per type in each new process), so other counts are widened to float64 this many
-#: rows at a time (exact below 2**53; 8 MiB per block).
+#: float64. numba would compile the product kernels again for every other type, in every
+#: new process, so other counts are widened to float64 this many rows at a time (exact
+#: below 2**53; 8 MiB per block).
 KERNEL_COUNT_TYPES = (np.uint16, np.float64)
 WIDEN_ROWS = 4096
 
@@ -64,10 +64,9 @@ def hist_products(hist, matrix):
     :func:`._powerfit_kernels.hist_dot` reads the counts as they are (a movie's
     uint16 histograms, with no float64 copy; counts of other types are widened to float64
     :data:`WIDEN_ROWS` rows at a time): up to four columns every bin in vector
-    registers, in one thread (90,821 rows, one column: 5.0 ms against 11.9 ms in a pool of
-    two threads, best of 9 at load 2.6); for more, skipping empty bins, on one block of rows per
-    core (of at least :data:`PRODUCT_ROWS_PER_THREAD` rows) in threads; below, NumPy's
-    product.
+    registers, in one thread (faster than a pool of two for a movie's 90,821 rows); for
+    more, skipping empty bins, on one block of rows per core (of at least
+    :data:`PRODUCT_ROWS_PER_THREAD` rows) in threads; below, NumPy's product.
 
     Parameters
     ----------
