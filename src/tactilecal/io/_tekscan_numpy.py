@@ -90,10 +90,9 @@ def read_plain(f, name, head):
 def _read(f, name, head):
     per_frame = head.rows * head.cols
     size = os.fstat(f.fileno()).st_size - head.body
-    n_frames = _header_frames(head)
-    first = int(head.header["START_FRAME"][0]) if n_frames else None
+    first, n_frames = _header_frames(head)
     if n_frames is None or 2 * n_frames * per_frame > size:
-        n_frames, first = _count_frames(f, head.body), None
+        first, n_frames = None, _count_frames(f, head.body)
     n_values = max(n_frames, 1) * per_frame
     if n_values > MAX_VALUES or 2 * n_values > size:
         raise _NotPlain  # more values than the file has room for (a value and a comma each)
@@ -169,17 +168,18 @@ def _run(parsers, path):
 
 
 def _header_frames(head):
-    """``END_FRAME - START_FRAME + 1`` when both are given and say 2 frames or more, else None.
+    """``(first frame, frames)`` from ``START_FRAME`` and ``END_FRAME``, else ``(None, None)``.
 
-    Checked at the end (the frame lines found must be as many): a header that does not say
-    how many frames follow (frames missing, or edited) sends the file to the numba reader.
+    Given when both are whole numbers and say 2 frames or more. Checked at the end (the
+    frame lines found must be as many): a header that does not say how many frames follow
+    (frames missing, or edited) sends the file to the numba reader.
     """
     first, last = (head.header.get(key, ("", 0))[0].strip() for key in ("START_FRAME",
                                                                        "END_FRAME"))
     if not (first.isascii() and first.isdigit() and last.isascii() and last.isdigit()):
-        return None
+        return None, None
     n = int(last) - int(first) + 1
-    return n if n >= 2 else None
+    return (int(first), n) if n >= 2 else (None, None)
 
 
 def _count_frames(f, body):
