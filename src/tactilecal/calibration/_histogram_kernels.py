@@ -100,8 +100,19 @@ def _count_uint8(frames, skipped, out):  # pragma: no cover (compiled)
 
 @njit(nogil=True)
 def _member(j, sorted_values):  # pragma: no cover (compiled)
-    k = np.searchsorted(sorted_values, j)
-    return k < sorted_values.size and sorted_values[k] == j
+    """``j`` is in ``sorted_values``: bisection, as ``numpy.searchsorted`` (side "left").
+
+    Written out: numba's ``np.searchsorted`` compiles a generic (NaN- and complex-aware)
+    comparison that took longer to compile than the rest of :func:`_count_values`.
+    """
+    lo, hi = 0, sorted_values.size
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if sorted_values[mid] < j:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo < sorted_values.size and sorted_values[lo] == j
 
 
 def kernel_for(dtype):

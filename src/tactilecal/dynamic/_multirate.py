@@ -200,13 +200,16 @@ class BlockLayout:
         return max(c - self.first_frame, 0), max(last - (self.n_frames - 1), 0)
 
 
-@numba.njit(inline="always")
+@numba.njit
 def _row(before, rows, after, t, reflect, spare):  # pragma: no cover
     """Row ``t`` of ``rows`` extended by ``before`` (ending at row -1) and ``after``.
 
     With ``reflect``, ``before`` and ``after`` are not read: a row beyond the ends is the
     odd reflection of ``rows`` about its end row (``2 x[0] - x[-t]``, ``2 x[n - 1] -
     x[2 (n - 1) - t]``), computed into ``spare`` (a row of ``rows``' type) and returned.
+    Called, not inlined into :func:`_sum_tile`: numba's ``inline="always"`` types and
+    lowers it again at each of the six calls, which nearly doubled the kernel's compile
+    time; one call per row read costs nothing next to the pass over that row.
     """
     n = rows.shape[0]
     if 0 <= t < n:

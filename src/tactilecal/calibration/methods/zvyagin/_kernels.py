@@ -82,8 +82,11 @@ def abs_sum_map(u, c3, c4, inv_c, out, tile, rows):  # pragma: no cover (compile
                     acc_q = acc[q]
                     for k in range(width):  # float32 throughout, as NumPy adds them
                         acc_q[k] = acc_q[k] + np.float32(abs(u_ta + v_t[k]))
+            # element by element: a slice assignment would compile numba's shape-mismatch
+            # error (string formatting), most of this kernel's compile time
             for q in range(n_rows):
-                out[a0 + q, k0:k0 + width] = acc[q, :width]
+                for k in range(width):
+                    out[a0 + q, k0 + k] = acc[q, k]
 
 
 @njit(nogil=True)
