@@ -9,6 +9,7 @@ line by line; and the fast check is what reads the plain files.
 
 import contextlib
 import csv
+import itertools
 from unittest import mock
 
 import numpy as np
@@ -20,10 +21,20 @@ from tactilecal import _plaincsv, _textfile
 from tactilecal._textfile import TextFile
 from tactilecal.io import read_timeseries
 
+_COUNT = itertools.count()
+
 
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory):
     return tmp_path_factory.mktemp("fast")
+
+
+def _new(folder, raw):
+    """A new file of ``raw`` (a new name: replacing a file's bytes costs a disk flush)."""
+    path = folder / f"{next(_COUNT)}.csv"
+    path.write_bytes(raw)
+    return path
+
 
 HEADERS = ["Time (ms)", "Load (N)", "t", "F [kN]", "note", "Zeit (µs)", '"a,b"', " x ",
            "Mass (kg)", ""]
@@ -119,14 +130,20 @@ def csv_rows(draw):
         return text.encode("utf-8")
 
 
-def _header(path, fast):
-    """The checked header of ``path``, or the error and its message."""
+def _headers(path):
+    """The checked header of ``path`` (or the error and its message), fast and line by line."""
     try:
         text = TextFile(path)
-        if fast:
-            return _plaincsv.checked_header(text)
-        with mock.patch.object(_plaincsv, "_plain_after", return_value=False):
-            return _plaincsv.checked_header(text)
+    except Exception:  # noqa: BLE001 - refused before any row is read: nothing to compare
+        return None, None
+    fast = _header(text)
+    with mock.patch.object(_plaincsv, "_plain_after", return_value=False):
+        return fast, _header(text)
+
+
+def _header(text):
+    try:
+        return _plaincsv.checked_header(text)
     except Exception as exc:  # noqa: BLE001 - the class and message are compared
         return type(exc).__name__, str(exc)
 
@@ -136,19 +153,19 @@ def _header(path, fast):
        field_limit=st.sampled_from([csv.field_size_limit(), 3, 8]))
 def test_fast_check_passes_and_fails_as_the_line_by_line_check(folder, raw, piece_bytes,
                                                                field_limit):
-    path = folder / "rows.csv"
-    path.write_bytes(raw)
+    path = _new(folder, raw)
     with _reading(piece_bytes, field_limit):
-        assert _header(path, fast=True) == _header(path, fast=False)
+        fast, checked = _headers(path)
+        assert fast == checked
 
 
 def test_every_byte_is_read_as_the_line_by_line_check_reads_it(folder):
     """Each ASCII byte (and a few others) alone, padded and between commas, as a row."""
-    path = folder / "byte.csv"
     for byte in map(int.to_bytes, [*range(128), 0x81, 0x85, 0xA0, 0xFF]):
         for row in (byte, b" " + byte + b" ", b",".join([byte] * 3)):
-            path.write_bytes(b"a,b\n" + row + b"\n")
-            assert _header(path, fast=True) == _header(path, fast=False), row
+            path = _new(folder, b"a,b\n" + row + b"\n")
+            fast, checked = _headers(path)
+        assert fast == checked, row
 
 
 def _outcome(path, **kwargs):
@@ -183,8 +200,7 @@ def _checked(path, **kwargs):
        value_col=st.sampled_from([None, 0, -1]))
 def test_fast_check_reads_and_fails_as_the_line_by_line_check(folder, raw, piece_bytes,
                                                               field_limit, value_col):
-    path = folder / "lc.csv"
-    path.write_bytes(raw)
+    path = _new(folder, raw)
     with _reading(piece_bytes, field_limit):
         fast = _outcome(path, value_col=value_col)
         checked = _checked(path, value_col=value_col)
@@ -212,8 +228,7 @@ def plain_files(draw):
 
 @given(raw=plain_files(), piece_bytes=st.sampled_from([3, 64, _textfile.PIECE_BYTES]))
 def test_plain_files_are_read_by_the_fast_check(folder, raw, piece_bytes):
-    path = folder / "plain.csv"
-    path.write_bytes(raw)
+    path = _new(folder, raw)
     with _reading(piece_bytes, csv.field_size_limit()):
         with mock.patch.object(_textfile.TextFile, "rows", side_effect=AssertionError):
             header = _plaincsv.checked_header(TextFile(path))  # never line by line
@@ -222,9 +237,8 @@ def test_plain_files_are_read_by_the_fast_check(folder, raw, piece_bytes):
 
 
 def test_a_line_at_the_field_limit_is_left_to_the_checker(tmp_path):
-    path = tmp_path / "lc.csv"
     limit = _plaincsv.MAX_FIELD_CHARS
     for size, proved in ((limit - 1, True), (limit, False), (limit + 1, False)):  # before LF
-        path.write_bytes(b"t,F\n0,1\n1," + b"2" * (size - 2) + b"\n")
+        path = _new(tmp_path, b"t,F\n0,1\n1," + b"2" * (size - 2) + b"\n")
         assert _plaincsv._plain_after(TextFile(path), 1, 2) is proved, size
         assert _outcome(path) == _checked(path)
