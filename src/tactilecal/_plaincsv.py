@@ -28,6 +28,9 @@ from tactilecal._validate import MAX_FIELD_CHARS, csv_lines_rows
 
 __all__ = ["checked_header"]
 
+BLOCK_BYTES = 2**19
+"""Bytes checked at a time at most (and a piece at most): NumPy's temporaries are 3x that."""
+
 #: Codecs in which every ASCII byte is that ASCII character and no other byte is LF.
 _ASCII_CODECS = ("utf-8", "utf-8-sig", "cp1252")
 #: Bytes the proof covers: printable ASCII without the quote, space, tab, CR, LF.
@@ -88,8 +91,8 @@ def _blocks(f, limit):
     A last line without LF gets one (:mod:`csv` reads it the same). A line still without
     LF after ``limit`` bytes is yielded as it is, and nothing after it: it is too long.
     """
-    rest = b""
-    while piece := f.read(_textfile.PIECE_BYTES):
+    rest, size = b"", min(_textfile.PIECE_BYTES, BLOCK_BYTES)
+    while piece := f.read(size):
         cut = piece.rfind(b"\n") + 1
         if cut:
             yield rest + piece[:cut]
@@ -108,12 +111,14 @@ def _plain_block(block, width, limit):
     if block.translate(None, _PLAIN) or not block.endswith(b"\n"):
         return False
     data = np.frombuffer(block, dtype=np.uint8)
-    cuts = np.flatnonzero((data == _LF) | (data == _COMMA))  # every comma and LF, in order
+    is_cut = data == _LF
+    is_cut |= data == _COMMA
+    cuts = np.flatnonzero(is_cut)  # every comma and LF, in order
     lf = np.flatnonzero(data[cuts] == _LF)  # which of them end lines
     commas = np.diff(lf, prepend=-1) - 1
     ends = cuts[lf]
     starts = np.concatenate(([0], ends[:-1] + 1))
-    if (ends - starts).max() >= limit:  # a line of `limit` bytes or more, its LF included
+    if (ends - starts).max() >= limit:  # a line of `limit` bytes or more before its LF
         return False
     kept = _CONTENT[data[starts]]  # a line that starts with content is kept
     if not kept.all():
