@@ -1,8 +1,9 @@
 """Reading and writing recordings: ``read_tekscan``, ``write_tekscan``, ``open_recording``,
-``convert``, against pandas on the same numbers.
+``convert``, ``read_timeseries``, against pandas on the same numbers.
 
 Data: a simulated raw 44 x 44 I-Scan export of 10,000 frames (70 MB) and a plain CSV of the
-same numbers (:func:`benchmarks._common.write_export`); the real exports of
+same numbers (:func:`benchmarks._common.write_export`); a load-cell CSV of 1,000,000 rows of
+time and force (28 MB); the real exports of
 ``../shared/realdata`` (or ``$TACTILECAL_REALDATA``) for ``open_recording``, simulated
 stand-ins of the same shapes when they are absent.
 """
@@ -157,6 +158,51 @@ class Write:
                      lambda: write_tekscan(self.rec, folder / "out.csv", overwrite=True))
 
     track_write_speed_over_to_csv.unit = "ratio"
+
+
+class ReadTimeseries:
+    """A load-cell CSV of 1,000,000 rows (time in s, force in N) read by ``read_timeseries``."""
+
+    timeout = 600
+    ROWS = 1_000_000
+
+    def setup_cache(self):
+        import os
+        from pathlib import Path
+
+        path = Path(os.getcwd()) / "loadcell.csv"
+        rng = np.random.default_rng(0)
+        times = (np.arange(self.ROWS) * 1e-3).tolist()
+        forces = rng.normal(100.0, 5.0, self.ROWS).tolist()
+        with open(path, "w") as out:
+            out.write("Time (s),Load (N)\n")
+            for lo in range(0, self.ROWS, 100_000):
+                out.write("".join(f"{t!r},{f!r}\n" for t, f in zip(times[lo:lo + 100_000],
+                                                                   forces[lo:lo + 100_000],
+                                                                   strict=True)))
+        return str(path)
+
+    def time_read_timeseries(self, path):
+        from tactilecal.io import read_timeseries
+
+        read_timeseries(path)
+
+    def peakmem_read_timeseries(self, path):
+        from tactilecal.io import read_timeseries
+
+        read_timeseries(path)
+
+    def track_read_timeseries_speed_over_pandas(self, path):
+        """CPU time of ``pandas.read_csv`` (C engine) of the file / ``read_timeseries`` of it,
+        warm (> 1: faster; the reader checks every row and parses with that same parser)."""
+        import pandas as pd
+
+        from tactilecal.io import read_timeseries
+
+        return ratio(lambda: pd.read_csv(path, engine="c", dtype=np.float64).to_numpy(),
+                     lambda: read_timeseries(path))
+
+    track_read_timeseries_speed_over_pandas.unit = "ratio"
 
 
 class OpenRecording:

@@ -105,7 +105,7 @@ class TextFile:
                     decoder.decode(piece, final=not piece)
                 except UnicodeDecodeError as exc:
                     not_utf8 = read - len(exc.object) + exc.start
-            cp1252 = cp1252 and not _CP1252_UNDEFINED.search(piece)
+            cp1252 = cp1252 and (piece.isascii() or not _CP1252_UNDEFINED.search(piece))
             lone_cr.feed(piece, lines, not piece)
             lines += piece.count(b"\n")
         if not_utf8 is None:

@@ -1,12 +1,13 @@
 """Reader for load-cell / force-time CSV files with a header row.
 
 The file is read in pieces, never whole (:class:`tactilecal._textfile.TextFile`): checked and
-its encoding found as it is opened, its rows checked line by line, its two columns parsed by
-pandas from the file (or its text in UTF-8, a piece at a time). Memory is the two columns
-and a piece of the file, however many columns and rows it has.
+its encoding found as it is opened, its rows checked (:mod:`tactilecal._plaincsv`: NumPy over
+blocks of a plain file's bytes, else line by line), its two columns parsed by pandas from the
+file (or its text in UTF-8, a piece at a time). Memory is the two columns and a piece of the
+file, however many columns and rows it has.
 """
 
-import array
+import itertools
 import math
 import re
 from pathlib import Path
@@ -17,6 +18,7 @@ import xarray as xr
 
 from tactilecal._atomic import check_target, write_text_atomic
 from tactilecal._errors import TactilecalError
+from tactilecal._plaincsv import checked_header
 from tactilecal._textfile import TextFile
 from tactilecal._units import (
     _HINT,
@@ -64,20 +66,21 @@ def _finite(cell):
         return False
 
 
-def _rows(text, name):
-    """One pass over the rows (every row as wide as the header, no lone CR).
-
-    Returns the header's cells and the file line number of each data row.
-    """
-    header, lines = None, array.array("q")
-    for line, cells in text.rows():
-        if header is None:
-            header = cells
-        else:
-            lines.append(line)
+def _columns(text, name):
+    """Return the header's cells, every row checked (as wide as the header, no lone CR)."""
+    header = checked_header(text)
     if header is None:
         raise TactilecalError(f"{name} is empty; expected a header row and at least 2 rows")
-    return header, np.frombuffer(lines, dtype=np.int64) if lines else np.zeros(0, np.int64)
+    return header
+
+
+def _line_of_row(text, row):
+    """File line number of data row ``row`` (0-based; blank lines are no rows), for a message."""
+    rows = text.rows()
+    try:
+        return next(itertools.islice(rows, row + 1, None))[0]
+    finally:
+        rows.close()
 
 
 def read_timeseries(path, time_col=None, value_col=None):
@@ -120,7 +123,7 @@ def read_timeseries(path, time_col=None, value_col=None):
     path = Path(path)
     name = str(path)
     text = TextFile(path, expected="a CSV file with a header row")
-    columns, lines = _rows(text, name)
+    columns = _columns(text, name)
     t_name = _pick(columns, time_col, 0, "time_col", name)
     v_name = _pick(columns, value_col, 1, "value_col", name)
     t_unit = unit_from_column(t_name, where=f"column {t_name!r} of {name}") or "s"
@@ -133,8 +136,8 @@ def read_timeseries(path, time_col=None, value_col=None):
     steps = np.flatnonzero(np.diff(times) <= 0)
     if steps.size:
         i = steps[0] + 1
-        raise TactilecalError(f"line {lines[i]} of {name}: time {times[i]:g} s follows "
-                              f"{times[i - 1]:g} s; expected strictly increasing times")
+        raise TactilecalError(f"line {_line_of_row(text, i)} of {name}: time {times[i]:g} s "
+                              f"follows {times[i - 1]:g} s; expected strictly increasing times")
     return xr.DataArray(values, dims="time", coords={"time": times}, name=str(v_name),
                         attrs={"units": units, "source": name, "column": str(v_name),
                                "time_column": str(t_name)})
