@@ -295,13 +295,15 @@ def _starts(structure, f_hz, measured, lo, hi, delay_ms):
     """Return starting vectors: corners spread over the band, pairs at the extremes of |C|.
 
     A pole pair starts at the bin where ``|C|`` is smallest (the resonance reads high), a zero
-    pair where it is largest, with dampings 0.05 and 0.3.
+    pair where it is largest, with dampings 0.05 and 0.3. The corners' grid is also tried
+    shifted by half a step; a structure without real corners has no grid to shift (the same
+    start twice would only repeat its fit).
     """
     n_real = structure.zeros + structure.poles
     dip, peak = (np.log(f_hz[np.argmin(np.abs(measured))]),
                  np.log(f_hz[np.argmax(np.abs(measured))]))
     starts = []
-    for shift in (0.0, 0.5):
+    for shift in (0.0, 0.5) if n_real else (0.0,):
         grid = np.linspace(lo, hi, 2 * max(n_real, 1) + 2)[1:-1]
         grid = grid + shift * (grid[1] - grid[0])
         corners = grid[:n_real]
