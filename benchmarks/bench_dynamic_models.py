@@ -88,6 +88,17 @@ class AutoChoice:
 
     track_auto_chose_rational.unit = "bool"
 
+    def time_fit_filter_auto(self, sensor):
+        """``fit_filter(model="auto")`` on the sweep: the rational structures' fits dominate."""
+        from tactilecal.dynamic import fit_filter
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                fit_filter(*self.sweep, model="auto")
+            except ValueError:
+                pass  # refused (the resonant sensor): the fits were made all the same
+
 
 if __name__ == "__main__":
     import sys

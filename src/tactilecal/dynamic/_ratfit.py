@@ -152,25 +152,51 @@ class Structure:
         With ``jacobian=True`` also the derivatives of its logarithm with respect to each
         parameter (rows: parameters of ``x``, columns: bins): ``dC/dx = C d ln C/dx``.
         """
-        delay_ms, fz, fp, zero_pairs, pole_pairs = self.split(x)
-        jf = 1j * f_hz
-        c = np.exp(-2e-3j * np.pi * f_hz * delay_ms)
-        rows = [-2e-3j * np.pi * f_hz]
-        for f in fz:  # C divides by (1 + j f / fz); d/d ln fz of -ln(1 + j f/fz)
-            term = jf / f
-            c = c / (1 + term)
-            rows.append(term / (1 + term))
-        for f in fp:  # C multiplies by (1 + j f / fp)
-            term = jf / f
-            c = c * (1 + term)
-            rows.append(-term / (1 + term))
-        for sign, pairs in ((-1.0, zero_pairs), (1.0, pole_pairs)):
-            for fn, zeta in pairs:
+        c, dlog = _Sections(self, np.asarray(f_hz, dtype=float)).evaluate(x)
+        return (c, dlog) if jacobian else c
+
+
+class _Sections:
+    """A structure's correction on fixed bins, evaluated section by section.
+
+    ``C = e^{-j 2 pi f tau} prod (1 + j f/fp) / prod (1 + j f/fz) prod q_p / prod q_z`` with
+    ``q = 1 - u^2 + 2 j zeta u``, ``u = f / fn`` for each pair, and ``d ln C / dx`` for each
+    parameter ``x`` (log corners, log natural frequencies, dampings, the delay in ms).
+    """
+
+    def __init__(self, structure, f_hz):
+        self.structure = structure
+        self.f_hz = f_hz
+        self.delay_row = -2e-3j * np.pi * f_hz  # d ln C / d tau_ms
+        self.jf = 1j * f_hz
+
+    def evaluate(self, x):
+        """Return ``C`` and ``d ln C / dx`` (rows: parameters, columns: bins)."""
+        s, f_hz = self.structure, self.f_hz
+        x = np.asarray(x, dtype=float)
+        a, b = 1 + s.zeros, 1 + s.zeros + s.poles
+        dlog = np.empty((x.size, f_hz.size), complex)
+        dlog[0] = self.delay_row
+        c = np.exp(self.delay_row * x[0])
+        term = self.jf / np.exp(x[1:b])[:, None]  # j f / f_corner, zeros then poles
+        one = 1 + term
+        for k in range(s.zeros):  # C divides by (1 + j f / fz); d/d ln fz of -ln(1 + j f/fz)
+            c = c / one[k]
+        for k in range(s.zeros, b - 1):  # C multiplies by (1 + j f / fp)
+            c = c * one[k]
+        dlog[1:a] = term[:s.zeros] / one[:s.zeros]
+        dlog[a:b] = -term[s.zeros:] / one[s.zeros:]
+        row = b
+        for sign, n in ((-1.0, s.zero_pairs), (1.0, s.pole_pairs)):
+            pairs = x[row:row + 2 * n].reshape(-1, 2)
+            for fn, zeta in zip(np.exp(pairs[:, 0]), pairs[:, 1], strict=True):
                 u = f_hz / fn
                 q = 1 - u**2 + 2j * zeta * u
                 c = c * q if sign > 0 else c / q
-                rows += [sign * (2 * u**2 - 2j * zeta * u) / q, sign * 2j * u / q]
-        return (c, np.array(rows)) if jacobian else c
+                dlog[row] = sign * (2 * u**2 - 2j * zeta * u) / q
+                dlog[row + 1] = sign * 2j * u / q
+                row += 2
+        return c, dlog
 
 
 #: The structures :func:`choose_rational` tries, by number of parameters: real corners
@@ -221,16 +247,36 @@ class RationalFit:
                 f"error {self.held_out_error:.2%}")
 
 
-def _residuals(x, structure, f_hz, measured, weight):
-    diff = weight * (measured - structure.correction(x, f_hz))
-    return np.concatenate([diff.real, diff.imag])
+class _Objective:
+    """Weighted residuals of one fit and their Jacobian, from one shared evaluation.
 
+    The residuals are the real and imaginary parts of ``w (C_measured - C(x))``; the
+    least-squares solver asks for the Jacobian at the parameters whose residuals it has just
+    accepted, so the last evaluation (``C`` and ``d ln C / dx``) is kept for it.
+    """
 
-def _jacobian(x, structure, f_hz, measured, weight):
-    """Return the derivatives of :func:`_residuals` (rows: real, then imaginary parts)."""
-    c, dlog = structure.correction(x, f_hz, jacobian=True)
-    d = -(weight * c) * dlog  # parameters x bins
-    return np.concatenate([d.real, d.imag], axis=1).T
+    def __init__(self, structure, f_hz, measured, weight):
+        self.sections = _Sections(structure, f_hz)
+        self.measured, self.weight = measured, weight
+        self._x = self._c = self._dlog = None
+
+    def _evaluate(self, x):
+        key = np.asarray(x, dtype=float).tobytes()
+        if key != self._x:
+            self._c, self._dlog = self.sections.evaluate(x)
+            self._x = key
+        return self._c, self._dlog
+
+    def residuals(self, x):
+        """Return ``w (C_measured - C(x))``, real parts then imaginary parts."""
+        diff = self.weight * (self.measured - self._evaluate(x)[0])
+        return np.concatenate([diff.real, diff.imag])
+
+    def jacobian(self, x):
+        """Return the derivatives of :meth:`residuals` (rows: real, then imaginary parts)."""
+        c, dlog = self._evaluate(x)
+        d = -(self.weight * c) * dlog  # parameters x bins
+        return np.concatenate([d.real, d.imag], axis=1).T
 
 
 def section_bounds_hz(f_hz, fs_hz=None):
@@ -249,13 +295,15 @@ def _starts(structure, f_hz, measured, lo, hi, delay_ms):
     """Return starting vectors: corners spread over the band, pairs at the extremes of |C|.
 
     A pole pair starts at the bin where ``|C|`` is smallest (the resonance reads high), a zero
-    pair where it is largest, with dampings 0.05 and 0.3.
+    pair where it is largest, with dampings 0.05 and 0.3. The corners' grid is also tried
+    shifted by half a step; a structure without real corners has no grid to shift (the same
+    start twice would only repeat its fit).
     """
     n_real = structure.zeros + structure.poles
     dip, peak = (np.log(f_hz[np.argmin(np.abs(measured))]),
                  np.log(f_hz[np.argmax(np.abs(measured))]))
     starts = []
-    for shift in (0.0, 0.5):
+    for shift in (0.0, 0.5) if n_real else (0.0,):
         grid = np.linspace(lo, hi, 2 * max(n_real, 1) + 2)[1:-1]
         grid = grid + shift * (grid[1] - grid[0])
         corners = grid[:n_real]
@@ -302,12 +350,12 @@ def fit_rational(f_hz, correction, gain_error, structure, *, fit_mask=None, fs_h
     n_real, n_pairs = structure.zeros + structure.poles, structure.zero_pairs + structure.pole_pairs
     lower = np.r_[1e3 * delay_s - MAX_DELAY_MS, [lo] * n_real, [lo, DAMPING_BOUNDS[0]] * n_pairs]
     upper = np.r_[1e3 * delay_s + MAX_DELAY_MS, [hi] * n_real, [hi, DAMPING_BOUNDS[1]] * n_pairs]
+    objective = _Objective(structure, f_hz[mask], measured[mask], weight[mask])
     best = None
     for start in _starts(structure, f_hz[mask], measured[mask], lo, hi, 1e3 * delay_s):
         sol = optimize.least_squares(
-            _residuals, np.clip(start, lower + 1e-9, upper - 1e-9), jac=_jacobian,
-            args=(structure, f_hz[mask], measured[mask], weight[mask]), bounds=(lower, upper),
-            max_nfev=MAX_EVALUATIONS)
+            objective.residuals, np.clip(start, lower + 1e-9, upper - 1e-9),
+            jac=objective.jacobian, bounds=(lower, upper), max_nfev=MAX_EVALUATIONS)
         if best is None or sol.cost < best.cost:
             best = sol
     return structure.model(best.x)
