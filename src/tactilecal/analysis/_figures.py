@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+from tactilecal._png import write_png
 from tactilecal.analysis import _plots
 
 __all__ = ["save_figures"]
@@ -76,7 +77,7 @@ def save_figures(recording, folder, *, frame=None, calibration=None, units=None,
     paths = []
     for name, ax in figures.items():
         path = folder / f"{name}.png"
-        ax.figure.savefig(path, dpi=dpi)
+        write_png(ax.figure, path, dpi=dpi)
         paths.append(path)
     return paths
 

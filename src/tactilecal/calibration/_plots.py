@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from tactilecal._atomic import atomic_path
+from tactilecal._png import write_png
 from tactilecal._units import N_PER_MM2_TO_KPA
 
 __all__ = ["plot_calibration_curve", "plot_points", "plot_error_histogram", "save_figures"]
@@ -137,6 +138,6 @@ def save_figures(result, outdir, *, dpi=120):
         draw(result, ax=fig.add_subplot())
         path = Path(outdir) / f"{name}.png"
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=dpi)
+            write_png(fig, tmp, dpi=dpi)
         paths.append(path)
     return paths

@@ -7,6 +7,7 @@ matplotlib is imported inside the functions; figures are built with
 import numpy as np
 
 from tactilecal._atomic import atomic_path
+from tactilecal._png import write_png
 from tactilecal._units import N_PER_MM2_TO_KPA
 
 __all__ = ["plot_d_map", "plot_pair_chart", "plot_ab_scatter",
@@ -234,6 +235,6 @@ def save_figures(result, outdir, *, dpi=120):
         ax = func(res)
         path = outdir / f"{name}.png"
         with atomic_path(path) as tmp:
-            ax.figure.savefig(tmp, dpi=dpi)
+            write_png(ax.figure, tmp, dpi=dpi)
         paths.append(path)
     return paths
