@@ -171,7 +171,8 @@ def plot_patch_errors(result, ax=None):
     top = max(12.0, float(np.ceil(np.nanmax(np.abs(err[res.usable])))))
     bins = np.arange(-top, top + 1.0, 1.0)
     data = [err[res.usable & (res.group == g)] for g in range(len(res.group_names))]
-    ax.hist(data, bins=bins, stacked=True, label=res.group_names)
+    # one filled outline per weight: the stacked bars, without a rectangle artist per bin
+    ax.hist(data, bins=bins, stacked=True, label=res.group_names, histtype="stepfilled")
     for x in (-5, 5):
         ax.axvline(x, color="k", lw=0.8, ls="--")
     ax.set_xlabel("(calibrated - applied) / applied load (%)")
