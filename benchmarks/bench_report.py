@@ -60,6 +60,58 @@ class Report:
     track_report_over_frame_summary.unit = "ratio"
 
 
+class Figures:
+    """The figures of a calibration and of a recording, as the report embeds them (2x PNG).
+
+    Data: a power calibration of a simulated dead-weight session (its curve, points and
+    error histogram) and the peak-pressure map of one of its patches. The baseline in the
+    same run is matplotlib's ``savefig`` of the same figures at the same dpi, which draws a
+    figure with a layout engine twice; the ratio is what :mod:`tactilecal._png` costs
+    against it (below 1 is cheaper).
+    """
+
+    timeout = 300
+
+    def setup(self):
+        import tactilecal.analysis  # noqa: F401  (registers recording.tactile)
+        from tactilecal import calibrate
+        from tactilecal.calibration import points_from_frames
+        from tactilecal.report._figures import new_axes
+        from tactilecal.simulate import deadweight_session, make_sensor
+
+        session = deadweight_session(make_sensor("5051", seed=1), n_patches=30, seed=3)
+        cal = calibrate(points_from_frames(session.raw, session.load_N), method="power")
+        patch = cal.apply(session.recording(0), units="kPa")
+        self.makers = [lambda: cal.plot_curve(ax=new_axes()).figure,
+                       lambda: cal.plot_points(ax=new_axes()).figure,
+                       lambda: cal.plot_error_histogram(ax=new_axes()).figure,
+                       lambda: patch.tactile.plot_pressure_map().figure]
+
+    def _png(self):
+        from tactilecal._png import png_bytes
+        from tactilecal.report._figures import DRAW_DPI
+
+        return [png_bytes(make(), DRAW_DPI) for make in self.makers]
+
+    def _savefig(self):
+        import io
+
+        from tactilecal.report._figures import DRAW_DPI
+
+        for make in self.makers:
+            make().savefig(io.BytesIO(), format="png", dpi=DRAW_DPI)
+
+    def time_png(self):
+        self._png()
+
+    def track_png_over_savefig(self):
+        """CPU time of building and writing the figures: tactilecal._png / savefig."""
+        times = interleaved({"png": self._png, "savefig": self._savefig}, rounds=3)
+        return float(times["png"].min() / times["savefig"].min())
+
+    track_png_over_savefig.unit = "ratio"
+
+
 if __name__ == "__main__":
     import sys
 

@@ -154,7 +154,7 @@ class TactileAccessor:
 
     # ---------------------------------------------------------------- figures
     def plot_pressure_map(self, frame=None, *, position=None, calibration=None, ax=None,
-                          units=None, centre=True):
+                          units=None, centre=True, summary=None):
         """Pressure map of one frame, or each sensel's peak over the recording.
 
         ``frame`` is the file's frame number (``recording.frame``), ``position`` a 0-based
@@ -162,7 +162,8 @@ class TactileAccessor:
         is drawn in raw readings (0..255). ``units``: the pressure unit shown (default the
         recording's own pressure unit, else kPa). Saturated sensels are red crosses;
         ``centre`` draws the centre of force (that frame's, or the path of every frame with
-        at least 5 % of the peak force). Returns the matplotlib Axes.
+        at least 5 % of the peak force); ``summary``: the recording's :meth:`frame_summary`
+        if already computed (its centre of force is drawn). Returns the matplotlib Axes.
 
         Examples
         --------
@@ -178,7 +179,7 @@ class TactileAccessor:
         """
         return _plots.plot_pressure_map(self._rec, frame, position=position,
                                         calibration=calibration, ax=ax, units=units,
-                                        centre=centre)
+                                        centre=centre, summary=summary)
 
     def plot_profiles(self, frame=None, *, position=None, nonworking=None, calibration=None,
                       axes=None, units=None):

@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+from tactilecal._png import write_png
 from tactilecal.analysis import _plots
 
 __all__ = ["save_figures"]
@@ -63,8 +64,8 @@ def save_figures(recording, folder, *, frame=None, calibration=None, units=None,
     figures = {}
     s = None if raw else summary(rec).compute()
     position = _frame_position(rec, frame, s)
-    figures["frame"] = _plots.plot_pressure_map(rec, position=position, units=units)
-    figures["peak_map"] = _plots.plot_pressure_map(rec, units=units)
+    figures["frame"] = _plots.plot_pressure_map(rec, position=position, units=units, summary=s)
+    figures["peak_map"] = _plots.plot_pressure_map(rec, units=units, summary=s)
     if s is not None:
         figures["force_time"] = _plots.plot_force_time(s)
         figures["cof_time"] = _plots.plot_cof_time(s)
@@ -76,7 +77,7 @@ def save_figures(recording, folder, *, frame=None, calibration=None, units=None,
     paths = []
     for name, ax in figures.items():
         path = folder / f"{name}.png"
-        ax.figure.savefig(path, dpi=dpi)
+        write_png(ax.figure, path, dpi=dpi)
         paths.append(path)
     return paths
 

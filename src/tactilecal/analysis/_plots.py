@@ -182,7 +182,7 @@ def _map_values(recording, frame, calibration, units):
 
 
 def plot_pressure_map(recording, frame=None, *, position=None, calibration=None, ax=None,
-                      units=None, centre=True):
+                      units=None, centre=True, summary=None):
     """Pressure map of one frame, or the peak pressure of every sensel over the recording.
 
     Parameters
@@ -202,6 +202,9 @@ def plot_pressure_map(recording, frame=None, *, position=None, calibration=None,
     centre : bool, default True
         Draw the centre of force: a white cross at that frame's, or over the peak map the
         path of every frame with at least 5 % of the peak force.
+    summary : xarray.Dataset, optional
+        The recording's :func:`summary` if already computed: the centre of force is then
+        its ``cof_row_mm``, ``cof_col_mm`` (not computed again from the maps).
 
     Returns
     -------
@@ -215,7 +218,8 @@ def plot_pressure_map(recording, frame=None, *, position=None, calibration=None,
     ax.set_title("peak over all frames" if at is None
                  else f"frame {recording['frame'].values[at]}")
     if centre:
-        x, y = _centre_path(recording, calibration)
+        x, y = _centre_path(recording, calibration) if summary is None \
+            else _kept_centres(summary)
         if at is None:
             ax.plot(x, y, color="white", lw=1.2, label="centre of force")
         elif np.isfinite(x[at]):
@@ -244,6 +248,24 @@ def _centre_path(recording, calibration):
             np.asarray(((weight * rows).sum(("row", "col")) / total).values, float))
 
 
+def _min_force(force, min_force_N=None):
+    """``min_force_N``, by default 5 % of the largest finite ``force`` (0 if none is)."""
+    if min_force_N is not None:
+        return min_force_N
+    return CONTACT_FORCE_SHARE * float(np.nanmax(force)) if np.isfinite(force).any() else 0.0
+
+
+def _kept_centres(summary, min_force_N=None):
+    """Centre of force ``(column, row)`` [mm] of a :func:`summary` where it is not noise.
+
+    NaN in frames with less force than ``min_force_N`` (default 5 % of the peak force).
+    """
+    force = np.asarray(summary["force_N"].values, dtype=float)
+    keep = force >= _min_force(force, min_force_N)
+    return (np.where(keep, summary["cof_col_mm"].values, np.nan),
+            np.where(keep, summary["cof_row_mm"].values, np.nan))
+
+
 def plot_cof_path(summary, *, recording=None, min_force_N=None, ax=None, units=None):
     """Centre-of-force path over the peak-pressure map, at the sensor's scale, by time.
 
@@ -269,12 +291,9 @@ def plot_cof_path(summary, *, recording=None, min_force_N=None, ax=None, units=N
                layout="compressed")
     t, label = _time(summary)
     force = np.asarray(summary["force_N"].values, dtype=float)
-    if min_force_N is None:
-        min_force_N = CONTACT_FORCE_SHARE * float(np.nanmax(force)) \
-            if np.isfinite(force).any() else 0.0
+    min_force_N = _min_force(force, min_force_N)
+    x, y = _kept_centres(summary, min_force_N)
     keep = force >= min_force_N
-    x = np.where(keep, summary["cof_col_mm"].values, np.nan)
-    y = np.where(keep, summary["cof_row_mm"].values, np.nan)
     if recording is not None:
         values, map_label, saturated = _map_values(recording, None, None, units)
         draw_map(ax, recording, values, label=map_label, saturated=saturated, cmap="Greys")

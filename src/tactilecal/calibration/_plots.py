@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from tactilecal._atomic import atomic_path
+from tactilecal._png import write_png
 from tactilecal._units import N_PER_MM2_TO_KPA
 
 __all__ = ["plot_calibration_curve", "plot_points", "plot_error_histogram", "save_figures"]
@@ -96,7 +97,8 @@ def plot_error_histogram(result, ax=None):
     tab = result.points
     err = tab.loc[tab["used"].astype(bool), "error_pct"].to_numpy(float)
     err = err[np.isfinite(err)]
-    ax.hist(err, bins=max(5, min(40, len(err) // 3 or 5)), color="C0")
+    # one filled outline: the bars, without a rectangle artist per bin
+    ax.hist(err, bins=max(5, min(40, len(err) // 3 or 5)), color="C0", histtype="stepfilled")
     ax.axvline(0, color="k", lw=1)
     ax.set_xlabel("error (% of applied load)")
     ax.set_ylabel("points")
@@ -137,6 +139,6 @@ def save_figures(result, outdir, *, dpi=120):
         draw(result, ax=fig.add_subplot())
         path = Path(outdir) / f"{name}.png"
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=dpi)
+            write_png(fig, tmp, dpi=dpi)
         paths.append(path)
     return paths

@@ -12,6 +12,7 @@ import numpy as np
 
 from tactilecal._atomic import atomic_path
 from tactilecal._errors import TactilecalError
+from tactilecal._png import write_png
 from tactilecal._provenance import provenance_attr, provenance_of, write_sidecar
 from tactilecal.dynamic._apply import apply_filter
 from tactilecal.dynamic._plots import plot_error, plot_spectra, plot_time, plot_transfer
@@ -169,7 +170,7 @@ def write_evaluation(evaluation, filt, folder):
                "error.png": plot_error(evaluation), "transfer.png": plot_transfer(filt)}
     for name, fig in figures.items():
         with atomic_path(folder / name) as tmp:
-            fig.savefig(tmp, dpi=120)
+            write_png(fig, tmp, dpi=120)
     evaluation.figures = tuple(sorted(figures))
     evaluation.to_json(folder / "evaluation.json")
     return evaluation

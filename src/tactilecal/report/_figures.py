@@ -6,7 +6,6 @@ sharp on high-density screens and in print; the page scales them down to its wid
 
 import base64
 import html
-import io
 
 import numpy as np
 
@@ -95,11 +94,11 @@ def figure_html(figure, caption, how_to_read):
     how_to_read : str
         One sentence that says how to read it.
     """
+    from tactilecal._png import png_bytes
+
     fig = figure if hasattr(figure, "savefig") else np.ravel(figure)[0].figure
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=DRAW_DPI)
     width_px = round(fig.get_figwidth() * CSS_DPI)
-    data = base64.b64encode(buf.getvalue()).decode("ascii")
+    data = base64.b64encode(png_bytes(fig, DRAW_DPI)).decode("ascii")
     height_px = round(fig.get_figheight() * CSS_DPI)
     return (f'<figure><img alt="{_esc(caption)}" width="{width_px}" height="{height_px}" '
             f'src="data:image/png;base64,{data}">'

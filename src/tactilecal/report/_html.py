@@ -240,17 +240,17 @@ def build_report(inputs, *, calibration=None, filter=None, title=None, threshold
 
 
 def _calibrated_recordings(loaded, calibration):
-    """``(label, recording in kPa)`` of every recording that has forces (for one time axis)."""
-    out = []
-    for kind, obj, _, label in loaded:
-        if kind != "recording":
-            continue
-        if obj.attrs.get("units") == "raw":
-            if calibration is None:
-                continue
-            obj = calibration.apply(obj, units="kPa")
-        out.append((label, obj))
-    return out
+    """``(label, recording in kPa)`` of every recording that has forces (for one time axis).
+
+    Empty when fewer than two have forces: one recording is not drawn again on its own axis,
+    so a raw one is not calibrated a second time for nothing.
+    """
+    found = [(label, obj) for kind, obj, _, label in loaded if kind == "recording"
+             and (obj.attrs.get("units") != "raw" or calibration is not None)]
+    if len(found) < 2:
+        return []
+    return [(label, calibration.apply(obj, units="kPa") if obj.attrs.get("units") == "raw"
+             else obj) for label, obj in found]
 
 
 def write_report(inputs, path, *, calibration=None, filter=None, title=None, threshold_kPa=0.0,

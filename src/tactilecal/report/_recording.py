@@ -135,8 +135,10 @@ def _numbers(head, s, threshold_kPa, cof_min_force_N, unit, factor):
 
 
 def _calibrated_blocks(recording, label, first, o):
+    from tactilecal.analysis import overview
+
     s = recording.tactile.frame_summary(threshold_kPa=o.threshold_kPa).compute()
-    head = recording.tactile.analyze(threshold_kPa=o.threshold_kPa).overview
+    head = overview(s)  # the headline numbers of rec.tactile.analyze(), from this summary
     i = int(np.nanargmax(s["force_N"].values)) if np.isfinite(s["force_N"].values).any() else 0
     peak_N = head["peak_force_N"]
     cof_min = o.cof_min_force_N if o.cof_min_force_N is not None else \
@@ -190,9 +192,9 @@ def _maps(recording, i, s, cof_min, units):
     from tactilecal.report._figures import map_row_width
 
     axes = new_map_axes(recording, 3, width=map_row_width(recording, 3))
-    recording.tactile.plot_pressure_map(ax=axes[0], units=units)
+    recording.tactile.plot_pressure_map(ax=axes[0], units=units, summary=s)
     axes[0].set_title("peak over all frames", fontsize="small")
-    recording.tactile.plot_pressure_map(position=i, ax=axes[1], units=units)
+    recording.tactile.plot_pressure_map(position=i, ax=axes[1], units=units, summary=s)
     axes[1].set_title(f"frame {recording['frame'].values[i]} (peak force)", fontsize="small")
     recording.tactile.plot_cof_path(summary=s, min_force_N=cof_min, ax=axes[2], units=units)
     for ax in axes[1:]:
@@ -305,7 +307,7 @@ def _raw_blocks(recording, label, *, player, key):
                       f"{label}: sum of raw readings and loaded area against time",
                       "Blue is the sum of all raw readings of a frame (a stand-in for load that "
                       "is not proportional to it), orange the area of sensels reading above 0.")
-    yield figure_html(recording.tactile.plot_pressure_map(), f"{label}: peak raw map",
+    yield figure_html(recording.tactile.plot_pressure_map(summary=s), f"{label}: peak raw map",
                       "Each sensel's largest raw reading over the recording (255 is saturation, "
                       "a red cross), and the path of the raw-weighted centre (white): where the "
                       "contact carried load at any time.")

@@ -7,6 +7,7 @@ matplotlib is imported inside the functions; figures are built with
 import numpy as np
 
 from tactilecal._atomic import atomic_path
+from tactilecal._png import write_png
 from tactilecal._units import N_PER_MM2_TO_KPA
 
 __all__ = ["plot_d_map", "plot_pair_chart", "plot_ab_scatter",
@@ -170,7 +171,8 @@ def plot_patch_errors(result, ax=None):
     top = max(12.0, float(np.ceil(np.nanmax(np.abs(err[res.usable])))))
     bins = np.arange(-top, top + 1.0, 1.0)
     data = [err[res.usable & (res.group == g)] for g in range(len(res.group_names))]
-    ax.hist(data, bins=bins, stacked=True, label=res.group_names)
+    # one filled outline per weight: the stacked bars, without a rectangle artist per bin
+    ax.hist(data, bins=bins, stacked=True, label=res.group_names, histtype="stepfilled")
     for x in (-5, 5):
         ax.axvline(x, color="k", lw=0.8, ls="--")
     ax.set_xlabel("(calibrated - applied) / applied load (%)")
@@ -234,6 +236,6 @@ def save_figures(result, outdir, *, dpi=120):
         ax = func(res)
         path = outdir / f"{name}.png"
         with atomic_path(path) as tmp:
-            ax.figure.savefig(tmp, dpi=dpi)
+            write_png(ax.figure, tmp, dpi=dpi)
         paths.append(path)
     return paths
