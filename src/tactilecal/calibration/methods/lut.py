@@ -113,7 +113,8 @@ def _fit(data, options):
     zeros = np.zeros(len(penalty))
 
     def solve(w):
-        return optimize.nnls(np.r_[w[:, None] * design, penalty], np.r_[w * load_N, zeros])[0]
+        return optimize.nnls(np.concatenate((w[:, None] * design, penalty)),
+                             np.concatenate((w * load_N, zeros)))[0]
 
     if objective == "l1":
         increments = irls_l1(solve, lambda x: design @ x - load_N, load_N)
