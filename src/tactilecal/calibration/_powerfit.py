@@ -8,6 +8,7 @@ Every fit takes ``hist`` (n, 256) and ``load_N`` (n,) of the *used* points and r
 ``sum_k X_k**b = hist @ arange(256)**b`` (Zvyagin 2022, eq. 2).
 """
 
+import dataclasses
 import functools
 import os
 from concurrent.futures import ThreadPoolExecutor
@@ -19,8 +20,8 @@ from tactilecal._errors import TactilecalError
 from tactilecal.calibration._fit import Fit
 
 __all__ = ["OBJECTIVES", "DEFAULT_OBJECTIVE", "B_BOUNDS", "LEVELS", "COMPILED_MIN_POINTS",
-           "objective_weights", "fit_power", "fit_power_censored", "check_unsaturated",
-           "hist_products"]
+           "objective_weights", "fit_power", "fit_power_of", "fit_power_censored",
+           "check_unsaturated", "hist_products"]
 
 #: Raw levels 0..255 as floats (the columns of a frame histogram).
 LEVELS = np.arange(256, dtype=float)
@@ -537,6 +538,22 @@ def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS):
     b, A, cost, n_eval = _minimise_b(hist, load_N, objective, b_bounds)
     return Fit("power", {"A": A, "b": b},
                {"objective": objective, "cost": cost, "n_evaluations": n_eval})
+
+
+def fit_power_of(data, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS):
+    """:func:`fit_power` of the points of ``data`` (a :class:`FitData`), remembered on it.
+
+    Every load is taken as exact (``data.censored`` is not read). The power method, and
+    ``lut`` and ``piecewise`` as their starting law, fit the same law to the same points
+    (``auto`` fits all three on each fold): the fit is made once per objective and bounds,
+    and each caller gets its own copy of the :class:`Fit`.
+    """
+    key = ("fit_power", objective, tuple(float(v) for v in b_bounds))
+    if key not in data.memo:
+        data.memo[key] = fit_power(data.hist, data.load_N, objective=objective,
+                                   b_bounds=b_bounds)
+    fit = data.memo[key]
+    return dataclasses.replace(fit, params=dict(fit.params), diagnostics=dict(fit.diagnostics))
 
 
 def check_unsaturated(censored, name_of=None, kind="patch(es)"):

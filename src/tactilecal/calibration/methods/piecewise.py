@@ -24,7 +24,7 @@ from tactilecal.calibration._powerfit import (
     LOG_LEVELS,
     OBJECTIVES,
     _censored_median,
-    fit_power,
+    fit_power_of,
 )
 from tactilecal.calibration._powerfit import objective_weights as _weights
 from tactilecal.calibration.methods._censored import refit_censored
@@ -148,7 +148,7 @@ def _fit(data, options):
     knots = np.asarray(options.knots, dtype=float)
     objective, smoothing = options.objective, options.smoothing
     hist, load_N = data.hist, data.load_N
-    start = fit_power(hist, load_N, objective=objective).params
+    start = fit_power_of(data, objective=objective).params
     weight = penalty_weight(smoothing, load_N, objective)
     if objective == "l1":
         log_force = _piecewise_l1(hist, load_N, knots, np.full(len(knots) - 1, start["b"]),
