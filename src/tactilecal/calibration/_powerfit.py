@@ -146,7 +146,7 @@ def _median_slopes(w, c):
     that order, or None when no point is censored.
     """
     if c is None:
-        return 2.0 * w.cumsum(axis=-1) - w.sum(axis=-1, keepdims=True)
+        return 2.0 * w.cumsum(axis=-1) - np.add.reduce(w, axis=-1, keepdims=True)
     uncensored = np.where(c, 0.0, w)
     return 2.0 * np.cumsum(uncensored, axis=-1) + np.cumsum(np.where(c, w, 0.0), axis=-1) \
         - uncensored.sum(axis=-1, keepdims=True)

@@ -100,7 +100,8 @@ def _piecewise_l1(hist, load_N, knots, start, weight):
         sums = hist @ shape(slopes)
         scale = _censored_median(load_N / sums, sums, none)
         bends = slopes[1:] - slopes[:-1]  # np.diff(slopes)
-        cost = np.abs(scale * sums - load_N).sum() + weight * (bends * bends).sum()
+        cost = np.add.reduce(np.abs(scale * sums - load_N)) \
+            + weight * np.add.reduce(bends * bends)  # the sums without ndarray.sum's wrapper
         return scale, slopes, cost
 
     sol = optimize.minimize(lambda x: scale_and_cost(x)[2], start, method="Nelder-Mead",
