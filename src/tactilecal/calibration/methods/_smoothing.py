@@ -35,16 +35,7 @@ def irls_l1(solve, residual, load_N, n_iter=50, rtol=1e-4):
     for _ in range(n_iter):
         x = solve(w)
         w_new = 1.0 / np.sqrt(np.maximum(np.abs(residual(x)), floor))
-        if _allclose(w_new, w, rtol):
+        if np.allclose(w_new, w, rtol=rtol):
             break
         w = w_new
     return x
-
-
-def _allclose(a, b, rtol):
-    """``np.allclose(a, b, rtol=rtol)``; where a and b are finite, without its overhead."""
-    with np.errstate(invalid="ignore"):  # inf - inf: np.allclose below decides
-        diff = np.abs(a - b)
-    if np.isfinite(diff).all():  # then so are a and b
-        return bool((diff <= 1e-8 + rtol * np.abs(b)).all())
-    return bool(np.allclose(a, b, rtol=rtol))
