@@ -247,6 +247,31 @@ for _function, _unit in ((auto_over_oracle_pooled_worst, "ratio"),
     setattr(Family, f"track_{_function.__name__}", _track(_function, _unit))
 
 
+class FitSpeed:
+    """``piecewise`` (l1, the default) and ``auto`` on the 45-patch session of a member, seed 0."""
+
+    params = ["5051-zvyagin", "5051-bent", "4010N-noisy"]
+    param_names = ["member"]
+
+    def setup(self, member):
+        self.points = _points(family_sessions(member, 0)[0])
+        exact = [p for p in self.points if p.saturated_cells == 0]
+        self.hist = np.array([p.histogram for p in exact], dtype=float)
+        self.load = np.array([p.load_N for p in exact])
+
+    def time_piecewise_fit(self, member):
+        """The fit on fresh data (a FitData keeps the power law it was given)."""
+        from tactilecal.calibration._fit import FitData
+        from tactilecal.calibration.methods import piecewise
+
+        piecewise.fit(FitData(self.hist, self.load), piecewise.Options())
+
+    def time_auto(self, member):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            tc.calibrate(self.points)
+
+
 CURVATURES = {f"5051-bent c={c:g}": replace(FAMILY["5051-bent"], name=f"5051-bent c={c:g}",
                                            curvature=c) for c in (0.05, 0.15, -0.05)}
 """Bent members of other log-log curvatures (5051-bent is 0.08, 5051-concave -0.1)."""

@@ -38,6 +38,10 @@ class FitData:
         Area of one sensel (NaN when unknown).
     labels : tuple of str
         Names of the points for messages and figures.
+    memo : dict
+        What was computed from these points once for every fit that needs it (the power law
+        that ``lut`` and ``piecewise`` start from and ``auto``'s ``power:l1`` candidate is,
+        on the same fold); empty in the rows taken by :meth:`rows`.
     """
 
     hist: np.ndarray
@@ -45,6 +49,7 @@ class FitData:
     censored: np.ndarray | None = None
     sensel_area_mm2: float = float("nan")
     labels: tuple = ()
+    memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def rows(self, keep):
         """Return the data of the rows ``keep`` (bool mask or indices)."""

@@ -8,6 +8,8 @@ Every fit takes ``hist`` (n, 256) and ``load_N`` (n,) of the *used* points and r
 ``sum_k X_k**b = hist @ arange(256)**b`` (Zvyagin 2022, eq. 2).
 """
 
+import dataclasses
+import functools
 import os
 from concurrent.futures import ThreadPoolExecutor
 
@@ -18,8 +20,8 @@ from tactilecal._errors import TactilecalError
 from tactilecal.calibration._fit import Fit
 
 __all__ = ["OBJECTIVES", "DEFAULT_OBJECTIVE", "B_BOUNDS", "LEVELS", "COMPILED_MIN_POINTS",
-           "objective_weights", "fit_power", "fit_power_censored", "check_unsaturated",
-           "hist_products"]
+           "objective_weights", "fit_power", "fit_power_of", "fit_power_censored",
+           "check_unsaturated", "hist_products"]
 
 #: Raw levels 0..255 as floats (the columns of a frame histogram).
 LEVELS = np.arange(256, dtype=float)
@@ -119,9 +121,12 @@ def _censored_median(ratio, weight, censored):
     Without censored terms this is the w-weighted median of r. The cost is convex and
     piecewise linear; its slope just above the k-th smallest r is
     ``2 W_unc(<= r_k) + W_cens(<= r_k) - W_unc(all)``, and the minimum is the first r_k
-    where that slope is >= 0.
+    where that slope is >= 0 (:func:`_median_slopes`). One set of points (1-D arrays): the
+    cost of the simplex search of ``piecewise``, evaluated hundreds of times per fit.
     """
-    return float(_censored_medians(ratio[None, :], weight[None, :], censored)[0])
+    order = ratio.argsort(kind="stable")
+    slope = _median_slopes(weight[order], censored[order] if censored.any() else None)
+    return float(ratio[order[(slope >= 0).argmax()]])
 
 
 def _censored_medians(ratio, weight, censored):
@@ -129,15 +134,22 @@ def _censored_medians(ratio, weight, censored):
     order = np.argsort(ratio, axis=1, kind="stable")
     flat = (order + ratio.shape[1] * np.arange(len(ratio))[:, None]).ravel()
     w = weight.ravel()[flat].reshape(order.shape)
-    if censored.any():
-        c = censored[order]
-        uncensored = np.where(c, 0.0, w)
-        slope = 2.0 * np.cumsum(uncensored, axis=1) + np.cumsum(np.where(c, w, 0.0), axis=1) \
-            - uncensored.sum(axis=1, keepdims=True)
-    else:
-        slope = 2.0 * np.cumsum(w, axis=1) - w.sum(axis=1, keepdims=True)
+    slope = _median_slopes(w, censored[order] if censored.any() else None)
     return ratio.ravel()[flat].reshape(order.shape)[np.arange(len(ratio)),
                                                     np.argmax(slope >= 0, axis=1)]
+
+
+def _median_slopes(w, c):
+    """Slopes ``2 W_unc(<= r_k) + W_cens(<= r_k) - W_unc(all)`` along the last axis.
+
+    ``w``: the weights in increasing order of their ratios; ``c``: their censored flags in
+    that order, or None when no point is censored.
+    """
+    if c is None:
+        return 2.0 * w.cumsum(axis=-1) - np.add.reduce(w, axis=-1, keepdims=True)
+    uncensored = np.where(c, 0.0, w)
+    return 2.0 * np.cumsum(uncensored, axis=-1) + np.cumsum(np.where(c, w, 0.0), axis=-1) \
+        - uncensored.sum(axis=-1, keepdims=True)
 
 
 def _costs_numpy(sums, load_N, objective, censored=None, window=None):
@@ -147,14 +159,14 @@ def _costs_numpy(sums, load_N, objective, censored=None, window=None):
     patches adding ``S max(0, A - F/S)`` (:func:`_censored_medians`); l2/relative: the
     closed form. ``window`` (the compiled medians' hint) is not used.
     """
-    w = objective_weights(load_N, objective)
-    if objective == "l1":
+    if objective == "l1":  # weights of 1 (objective_weights)
         flags = np.zeros(len(load_N), bool) if censored is None else censored
         A = _censored_medians(load_N / sums, sums, flags)
         r = A[:, None] * sums - load_N
         if censored is not None:
             r = np.where(censored, np.maximum(r, 0.0), r)
-        return np.abs(w * r).sum(axis=1), A
+        return np.abs(r).sum(axis=1), A
+    w = objective_weights(load_N, objective)
     w2s = w ** 2 * sums
     A = (w2s * load_N).sum(axis=1) / (w2s * sums).sum(axis=1)
     r = w * (A[:, None] * sums - load_N)
@@ -188,6 +200,12 @@ def _minimise_b(hist, load_N, objective, b_bounds, n_grid=13, xtol=1e-10, censor
     return _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, False)
 
 
+def _best(cost):
+    """Index of the smallest cost, NaN costs left out: :func:`numpy.nanargmin`, faster."""
+    k = int(np.argmin(cost))
+    return int(np.nanargmin(cost)) if np.isnan(cost[k]) else k
+
+
 def _check_interior(k, grid, b_bounds):
     if k in (0, len(grid) - 1):
         raise TactilecalError(f"power fit: best exponent b = {grid[k]:.3f} is at the edge of "
@@ -208,15 +226,18 @@ BRACKET_POINTS = 4096
 BRACKET_HALF_WIDTH = 0.02
 
 
+@functools.lru_cache(maxsize=64)
 def _chebyshev_basis(lo, hi, rel_error=1e-18):
-    """Chebyshev coefficients of ``LEVELS**b`` over ``lo <= b <= hi``.
+    """Chebyshev coefficients of ``LEVELS**b`` over ``lo <= b <= hi`` (read-only, remembered).
 
     ``k**b = exp(b ln k)`` is entire in b, so its interpolant at J Chebyshev nodes has
     coefficients falling like ``(x / 2)**j / j!`` with ``x = (hi - lo) / 2 * ln 255``
     (Trefethen, *Approximation Theory and Approximation Practice*, 2013, ch. 8); J is
     chosen so that the first one left out, relative to the smallest value ``k**lo``, is
     below ``rel_error``. Returns ``(coef (256, J), mid, half)``: for
-    ``t = (b - mid) / half``, ``LEVELS**b = coef @ T(t)`` (:func:`_chebyshev_t`).
+    ``t = (b - mid) / half``, ``LEVELS**b = coef @ T(t)`` (:func:`_chebyshev_t`). The
+    brackets of small fits are those of one grid over ``B_BOUNDS``, so each is computed
+    once per process.
     """
     mid, half = (hi + lo) / 2.0, (hi - lo) / 2.0
     x = half * LOG_LEVELS[-1]
@@ -229,6 +250,7 @@ def _chebyshev_basis(lo, hi, rel_error=1e-18):
     values = LEVELS[:, None] ** (mid + half * np.cos(theta))[None, :]
     coef = values @ np.cos(np.outer(np.arange(n_terms), theta)).T * (2.0 / n_terms)
     coef[:, 0] /= 2.0
+    coef.flags.writeable = False
     return coef, mid, half
 
 
@@ -356,7 +378,7 @@ def _minimise_b_many(hist, load_N, objective, b_bounds, n_grid, xtol, censored):
     flags = None if censored is None else censored[::step]
     grid = np.linspace(*(float(v) for v in b_bounds), n_grid)
     cost, A = _costs_many(_direct_sums(hist[::step], grid), load_N[::step], objective, flags)
-    k = int(np.nanargmin(cost))
+    k = _best(cost)
     if k in (0, n_grid - 1):  # the edge on the subsample: decide on all the points
         return _minimise_b_grid(hist, load_N, objective, b_bounds, n_grid, xtol, censored)
     n_eval = n_grid
@@ -472,7 +494,7 @@ def _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, com
     lo, hi = (float(v) for v in b_bounds)
     grid = np.linspace(lo, hi, n_grid)
     cost, A = costs(_direct_sums(hist, grid), load_N, objective, censored)
-    k = int(np.nanargmin(cost))
+    k = _best(cost)
     _check_interior(k, grid, b_bounds)
     lo, hi, n_eval = grid[k - 1], grid[k + 1], n_grid
     sums_at = _Sums(hist, lo, hi, compiled)
@@ -481,7 +503,7 @@ def _nested_grids(hist, load_N, objective, b_bounds, n_grid, xtol, censored, com
             last, last_A, grid = grid, A, np.linspace(lo, hi, n_grid)
             window = _median_window(grid, last, last_A) if windows else None
             cost, A = costs(sums_at(grid), load_N, objective, censored, window)
-            k, n_eval = int(np.nanargmin(cost)), n_eval + n_grid
+            k, n_eval = _best(cost), n_eval + n_grid
             lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, n_grid - 1)]
         b = float(grid[k])
     else:
@@ -516,6 +538,22 @@ def fit_power(hist, load_N, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS):
     b, A, cost, n_eval = _minimise_b(hist, load_N, objective, b_bounds)
     return Fit("power", {"A": A, "b": b},
                {"objective": objective, "cost": cost, "n_evaluations": n_eval})
+
+
+def fit_power_of(data, *, objective=DEFAULT_OBJECTIVE, b_bounds=B_BOUNDS):
+    """:func:`fit_power` of the points of ``data`` (a :class:`FitData`), remembered on it.
+
+    Every load is taken as exact (``data.censored`` is not read). The power method, and
+    ``lut`` and ``piecewise`` as their starting law, fit the same law to the same points
+    (``auto`` fits all three on each fold): the fit is made once per objective and bounds,
+    and each caller gets its own copy of the :class:`Fit`.
+    """
+    key = ("fit_power", objective, tuple(float(v) for v in b_bounds))
+    if key not in data.memo:
+        data.memo[key] = fit_power(data.hist, data.load_N, objective=objective,
+                                   b_bounds=b_bounds)
+    fit = data.memo[key]
+    return dataclasses.replace(fit, params=dict(fit.params), diagnostics=dict(fit.diagnostics))
 
 
 def check_unsaturated(censored, name_of=None, kind="patch(es)"):

@@ -266,7 +266,7 @@ def select(data, options, groups):
                   "method 'power' used")
         warnings.warn(f"method='auto': {reason}", UserWarning, stacklevel=4)
         return power, power.Options(), Selection(chosen="power", reason=reason, **record)
-    squared = {text: _squared_errors(text, data, folds, exact) for text in options.candidates}
+    squared = _squared_errors(options.candidates, data, folds, exact)
     good = {t: sq for t, sq in squared.items() if not isinstance(sq, str)}
     if not good:
         raise TactilecalError("method='auto': no candidate could be fitted on every fold ("
@@ -298,25 +298,42 @@ def _excess_se(squared, best):
     return float(diff.mean() / se) if se > 0 else float("inf")
 
 
-def _squared_errors(text, data, folds, exact):
+def _squared_errors(candidates, data, folds, exact):
     """Each exact patch's held-out squared relative error, averaged over the repeats.
 
-    Returns the array, or the reason the candidate could not be fitted on every fold.
+    Returns a dict: per candidate the array, or the reason it could not be fitted on every
+    fold. The candidates are fitted on one fold's training rows after another, so they
+    share what those rows give them all (:attr:`FitData.memo`: the power law that
+    ``power:l1`` is and ``lut`` and ``piecewise`` start from).
     """
-    module, options = candidate(text)
-    total = np.zeros(int(exact.sum()))
+    methods = {text: candidate(text) for text in candidates}
+    total = {text: np.zeros(int(exact.sum())) for text in candidates}
+    failed = {}
     for fold in folds:
-        error = np.empty(len(data.load_N))
+        error = {text: np.empty(len(data.load_N)) for text in candidates}
         for k in np.unique(fold):
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")  # a fold's warnings are not the user's
-                    fit = module.fit(data.rows(fold != k), options)
-                check_law(fit.model, fit.params, f"fold {k + 1}")
-            except (TactilecalError, np.linalg.LinAlgError) as exc:
-                return str(exc)
-            held = fold == k
-            error[held] = data.hist[held] @ force_table(fit.model, fit.params) \
-                / data.load_N[held] - 1.0
-        total += error[exact] ** 2
-    return total / len(folds)
+            train, held = data.rows(fold != k), fold == k
+            for text in candidates:
+                if text not in failed:
+                    _fold_error(text, *methods[text], train, data, held, k, error, failed)
+        for text in candidates:
+            total[text] += error[text][exact] ** 2
+    return {text: failed.get(text, total[text] / len(folds)) for text in candidates}
+
+
+def _fold_error(text, module, options, train, data, held, k, error, failed):
+    """Fit one candidate on one fold's ``train`` rows and score it on its ``held`` rows.
+
+    Writes the relative errors of the held rows of ``data`` into ``error[text]``, or why
+    the candidate could not be fitted into ``failed[text]``.
+    """
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # a fold's warnings are not the user's
+            fit = module.fit(train, options)
+        check_law(fit.model, fit.params, f"fold {k + 1}")
+    except (TactilecalError, np.linalg.LinAlgError) as exc:
+        failed[text] = str(exc)
+        return
+    error[text][held] = data.hist[held] @ force_table(fit.model, fit.params) \
+        / data.load_N[held] - 1.0

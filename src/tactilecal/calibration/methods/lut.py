@@ -15,7 +15,7 @@ from scipy import optimize
 
 from tactilecal._errors import TactilecalError
 from tactilecal.calibration._fit import Fit, MethodOptions, option
-from tactilecal.calibration._powerfit import LEVELS, OBJECTIVES, fit_power
+from tactilecal.calibration._powerfit import LEVELS, OBJECTIVES, fit_power_of
 from tactilecal.calibration._powerfit import objective_weights as _weights
 from tactilecal.calibration.methods._censored import refit_censored
 from tactilecal.calibration.methods._smoothing import check_smoothing, irls_l1, penalty_weight
@@ -105,7 +105,7 @@ def _fit(data, options):
     knots = np.asarray(DEFAULT_KNOTS if options.knots is None else options.knots, dtype=float)
     objective, smoothing = options.objective, options.smoothing
     hist, load_N = data.hist, data.load_N
-    shape = fit_power(hist, load_N, objective="l1").params
+    shape = fit_power_of(data, objective="l1").params
     design, cumulative = _lut_design(hist, knots, shape["b"])
     # squared rows: with IRLS's weights an l1 cost, so the l1 weight holds for the l1 fit too
     penalty = np.sqrt(penalty_weight(smoothing, load_N, objective)) \
@@ -113,7 +113,8 @@ def _fit(data, options):
     zeros = np.zeros(len(penalty))
 
     def solve(w):
-        return optimize.nnls(np.r_[w[:, None] * design, penalty], np.r_[w * load_N, zeros])[0]
+        return optimize.nnls(np.concatenate((w[:, None] * design, penalty)),
+                             np.concatenate((w * load_N, zeros)))[0]
 
     if objective == "l1":
         increments = irls_l1(solve, lambda x: design @ x - load_N, load_N)

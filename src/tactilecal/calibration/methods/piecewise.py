@@ -24,7 +24,7 @@ from tactilecal.calibration._powerfit import (
     LOG_LEVELS,
     OBJECTIVES,
     _censored_median,
-    fit_power,
+    fit_power_of,
 )
 from tactilecal.calibration._powerfit import objective_weights as _weights
 from tactilecal.calibration.methods._censored import refit_censored
@@ -59,19 +59,28 @@ class Options(MethodOptions):
                                   "e.g. (1, 16, 64, 255)")
 
 
-def _piecewise_shape(knots, slopes):
-    """Piecewise power law through 1 N at the first knot with exponents ``slopes``, raw 0..255.
+def _piecewise_shape(knots):
+    """Piecewise power law through 1 N at the first knot, raw 0..255, as a function of slopes.
 
-    The same law as ``force_table("piecewise-power", ...)``, computed directly on the log
-    levels (about 50x faster: the simplex search of the l1 fit evaluates it hundreds of times).
+    Returns ``shape(slopes)``, the same law as ``force_table("piecewise-power", ...)`` with
+    exponents ``slopes``, computed directly on the log levels (about 50x faster), with what
+    depends on the knots alone computed once: the simplex search of the l1 fit evaluates it
+    hundreds of times.
     """
     log_knots = np.log(knots)
-    log_force = np.r_[0.0, np.cumsum(slopes * np.diff(log_knots))]
+    steps = np.diff(log_knots)
     log_raw = LOG_LEVELS[1:]
-    value = np.interp(log_raw, log_knots, log_force)
     below = log_raw < log_knots[0]
-    value[below] = slopes[0] * (log_raw[below] - log_knots[0])
-    return np.r_[0.0, np.exp(value)]
+    below_offset = log_raw[below] - log_knots[0]
+
+    def shape(slopes):
+        log_force = np.concatenate(([0.0], (slopes * steps).cumsum()))
+        value = np.interp(log_raw, log_knots, log_force)
+        if below_offset.size:
+            value[below] = slopes[0] * below_offset
+        return np.concatenate(([0.0], np.exp(value)))
+
+    return shape
 
 
 def _piecewise_l1(hist, load_N, knots, start, weight):
@@ -83,12 +92,16 @@ def _piecewise_l1(hist, load_N, knots, start, weight):
     the simplex search).
     """
     none = np.zeros(len(load_N), dtype=bool)
+    shape = _piecewise_shape(knots)
+    lo, hi = B_BOUNDS
 
     def scale_and_cost(slopes):
-        slopes = np.clip(slopes, *B_BOUNDS)
-        sums = hist @ _piecewise_shape(knots, slopes)
+        slopes = np.minimum(np.maximum(slopes, lo), hi)  # np.clip, without its wrapper
+        sums = hist @ shape(slopes)
         scale = _censored_median(load_N / sums, sums, none)
-        cost = np.sum(np.abs(scale * sums - load_N)) + weight * np.sum(np.diff(slopes) ** 2)
+        bends = slopes[1:] - slopes[:-1]  # np.diff(slopes)
+        cost = np.add.reduce(np.abs(scale * sums - load_N)) \
+            + weight * np.add.reduce(bends * bends)  # the sums without ndarray.sum's wrapper
         return scale, slopes, cost
 
     sol = optimize.minimize(lambda x: scale_and_cost(x)[2], start, method="Nelder-Mead",
@@ -136,7 +149,7 @@ def _fit(data, options):
     knots = np.asarray(options.knots, dtype=float)
     objective, smoothing = options.objective, options.smoothing
     hist, load_N = data.hist, data.load_N
-    start = fit_power(hist, load_N, objective=objective).params
+    start = fit_power_of(data, objective=objective).params
     weight = penalty_weight(smoothing, load_N, objective)
     if objective == "l1":
         log_force = _piecewise_l1(hist, load_N, knots, np.full(len(knots) - 1, start["b"]),

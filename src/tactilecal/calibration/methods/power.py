@@ -15,8 +15,8 @@ from tactilecal.calibration._powerfit import (
     B_BOUNDS,
     DEFAULT_OBJECTIVE,
     OBJECTIVES,
-    fit_power,
     fit_power_censored,
+    fit_power_of,
 )
 
 __all__ = ["NAME", "Options", "fit"]
@@ -55,5 +55,4 @@ def fit(data, options):
     if data.censored is not None:
         return fit_power_censored(data.hist, data.load_N, data.censored,
                                   objective=options.objective, b_bounds=options.b_bounds)
-    return fit_power(data.hist, data.load_N, objective=options.objective,
-                     b_bounds=options.b_bounds)
+    return fit_power_of(data, objective=options.objective, b_bounds=options.b_bounds)
