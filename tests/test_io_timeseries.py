@@ -85,6 +85,18 @@ def test_blank_lines_carry_no_data(tmp_path):
     assert data.values.tolist() == [1.0, 2.0] and data.time.values.tolist() == [0.0, 0.5]
 
 
+@pytest.mark.parametrize("blank", [",", " , ", ",,\t", " "])
+def test_lines_of_commas_and_spaces_carry_no_data_either(tmp_path, blank):
+    """A spreadsheet's empty row (commas only) is no row, as the row check has it: pandas
+    read it as a row of NaN, and the file failed with a message naming no line."""
+    text = f"t (s),F (N),note\n0,1,a\n{blank}\n0.5,2,b\n{blank}\n1.5,3.25,c\n{blank}\n"
+    data = read_timeseries(_csv(tmp_path, text))
+    assert data.values.tolist() == [1.0, 2.0, 3.25]
+    assert data.time.values.tolist() == [0.0, 0.5, 1.5]
+    with pytest.raises(ValueError, match=r"line 6 of .*: time 0.5 s follows 0.5 s"):
+        read_timeseries(_csv(tmp_path, text.replace("1.5,3.25", "0.5,3.25")))
+
+
 def test_byte_order_mark(tmp_path):
     path = tmp_path / "bom.csv"
     path.write_bytes(b"\xef\xbb\xbfTime (s),Force (N)\r\n0,1\r\n1,2\r\n")

@@ -74,6 +74,19 @@ def _columns(text, name):
     return header
 
 
+def _cells_of_rows(text, indices):
+    """Slow path: the columns ``indices`` of the rows the checker keeps, as float64 arrays.
+
+    Every cell is a finite number (:func:`_first_bad_cell` passed). Reached when pandas read
+    what the checker skips as blank, a line of spaces and commas only (a spreadsheet's empty
+    row): pandas makes it a row of NaN, the checker no row, as for every CSV read here.
+    """
+    rows = itertools.islice(text.rows(), 1, None)  # after the header
+    table = np.array([[parse_number(cells[i], "cell") for i in indices] for _, cells in rows],
+                     dtype=np.float64).reshape(-1, len(indices))
+    return tuple(np.ascontiguousarray(column) for column in table.T)
+
+
 def _line_of_row(text, row):
     """File line number of data row ``row`` (0-based; blank lines are no rows), for a message."""
     rows = text.rows()
@@ -174,8 +187,7 @@ def _load_columns(text, columns, t_name, v_name, name):
     if not ok:
         _first_bad_cell(text, t_name, columns.index(t_name), name)
         _first_bad_cell(text, v_name, columns.index(v_name), name)
-        raise TactilecalError(f"{name}: columns {t_name!r}, {v_name!r} could not be read as "
-                              "numbers")  # pragma: no cover - the slow path names the cell
+        pair = _cells_of_rows(text, (columns.index(t_name), columns.index(v_name)))
     if len(pair[0]) < 2:
         raise TactilecalError(f"{name} has {len(pair[0])} data rows; expected at least 2")
     return pair
