@@ -14,6 +14,7 @@ from unittest import mock
 
 import numpy as np
 import pytest
+from edits import byte_edits
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -79,25 +80,8 @@ def csv_files(draw):
     except UnicodeEncodeError:
         raw = text.encode("utf-8")
     if draw(st.integers(0, 3)) == 0:
-        raw = draw(_byte_edits(raw))
+        raw = draw(byte_edits(raw))
     return raw
-
-
-@st.composite
-def _byte_edits(draw, raw):
-    data = bytearray(raw)
-    for _ in range(draw(st.integers(1, 3))):
-        at = draw(st.integers(0, max(len(data) - 1, 0)))
-        byte = draw(st.sampled_from(list(b",.-+eE0123456789\r\n \t\"_\x00\xff\x81")
-                                    + [draw(st.integers(0, 255))]))
-        what = draw(st.sampled_from(["replace", "insert", "delete"]))
-        if what == "replace" and data:
-            data[at] = byte
-        elif what == "insert":
-            data.insert(at, byte)
-        elif data:
-            del data[at]
-    return bytes(data)
 
 
 #: Cells of plain rows, then cells that each depart from the plain form.

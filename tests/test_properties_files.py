@@ -15,6 +15,7 @@ import shutil
 import numpy as np
 import pytest
 import xarray as xr
+from edits import byte_edits
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
@@ -59,23 +60,6 @@ def _reads_or_clean_error(read, path):
     except Exception as exc:  # noqa: BLE001 - the class is what is tested
         _assert_clean_error(exc, path)
         return None
-
-
-@st.composite
-def byte_edits(draw, raw):
-    data = bytearray(raw)
-    for _ in range(draw(st.integers(1, 3))):
-        at = draw(st.integers(0, max(len(data) - 1, 0)))
-        byte = draw(st.sampled_from(list(b",.-+eE0123456789\r\n \t\"_\x00\xff\x81")
-                                    + [draw(st.integers(0, 255))]))
-        what = draw(st.sampled_from(["replace", "insert", "delete"]))
-        if what == "replace" and data:
-            data[at] = byte
-        elif what == "insert":
-            data.insert(at, byte)
-        elif data:
-            del data[at]
-    return bytes(data)
 
 
 # ----------------------------------------------------------------------------- load-cell CSV

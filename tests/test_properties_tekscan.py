@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
+from edits import byte_edits
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
@@ -300,28 +301,14 @@ def test_breaking_edits_are_errors_naming_the_file(folder, data):
 
 
 # ----------------------------------------------------------------------------- any edit
-@st.composite
-def byte_edits(draw, raw):
-    """Return ``raw`` with one to three bytes replaced, inserted or deleted."""
-    data = bytearray(raw)
-    for _ in range(draw(st.integers(1, 3))):
-        at = draw(st.integers(0, max(len(data) - 1, 0)))
-        what = draw(st.sampled_from(["replace", "insert", "delete"]))
-        byte = draw(st.sampled_from(list(b",.-+eE0123456789B\r\n \t@F_\x00\xff\x81")
-                                    + [draw(st.integers(0, 255))]))
-        if what == "replace" and data:
-            data[at] = byte
-        elif what == "insert":
-            data.insert(at, byte)
-        elif data:
-            del data[at]
-    return bytes(data)
+#: An export's bytes to edit in: a number's, a row's, a frame line's and the terminator's.
+EXPORT_BYTES = b",.-+eE0123456789B\r\n \t@F_\x00\xff\x81"
 
 
 @given(st.data())
 def test_any_byte_edit_reads_to_allowed_values_or_is_a_clean_error(folder, data):
     export = data.draw(exports())
-    path = _write(folder, export, data.draw(byte_edits(export.text.encode())))
+    path = _write(folder, export, data.draw(byte_edits(export.text.encode(), EXPORT_BYTES)))
     try:
         recording = read_tekscan(path)
     except Exception as exc:  # noqa: BLE001 - the class is what is tested
@@ -333,7 +320,7 @@ def test_any_byte_edit_reads_to_allowed_values_or_is_a_clean_error(folder, data)
 @given(st.data())
 def test_a_lazy_read_of_any_byte_edit_agrees_with_the_eager_read(folder, data):
     export = data.draw(exports(layouts=("iscan", "fscan")))
-    path = _write(folder, export, data.draw(byte_edits(export.text.encode())))
+    path = _write(folder, export, data.draw(byte_edits(export.text.encode(), EXPORT_BYTES)))
     outcomes = []
     for chunks in (None, 2):
         try:
