@@ -81,6 +81,31 @@ def test_plot_a_recording_from_the_command_line(fscan_asf, iscan_csv, tmp_path, 
     assert "--frame 999 is not a frame of the recording (frames 1..309)" in capsys.readouterr().err
 
 
+def test_a_figure_that_fails_to_write_leaves_the_file_as_it_was(tmp_path, monkeypatch):
+    """Figures are written under a temporary name and renamed: a write that fails half way
+    (a full disk) leaves no partial PNG and an earlier one untouched."""
+    import pathlib
+
+    rec = moving_raw()
+    (tmp_path / "frame.png").write_bytes(b"earlier")
+    written = rec.tactile.save_figures(tmp_path)
+    assert (tmp_path / "frame.png").read_bytes().startswith(b"\x89PNG")
+    (tmp_path / "frame.png").write_bytes(b"earlier")
+    (tmp_path / "peak_map.png").unlink()
+
+    def half_then_fail(self, data):
+        with open(self, "wb") as out:
+            out.write(data[:len(data) // 2])
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(pathlib.Path, "write_bytes", half_then_fail)
+    with pytest.raises(OSError, match="No space left"):
+        rec.tactile.save_figures(tmp_path)
+    assert (tmp_path / "frame.png").read_bytes() == b"earlier"
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        p.name for p in written if p.name != "peak_map.png")
+
+
 def test_movie_gif_shows_every_frame_with_its_centre(tmp_path):
     from PIL import Image
 

@@ -15,8 +15,11 @@ The decoded pixels are those ``savefig`` would write at the same ``dpi``.
 
 import io
 import zlib
+from pathlib import Path
 
 import numpy as np
+
+from tactilecal._atomic import atomic_path
 
 __all__ = ["png_bytes", "write_png"]
 
@@ -58,9 +61,11 @@ def png_bytes(figure, dpi):
 
 
 def write_png(figure, path, dpi):
-    """Write ``figure`` as a PNG file at ``path`` (``dpi``), drawn once.
+    """Write ``figure`` as a PNG file at ``path`` (``dpi``), drawn once, atomically.
 
-    ``path`` is written as it is (the callers write under a temporary name and rename).
+    The bytes go to a temporary file next to ``path``, renamed onto it when written
+    (:func:`~tactilecal._atomic.atomic_path`): a failed write leaves ``path`` as it was.
     """
-    with open(path, "wb") as out:
-        out.write(png_bytes(figure, dpi))
+    data = png_bytes(figure, dpi)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_bytes(data)

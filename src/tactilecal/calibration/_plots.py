@@ -9,7 +9,6 @@ from pathlib import Path
 
 import numpy as np
 
-from tactilecal._atomic import atomic_path
 from tactilecal._png import write_png
 from tactilecal._units import N_PER_MM2_TO_KPA
 
@@ -138,7 +137,6 @@ def save_figures(result, outdir, *, dpi=120):
         fig = Figure(figsize=(5.5, 4.2), layout="constrained")
         draw(result, ax=fig.add_subplot())
         path = Path(outdir) / f"{name}.png"
-        with atomic_path(path) as tmp:
-            write_png(fig, tmp, dpi=dpi)
+        write_png(fig, path, dpi=dpi)
         paths.append(path)
     return paths

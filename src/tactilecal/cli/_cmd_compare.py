@@ -31,7 +31,6 @@ def _row_names(paths):
 
 def run(args):
     """Run ``tactilecal compare``."""
-    from tactilecal._atomic import atomic_path
     from tactilecal._png import write_png
     from tactilecal.calibration import CalibrationResult, compare_calibrations
 
@@ -43,8 +42,7 @@ def run(args):
         outdir = make_folder(args.out, what="--out")
         figure = outdir / "compare_curves.png"
         ax = comparison.plot()
-        with atomic_path(figure) as tmp:
-            write_png(ax.figure, tmp, dpi=120)
+        write_png(ax.figure, figure, dpi=120)
         info(args, f"curves written to {figure}")
     if args.json:
         print_json({"rows": comparison.rows, "figure": None if figure is None else str(figure)})

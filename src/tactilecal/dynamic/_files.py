@@ -169,8 +169,7 @@ def write_evaluation(evaluation, filt, folder):
     figures = {"time.png": plot_time(evaluation), "spectra.png": plot_spectra(evaluation),
                "error.png": plot_error(evaluation), "transfer.png": plot_transfer(filt)}
     for name, fig in figures.items():
-        with atomic_path(folder / name) as tmp:
-            write_png(fig, tmp, dpi=120)
+        write_png(fig, folder / name, dpi=120)
     evaluation.figures = tuple(sorted(figures))
     evaluation.to_json(folder / "evaluation.json")
     return evaluation

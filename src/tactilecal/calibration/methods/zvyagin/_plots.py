@@ -6,7 +6,6 @@ matplotlib is imported inside the functions; figures are built with
 
 import numpy as np
 
-from tactilecal._atomic import atomic_path
 from tactilecal._png import write_png
 from tactilecal._units import N_PER_MM2_TO_KPA
 
@@ -235,7 +234,6 @@ def save_figures(result, outdir, *, dpi=120):
     for name, func in FIGURES.items():
         ax = func(res)
         path = outdir / f"{name}.png"
-        with atomic_path(path) as tmp:
-            write_png(ax.figure, tmp, dpi=dpi)
+        write_png(ax.figure, path, dpi=dpi)
         paths.append(path)
     return paths
