@@ -125,6 +125,17 @@ class Structure:
         return {"zeros": self.zeros, "poles": self.poles, "zero_pairs": self.zero_pairs,
                 "pole_pairs": self.pole_pairs}
 
+    @property
+    def bounds(self):
+        """Where each part of ``[delay_ms, log fz.., log fp.., (log fn, zeta)..]`` ends.
+
+        ``(a, b, c)``: the zero corners are ``x[1:a]``, the pole corners ``x[a:b]``, the zero
+        pairs ``x[b:c]`` and the pole pairs ``x[c:]``.
+        """
+        a = 1 + self.zeros
+        b = a + self.poles
+        return a, b, b + 2 * self.zero_pairs
+
     def split(self, x):
         """Split ``[delay_ms, log fz.., log fp.., (log fn, zeta)..]`` into its parts.
 
@@ -132,8 +143,7 @@ class Structure:
         pairs as ``(fn_hz, damping)`` rows.
         """
         x = np.asarray(x, dtype=float)
-        a, b = 1 + self.zeros, 1 + self.zeros + self.poles
-        c = b + 2 * self.zero_pairs
+        a, b, c = self.bounds
         zp, pp = x[b:c].reshape(-1, 2), x[c:].reshape(-1, 2)
         return (x[0], np.exp(x[1:a]), np.exp(x[a:b]),
                 np.column_stack([np.exp(zp[:, 0]), zp[:, 1]]),
@@ -174,7 +184,7 @@ class _Sections:
         """Return ``C`` and ``d ln C / dx`` (rows: parameters, columns: bins)."""
         s, f_hz = self.structure, self.f_hz
         x = np.asarray(x, dtype=float)
-        a, b = 1 + s.zeros, 1 + s.zeros + s.poles
+        a, b, _ = s.bounds
         dlog = np.empty((x.size, f_hz.size), complex)
         dlog[0] = self.delay_row
         c = np.exp(self.delay_row * x[0])
