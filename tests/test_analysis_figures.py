@@ -51,6 +51,39 @@ def test_the_centre_of_force_is_drawn_over_the_map_at_the_sensor_scale():
     assert path.get_xlim() == (-1.0, 15.0) and path.get_ylim() == (39.0, -1.0)  # whole sensor
 
 
+def test_a_given_summary_draws_the_centre_of_force_the_maps_compute():
+    """``plot_pressure_map(summary=)`` (the report passes the summary it has) draws the same
+    centre of force as the map computes itself: over the peak map and in one frame."""
+    rec = moving_raw(saturate=()).assign_attrs(units="kPa")
+    summary = rec.tactile.frame_summary().compute()
+    for kwargs in ({}, {"position": 5}):
+        own, given = (rec.tactile.plot_pressure_map(**kwargs, **extra)
+                      for extra in ({}, {"summary": summary}))
+        (a,), (b,) = ([ln for ln in ax.lines if ln.get_label() == "centre of force"]
+                      for ax in (own, given))
+        for get in ("get_xdata", "get_ydata"):
+            np.testing.assert_allclose(getattr(b, get)(), getattr(a, get)(), rtol=0,
+                                       atol=1e-12, equal_nan=True)
+
+
+def test_png_pixels_are_those_savefig_writes():
+    """Figures are drawn once and encoded by tactilecal._png: the same pixels as
+    ``savefig`` at the same dpi (RGB where every pixel is opaque)."""
+    import io
+
+    from PIL import Image
+
+    from tactilecal._png import png_bytes
+
+    ax = moving_raw().tactile.plot_pressure_map()
+    buf = io.BytesIO()
+    ax.figure.savefig(buf, format="png", dpi=60)
+    ours = np.asarray(Image.open(io.BytesIO(png_bytes(ax.figure, 60))))
+    theirs = np.asarray(Image.open(buf))
+    assert ours.shape[2] == 3 and (theirs[..., 3] == 255).all()
+    np.testing.assert_array_equal(ours, theirs[..., :3])
+
+
 def test_units_and_saturated_frames_on_the_force_plot():
     raw = moving_raw()  # as MPa: 0.1 MPa under the patch, 0.25 MPa = saturation where 255
     rec = raw.where(raw < 255, 250.0) / 1000.0
