@@ -1,5 +1,6 @@
 """Reading and writing recordings: ``read_tekscan``, ``write_tekscan``, ``open_recording``,
-``convert``, ``read_timeseries``, against pandas on the same numbers.
+``convert``, ``read_timeseries``, against pandas on the same numbers; a result's JSON text
+against :func:`json.dumps` of the same plain data.
 
 Data: a simulated raw 44 x 44 I-Scan export of 10,000 frames (70 MB) and a plain CSV of the
 same numbers (:func:`benchmarks._common.write_export`); a load-cell CSV of 1,000,000 rows of
@@ -248,3 +249,29 @@ if __name__ == "__main__":
     from benchmarks._common import run
 
     run(sys.modules[__name__])
+
+
+class ResultJson:
+    """A calibration's JSON text: ``to_json_text`` of Zvyagin's procedure on 120 patches (its
+    pairs, maps and tables, about 0.5 MB of JSON)."""
+
+    def setup(self):
+        from tactilecal.calibration import calibrate, points_from_frames
+        from tactilecal.simulate import deadweight_session, make_sensor
+
+        session = deadweight_session(make_sensor("5051", seed=4), n_patches=120, seed=5)
+        self.result = calibrate(points_from_frames(session.raw, session.load_N), "zvyagin")
+
+    def time_to_json_text(self):
+        self.result.to_json_text()
+
+    def track_to_json_text_over_json_dumps(self):
+        """CPU time of ``json.dumps`` of the text's own plain data / ``to_json_text`` (which
+        converts the arrays and NumPy numbers first): the cost of that conversion."""
+        import json
+
+        plain = json.loads(self.result.to_json_text())
+        return ratio(lambda: json.dumps(plain, indent=2), self.result.to_json_text)
+
+    track_to_json_text_over_json_dumps.unit = "ratio"
+

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
 
 import tactilecal
 from tactilecal import TactilecalError
@@ -255,3 +256,25 @@ def test_any_blind_test_edit_loads_or_is_a_clean_error(folder, data):
         Evaluation.from_json(path)
     except Exception as exc:  # noqa: BLE001 - the class is what is tested
         _assert_clean_error(exc, path)
+
+
+def _one_by_one(obj):
+    """to_jsonable's rule element by element: arrays and NumPy scalars as Python values,
+    non-finite floats as None."""
+    if isinstance(obj, np.ndarray | list | tuple):
+        return [_one_by_one(v) for v in obj] if np.ndim(obj) else _one_by_one(obj.item())
+    value = obj.item() if isinstance(obj, np.generic) else obj
+    return None if isinstance(value, float) and not np.isfinite(value) else value
+
+
+@given(array=hnp.arrays(st.sampled_from(["f8", "f4", "f2", "i8", "u1", "i2", "bool"]),
+                        hnp.array_shapes(min_dims=0, max_dims=3, min_side=0, max_side=4)))
+def test_an_array_converts_as_its_elements_one_by_one(array):
+    from tactilecal._jsonutil import to_jsonable
+
+    got = to_jsonable({"a": array, "b": [array, (np.float64(np.nan), 1.5)]})
+    want = _one_by_one(array)
+    assert got == {"a": want, "b": [want, [None, 1.5]]}
+    assert [type(x) for x in np.ravel(np.asarray(got["a"], dtype=object))] == \
+        [type(x) for x in np.ravel(np.asarray(want, dtype=object))]
+    json.dumps(got, allow_nan=False)  # what JSON holds: no NaN, no NumPy type

@@ -16,19 +16,25 @@ from tactilecal._errors import TactilecalError
 def to_jsonable(obj):
     """Convert NumPy scalars/arrays (recursively) to JSON-serialisable Python objects.
 
-    Non-finite floats become ``None`` (JSON has no NaN); paths become strings.
+    Non-finite floats become ``None`` (JSON has no NaN); paths become strings. Arrays of
+    numbers are converted whole (:func:`_array`), not element by element.
 
     Examples
     --------
     >>> to_jsonable({"a": np.float64(1.5), "b": np.array([1, 2]), "c": float("nan")})
     {'a': 1.5, 'b': [1, 2], 'c': None}
     """
+    kind = type(obj)
+    if kind in _ATOMS:
+        return obj
+    if kind is float:
+        return obj if math.isfinite(obj) else None
     if isinstance(obj, Mapping):  # also a mapping-like result (ValidationResult)
         return {str(k): to_jsonable(v) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
-        return [to_jsonable(v) for v in obj]
+        return [v if type(v) in _ATOMS else to_jsonable(v) for v in obj]
     if isinstance(obj, np.ndarray):
-        return to_jsonable(obj.tolist())
+        return _array(obj)
     if isinstance(obj, np.generic):
         return to_jsonable(obj.item())
     if isinstance(obj, os.PathLike):
@@ -36,6 +42,21 @@ def to_jsonable(obj):
     if isinstance(obj, float) and not math.isfinite(obj):
         return None
     return obj
+
+
+_ATOMS = frozenset({str, int, bool, type(None)})
+
+
+def _array(array):
+    """:func:`to_jsonable` of an array: nested lists, non-finite floats as ``None``."""
+    if array.dtype.kind in "biu":
+        return array.tolist()
+    if array.dtype.kind == "f":
+        finite = np.isfinite(array)
+        if finite.all():
+            return array.tolist()
+        return np.where(finite, array.astype(object), None).tolist()
+    return to_jsonable(array.tolist())
 
 
 def to_python(obj):
