@@ -176,23 +176,32 @@ def test_hist_products_equal_the_dense_product(n, dtype, columns):
     np.testing.assert_allclose(powerfit.hist_products(hist, matrix[:, 0]), dense.T[:1],
                                rtol=1e-13)
     if n >= 2 * powerfit.PRODUCT_ROWS_PER_THREAD:  # blocks of rows on the cores, each row as alone
+        from tactilecal._numba import read_only
         from tactilecal.calibration._powerfit_kernels import hist_dot
 
         counts = hist if hist.dtype in powerfit.KERNEL_COUNT_TYPES else hist.astype(float)
-        whole = hist_dot(counts, matrix, np.empty((columns, n)), 0)
+        whole = hist_dot(read_only(counts), read_only(matrix), np.empty((columns, n)), 0)
         np.testing.assert_array_equal(powerfit.hist_products(hist, matrix), whole)
 
 
 def test_the_product_kernel_sees_uint16_and_float64_counts_only():
-    """Other counts are widened: numba compiles the kernel for no third type."""
+    """Other counts are widened, and every input is read-only (a remembered Chebyshev table
+    is): numba compiles the kernel for no third type and no writable twin."""
     from numba import types
 
     from tactilecal.calibration._powerfit_kernels import hist_dot
 
     hist = np.zeros((powerfit.COMPILED_MIN_POINTS, 256), np.int32)
     hist[:, 7] = 3
-    np.testing.assert_array_equal(powerfit.hist_products(hist, np.arange(256.0)), 21.0)
+    levels = np.arange(256.0)
+    frozen = levels.copy()
+    frozen.flags.writeable = False
+    for counts in (hist, hist.astype(np.uint16)):
+        for matrix in (levels, frozen):
+            np.testing.assert_array_equal(powerfit.hist_products(counts, matrix), 21.0)
     assert {sig[0].dtype for sig in hist_dot.signatures} <= {types.uint16, types.float64}
+    assert all(sig[0].mutable is False and sig[1].mutable is False
+               for sig in hist_dot.signatures)
 
 
 def test_raw_sums_from_the_reassociated_product_are_exact():

@@ -7,11 +7,12 @@ install run by a user without a writable home, e.g. in a container) numba raises
 ``RuntimeError: cannot cache function ...`` as the kernel module is imported. :func:`njit`
 then compiles the kernel without a cache, silently: it is compiled on first use in each
 process instead of loaded from disk, which costs time, never correctness.
+
+:func:`read_only` gives a kernel's inputs one type whatever their writability. Importing
+this module does not import numba: :func:`njit` does.
 """
 
-import numba
-
-__all__ = ["njit"]
+__all__ = ["njit", "read_only"]
 
 
 def njit(**options):
@@ -35,6 +36,8 @@ def njit(**options):
     >>> twice(21)
     42
     """
+    import numba
+
     def decorate(function):
         try:
             return numba.njit(cache=True, **options)(function)
@@ -43,3 +46,21 @@ def njit(**options):
                 raise
             return numba.njit(**options)(function)
     return decorate
+
+
+def read_only(array):
+    """Return a read-only view of ``array``, so that a kernel reading it compiles once.
+
+    numba compiles a kernel again for every argument type, and a read-only array (a block
+    of a file, a dask chunk, a remembered table) is another type than a writable one of the
+    same dtype.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> read_only(np.zeros(3)).flags.writeable
+    False
+    """
+    view = array.view()
+    view.flags.writeable = False
+    return view

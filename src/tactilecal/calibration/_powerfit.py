@@ -17,6 +17,7 @@ import numpy as np
 from scipy import optimize
 
 from tactilecal._errors import TactilecalError
+from tactilecal._numba import read_only
 from tactilecal.calibration._fit import Fit
 
 __all__ = ["OBJECTIVES", "DEFAULT_OBJECTIVE", "B_BOUNDS", "LEVELS", "COMPILED_MIN_POINTS",
@@ -86,7 +87,7 @@ def hist_products(hist, matrix):
     if len(hist) < COMPILED_MIN_POINTS:
         product = np.asarray(hist, dtype=float) @ matrix
         return product[None] if matrix.ndim == 1 else np.ascontiguousarray(product.T)
-    matrix = np.ascontiguousarray(matrix[:, None] if matrix.ndim == 1 else matrix)
+    matrix = read_only(np.ascontiguousarray(matrix[:, None] if matrix.ndim == 1 else matrix))
     from tactilecal.calibration._powerfit_kernels import DENSE_MAX_COLUMNS, hist_dot
 
     hist, out = np.ascontiguousarray(hist), np.empty((matrix.shape[1], len(hist)))
@@ -98,10 +99,10 @@ def hist_products(hist, matrix):
 
     def product(a, b):
         if direct:
-            return hist_dot(hist[a:b], matrix, out, a)
+            return hist_dot(read_only(hist[a:b]), matrix, out, a)
         for c in range(a, b, WIDEN_ROWS):
             d = min(c + WIDEN_ROWS, b)
-            hist_dot(hist[c:d].astype(np.float64), matrix, out, c)
+            hist_dot(read_only(hist[c:d].astype(np.float64)), matrix, out, c)
         return out
 
     with ThreadPoolExecutor(max_workers=threads) as pool:  # the kernel releases the GIL

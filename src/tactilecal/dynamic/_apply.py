@@ -34,12 +34,11 @@ import xarray as xr
 from scipy import fft, signal
 
 from tactilecal._errors import TactilecalError
-from tactilecal._numba import njit
+from tactilecal._numba import njit, read_only
 from tactilecal._validate import float_type
 from tactilecal.dynamic._filter import PRECISIONS
 from tactilecal.dynamic._multirate import (
     BlockLayout,
-    _read_only,
     apply_multirate,
     correct,
     decimate,
@@ -462,7 +461,7 @@ def _sosfilt_rows(sos, rows, first, state, s0, s1, out):  # pragma: no cover
 def _causal_block(rows, first, state, sos, workers=1, dtype=float):
     """Filter ``rows`` (time first) causally from ``state``; return ``(out, state)``."""
     shape = rows.shape
-    rows = _read_only(_flat(rows))  # one kernel for a dask chunk and an array of our own
+    rows = read_only(_flat(rows))  # one kernel for a dask chunk and an array of our own
     m = rows.shape[1]
     first = np.array(first, dtype=float).reshape(m)  # writable, as the kernel was compiled
     state = np.zeros((sos.shape[0], 2, m)) if state is None else state.copy()

@@ -50,7 +50,7 @@ import numpy as np
 from scipy import fft, signal
 
 from tactilecal._errors import TactilecalError
-from tactilecal._numba import njit
+from tactilecal._numba import njit, read_only
 from tactilecal.dynamic._filter import PRECISIONS, centred_fir, centred_spectrum
 
 __all__ = ["MultiratePlan", "plan_multirate", "BlockLayout", "apply_multirate",
@@ -406,17 +406,6 @@ def run_tasks(tasks, workers, progress=None):
             pool.shutdown()
 
 
-def _read_only(array):
-    """Return a read-only view of ``array``, so that a kernel reading it compiles once.
-
-    numba compiles a kernel again for every argument type, and a read-only array (a block
-    of a file, a dask chunk) is another type than a writable one of the same dtype.
-    """
-    view = array.view()
-    view.flags.writeable = False
-    return view
-
-
 def _threads(workers):
     return (os.cpu_count() or 1) if workers == -1 else max(int(workers), 1)
 
@@ -439,7 +428,7 @@ def decimate(before, rows, after, plan, first, n_lines, *, precision="single", w
     reflect = before is None and after is None
     if reflect:
         before = after = rows[:0]
-    before, rows, after = (_read_only(x) for x in (before, rows, after))
+    before, rows, after = (read_only(x) for x in (before, rows, after))
     ref = np.array(rows[0] if reference is None else reference, dtype=float)
     lines = np.empty((m, n_lines + spare), dtype=PRECISIONS[precision])
     lines[:, n_lines:] = 0
@@ -539,7 +528,7 @@ def interpolate(rows, corrected, plan, offset, *, workers=1, progress=None, dtyp
         out[...] = rows
         rows = out
     weights = plan.polyphase(corrected.dtype)
-    rows = _read_only(rows)
+    rows = read_only(rows)
     threads = _threads(workers)
     size = FRAMES_PER_TASK if threads > 1 or progress else n  # one call: its buffers once
     run_tasks([lambda a=a, b=b: _interpolate_rows(rows, corrected, weights, offset % plan.factor,
