@@ -18,20 +18,53 @@ for _name in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS"):
     os.environ.setdefault(_name, "1")
 
 import pytest  # noqa: E402
-from hypothesis import HealthCheck, settings  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 REALDATA = Path(os.environ.get("TACTILECAL_REALDATA", REPO.parent / "shared" / "realdata"))
 
-# Property-based tests (Hypothesis): the "fast" profile runs in the suite, each test a second
-# or two, the same examples every run; TACTILECAL_HYPOTHESIS=long runs many more, random ones
-# (minutes: python -m pytest tests/test_properties_*.py with TACTILECAL_HYPOTHESIS=long).
-settings.register_profile("fast", max_examples=30, deadline=None, derandomize=True,
-                          database=None, print_blob=True,
-                          suppress_health_check=[HealthCheck.too_slow])
-settings.register_profile("long", max_examples=2000, deadline=None, print_blob=True,
-                          suppress_health_check=[HealthCheck.too_slow])
-settings.load_profile(os.environ.get("TACTILECAL_HYPOTHESIS", "fast"))
+
+def pytest_collect_file(file_path, parent):
+    """Load the Hypothesis profile before the first test module is imported.
+
+    The "fast" profile runs in the suite, each property test a second or two, the same
+    examples every run; TACTILECAL_HYPOTHESIS=long runs many more, random ones (minutes:
+    python -m pytest tests/test_properties_*.py with TACTILECAL_HYPOTHESIS=long). Loaded
+    here, as the first file of this folder is collected, rather than at this file's import:
+    pytest-xdist's controller collects nothing, and its importing Hypothesis (which pytest
+    rewrites) delayed the start of the workers by 1.6 s.
+    """
+    from hypothesis import settings
+
+    if settings.get_current_profile_name() not in ("fast", "long"):
+        _load_hypothesis_profile(os.environ.get("TACTILECAL_HYPOTHESIS", "fast"))
+
+
+def pytest_configure(config):
+    """Register the profiles at once when ``--hypothesis-profile`` names one of them."""
+    if config.getoption("hypothesis_profile", None) in ("fast", "long"):
+        _load_hypothesis_profile(config.getoption("hypothesis_profile"))
+
+
+def pytest_unconfigure(config):
+    """Leave the objects of the session out of the collections of the interpreter's exit.
+
+    Nothing left needs collecting once the session is over; without this, each process
+    (the xdist workers and controller) spent about a second at exit touring every object.
+    """
+    import gc
+
+    gc.freeze()
+
+
+def _load_hypothesis_profile(name):
+    from hypothesis import HealthCheck, settings
+
+    settings.register_profile("fast", max_examples=30, deadline=None, derandomize=True,
+                              database=None, print_blob=True,
+                              suppress_health_check=[HealthCheck.too_slow])
+    settings.register_profile("long", max_examples=2000, deadline=None, print_blob=True,
+                              suppress_health_check=[HealthCheck.too_slow])
+    settings.load_profile(name)
 
 
 @pytest.fixture(scope="session")
