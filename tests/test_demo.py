@@ -70,6 +70,7 @@ def _assert_recovers_the_truth(out):
     return by_method
 
 
+@pytest.mark.slow  # the whole demo but its report
 def test_demo_recovers_the_truth_report_aside(tmp_path, monkeypatch):
     """Every step of the demo but drawing the report (most of its time: its figures, which
     tests/test_report_html.py checks); the report is handed every file the demo wrote."""

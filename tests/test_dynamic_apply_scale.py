@@ -110,8 +110,17 @@ PATHS = {
 }
 
 
-@pytest.mark.parametrize("source", [np.float64, np.float32])
-@pytest.mark.parametrize("path", sorted(PATHS))
+def _float32_output_cases():
+    """Every path from float64 records; from float32 ones, the in-memory multirate path only
+    (the others are slow: each other combination of types compiles kernels on a fresh
+    install, seconds each)."""
+    for path in sorted(PATHS):
+        yield pytest.param(path, np.float64, id=f"{path}-float64")
+        marks = () if path == "multirate" else pytest.mark.slow
+        yield pytest.param(path, np.float32, id=f"{path}-float32", marks=marks)
+
+
+@pytest.mark.parametrize(("path", "source"), list(_float32_output_cases()))
 def test_float32_output_is_the_float64_result_rounded(path, source):
     filt, options, chunks = PATHS[path]
     x = _walk(3001, (2, 3), seed=9, offset=100.0).astype(source)
@@ -127,6 +136,7 @@ def test_float32_output_is_the_float64_result_rounded(path, source):
     np.testing.assert_allclose(values, wide.values, rtol=0, atol=2 * step)
 
 
+@pytest.mark.slow  # a profile of numba's compilations: every combination of types
 def test_every_type_combination_runs_on_few_compiled_kernels():
     """Record type x precision x result type (8 paths, in memory and in dask chunks) share
     the stage kernels: stage 1's long kernel per record type, stage 3's for five

@@ -71,6 +71,7 @@ def test_real_exports_convert_to_float32_exactly(export, request, tmp_path):
         np.testing.assert_array_equal(stored.values, read_tekscan(source).values)
 
 
+@pytest.mark.slow  # a memory profile
 def test_memory_is_bounded_by_the_blocks_not_the_recording(tmp_path, monkeypatch):
     """6.4 MB of float64 in 40 blocks of 160 kB: the peak stays well below the recording."""
     source = _export(tmp_path, n=2000, rows=20, cols=20)
@@ -274,6 +275,7 @@ def test_a_failed_block_leaves_no_temporary_output_behind(tmp_path, suffix):
     assert _leftovers(tmp_path, set()) == []
 
 
+@pytest.mark.slow  # a local cluster, and tasks that sleep
 def test_write_netcdf_on_a_distributed_client_waits_for_running_tasks_after_a_failure(tmp_path):
     """The blocks still running when one fails wrote the temporary file again after the
     writer removed it (a left-over '.out.nc.tmp*' in 9 of 10 tries before); under a

@@ -250,6 +250,7 @@ def _chromium():
     return browser
 
 
+@pytest.mark.slow  # a browser renders the page
 def test_report_renders_at_1280_px_without_overflow(report, tmp_path):
     browser = _chromium()
     page = tmp_path / "checked.html"

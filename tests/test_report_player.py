@@ -58,6 +58,7 @@ def test_player_data_are_the_recording_on_one_scale():
     assert data["force"] == pytest.approx(force.tolist(), rel=1e-3)  # 4 significant digits
 
 
+@pytest.mark.slow  # a size profile: 10,000 frames
 def test_a_10000_frame_recording_gives_a_report_under_5_mb(tmp_path):
     # a 44 x 44 sensor (the 5051) for 10,000 frames: 19 MB of frames as bytes, decimated
     n = 10_000
