@@ -97,6 +97,7 @@ def test_units_and_saturated_frames_on_the_force_plot():
     assert len(ticks) == 1 and ticks[0].get_xdata().tolist() == [pytest.approx(0.3)]
 
 
+@pytest.mark.slow  # end to end: a command through every figure file
 def test_plot_a_recording_from_the_command_line(fscan_asf, iscan_csv, tmp_path, capsys):
     out = tmp_path / "figs"
     assert main(["-q", "plot", str(fscan_asf), "--out", str(out), "--split-contacts",
@@ -109,6 +110,9 @@ def test_plot_a_recording_from_the_command_line(fscan_asf, iscan_csv, tmp_path, 
     assert main(["-q", "plot", str(iscan_csv), "--out", str(tmp_path / "raw"),
                  "--frame", "100", "--dpi", "30"]) == 0
     assert sorted(p.name for p in (tmp_path / "raw").iterdir()) == ["frame.png", "peak_map.png"]
+
+
+def test_plot_refuses_a_frame_the_recording_lacks(iscan_csv, tmp_path, capsys):
     assert main(["-q", "plot", str(iscan_csv), "--out", str(tmp_path / "x"),
                  "--frame", "999"]) == 1
     assert "--frame 999 is not a frame of the recording (frames 1..309)" in capsys.readouterr().err

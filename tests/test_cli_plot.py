@@ -28,6 +28,7 @@ def cal_files(tmp_path_factory):
     return paths
 
 
+@pytest.mark.slow  # end to end: a command through every figure file
 def test_plot_zvyagin_writes_figures_7_to_11(cal_files, tmp_path, capsys):
     assert main(["plot", str(cal_files["robust"]), "--out", str(tmp_path / "f"), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)

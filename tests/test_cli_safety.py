@@ -153,6 +153,7 @@ def test_failed_write_leaves_no_temp_file(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow  # end to end: a command through every figure of a report
 def test_report_of_a_saturated_recording_says_its_forces_are_lower_bounds(session, tmp_path):
     _, cal = session
     rec = _raw_recording(tmp_path / "sat.csv", 255)
@@ -161,7 +162,8 @@ def test_report_of_a_saturated_recording_says_its_forces_are_lower_bounds(sessio
     assert "4 of 4 frames hold sensels at saturation" in out.read_text()
 
 
-def test_report_cof_threshold_flag(session, tmp_path, capsys):
+@pytest.mark.slow  # end to end: a command through every figure of a report
+def test_report_cof_threshold_flag(session, tmp_path):
     _, cal = session
     rec = _raw_recording(tmp_path / "r.csv", 40)
     out = tmp_path / "r.html"
@@ -169,7 +171,11 @@ def test_report_cof_threshold_flag(session, tmp_path, capsys):
                  "--cof-min-force-n", "1.5"]) == 0
     assert "<td>centre of force drawn where force is at least</td><td>1.5 N</td>" in \
         out.read_text()
-    out.unlink()
+
+
+def test_report_refuses_a_negative_cof_threshold(tmp_path, capsys):
+    rec = _raw_recording(tmp_path / "r.csv", 40)
+    out = tmp_path / "r.html"
     assert main(["-q", "report", str(rec), "--out", str(out), "--cof-min-force-n", "-1"]) == 1
     assert not out.exists()
     assert "--cof-min-force-n: '-1'; expected a finite number >= 0" in capsys.readouterr().err

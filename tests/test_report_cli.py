@@ -7,6 +7,7 @@ import pytest
 from tactilecal.cli import main
 
 
+@pytest.mark.slow  # end to end: a command through every figure of a report
 def test_report_cli_writes_page(fscan_asf, tmp_path, capsys):
     out = tmp_path / "walk.html"
     assert main(["-q", "report", str(fscan_asf), "--out", str(out), "--title", "walk <p10>"]) == 0
