@@ -77,6 +77,23 @@ def test_the_console_script_prints_no_traceback_for_bad_input(tmp_path):
     assert "Traceback" not in run.stderr and "m.csv" in run.stderr, run.stderr
 
 
+def test_the_command_returns_mains_code_and_leaves_its_objects_to_the_exit(tmp_path,
+                                                                          monkeypatch, capsys):
+    """The console script (and ``python -m tactilecal``) exits with :func:`main`'s code,
+    after freezing the garbage collector: the interpreter's exit then skips its objects."""
+    from tactilecal import cli
+
+    frozen = []
+    monkeypatch.setattr(cli.gc, "freeze", lambda: frozen.append(True))
+    monkeypatch.setattr(sys, "argv", ["tactilecal", "info", str(tmp_path / "missing.csv")])
+    assert cli.console_main() == 1 and frozen == [True]
+    assert "missing.csv" in capsys.readouterr().err
+    monkeypatch.setattr(sys, "argv", ["tactilecal", "--help"])
+    with pytest.raises(SystemExit) as done:  # argparse's own exit: nothing to freeze after
+        cli.console_main()
+    assert done.value.code == 0 and frozen == [True]
+
+
 def test_building_the_parser_imports_no_library_subpackage():
     """``tactilecal info`` must not pay for the calibration's option classes."""
     code = ("import sys; from tactilecal.cli import build_parser; build_parser(); "

@@ -2,6 +2,6 @@
 
 import sys
 
-from tactilecal.cli import main
+from tactilecal.cli import console_main
 
-sys.exit(main())
+sys.exit(console_main())

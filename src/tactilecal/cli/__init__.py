@@ -11,6 +11,7 @@ its traceback and a request to report it), 2 usage error (argparse: unknown flag
 argument). ``--debug`` shows the traceback of every error.
 """
 
+import gc
 import shlex
 import sys
 import traceback
@@ -22,7 +23,19 @@ from tactilecal.cli._messages import BUG_REPORT, error_line, print_warning
 from tactilecal.cli._outputs import check_outputs, silence_stdout
 from tactilecal.cli._parser import BadFlagValue, build_parser
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "console_main", "build_parser"]
+
+
+def console_main():
+    """Run :func:`main` as the ``tactilecal`` command; return its exit code.
+
+    The objects of the run are then left out of the collections of the interpreter's exit
+    (:func:`gc.freeze`): nothing needs collecting once the command is done, and touring
+    every object made the exit of a command that drew figures about 0.3 s longer.
+    """
+    code = main()
+    gc.freeze()
+    return code
 
 
 def main(argv=None):
