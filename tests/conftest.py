@@ -30,8 +30,8 @@ def pytest_collect_file(file_path, parent):
     examples every run; TACTILECAL_HYPOTHESIS=long runs many more, random ones (minutes:
     python -m pytest tests/test_properties_*.py with TACTILECAL_HYPOTHESIS=long). Loaded
     here, as the first file of this folder is collected, rather than at this file's import:
-    pytest-xdist's controller collects nothing, and its importing Hypothesis (which pytest
-    rewrites) delayed the start of the workers by 1.6 s.
+    pytest-xdist's controller collects nothing, and its importing Hypothesis (whose modules
+    pytest rewrites) delayed the start of the workers.
     """
     from hypothesis import settings
 
@@ -48,8 +48,8 @@ def pytest_configure(config):
 def pytest_unconfigure(config):
     """Leave the objects of the session out of the collections of the interpreter's exit.
 
-    Nothing left needs collecting once the session is over; without this, each process
-    (the xdist workers and controller) spent about a second at exit touring every object.
+    Nothing left needs collecting once the session is over: each process (the xdist
+    workers and controller) then exits without touring every object of the session.
     """
     import gc
 

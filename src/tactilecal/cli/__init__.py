@@ -30,8 +30,8 @@ def console_main():
     """Run :func:`main` as the ``tactilecal`` command; return its exit code.
 
     The objects of the run are then left out of the collections of the interpreter's exit
-    (:func:`gc.freeze`): nothing needs collecting once the command is done, and touring
-    every object made the exit of a command that drew figures about 0.3 s longer.
+    (:func:`gc.freeze`): nothing needs collecting once the command is done, and the exit
+    no longer tours every object the command made (the modules, figures and arrays).
     """
     code = main()
     gc.freeze()
