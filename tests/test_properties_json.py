@@ -278,3 +278,15 @@ def test_an_array_converts_as_its_elements_one_by_one(array):
     assert [type(x) for x in np.ravel(np.asarray(got["a"], dtype=object))] == \
         [type(x) for x in np.ravel(np.asarray(want, dtype=object))]
     json.dumps(got, allow_nan=False)  # what JSON holds: no NaN, no NumPy type
+
+
+def test_the_suite_runs_the_hypothesis_profile_it_names():
+    """conftest loads its profile as the first test file is collected: not the library's
+    default (100 examples, a database, random), in a worker or a run without xdist."""
+    import os
+
+    from hypothesis import settings
+
+    name = os.environ.get("TACTILECAL_HYPOTHESIS", "fast")
+    assert settings.get_current_profile_name() == name
+    assert settings.default.max_examples == {"fast": 30, "long": 2000}[name]
