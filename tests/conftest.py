@@ -28,21 +28,26 @@ def pytest_collect_file(file_path, parent):
 
     The "fast" profile runs in the suite, each property test a second or two, the same
     examples every run; TACTILECAL_HYPOTHESIS=long runs many more, random ones (minutes:
-    python -m pytest tests/test_properties_*.py with TACTILECAL_HYPOTHESIS=long). Loaded
+    python -m pytest tests/test_properties_*.py with TACTILECAL_HYPOTHESIS=long). A profile
+    given with ``--hypothesis-profile`` is left as Hypothesis's plugin loaded it. Loaded
     here, as the first file of this folder is collected, rather than at this file's import:
     pytest-xdist's controller collects nothing, and its importing Hypothesis (whose modules
     pytest rewrites) delayed the start of the workers.
     """
+    if parent.config.getoption("hypothesis_profile", None) is not None:
+        return
     from hypothesis import settings
 
-    if settings.get_current_profile_name() not in ("fast", "long"):
-        _load_hypothesis_profile(os.environ.get("TACTILECAL_HYPOTHESIS", "fast"))
+    name = os.environ.get("TACTILECAL_HYPOTHESIS", "fast")
+    if settings.get_current_profile_name() != name:
+        _register_hypothesis_profiles()
+        settings.load_profile(name)
 
 
 def pytest_configure(config):
-    """Register the profiles at once when ``--hypothesis-profile`` names one of them."""
+    """Register the profiles before Hypothesis's plugin loads one named on the command line."""
     if config.getoption("hypothesis_profile", None) in ("fast", "long"):
-        _load_hypothesis_profile(config.getoption("hypothesis_profile"))
+        _register_hypothesis_profiles()
 
 
 def pytest_unconfigure(config):
@@ -56,7 +61,7 @@ def pytest_unconfigure(config):
     gc.freeze()
 
 
-def _load_hypothesis_profile(name):
+def _register_hypothesis_profiles():
     from hypothesis import HealthCheck, settings
 
     settings.register_profile("fast", max_examples=30, deadline=None, derandomize=True,
@@ -64,7 +69,6 @@ def _load_hypothesis_profile(name):
                               suppress_health_check=[HealthCheck.too_slow])
     settings.register_profile("long", max_examples=2000, deadline=None, print_blob=True,
                               suppress_health_check=[HealthCheck.too_slow])
-    settings.load_profile(name)
 
 
 @pytest.fixture(scope="session")
