@@ -2,15 +2,19 @@
 
 What a user waits for: ``python -c "import tactilecal as tc; tc.read_tekscan('f.csv')"``
 against ``python -c "import xarray, pandas as pd; pd.read_csv('plain.csv')"`` on the same
-numbers (a 44 x 44 export of raw readings 0..255, and the same values as a plain CSV of 44
-columns), and ``tactilecal info`` on a small export against ``python -c "import xarray"``.
+numbers (a 44 x 44 export, and the same text as a plain CSV of 44 columns), and
+``tactilecal info`` on a small export against ``python -c "import xarray"``. The exports hold
+raw readings 0..255 (``raw``), or the same readings in kPa at FrasP01L's 5.9379 kPa a count,
+with two decimals (``kpa``) or as ``write_tekscan`` writes them, the shortest text that reads
+back (``written``, up to 17 digits).
 Runs alternate between the two commands (the machine's load hits both alike); each figure is
 the median of ``--repeat`` runs (5), and each ratio is taken within the same run: ``baseline
 time / tactilecal time`` (above 1: tactilecal is faster). Peak memory is the child's own
 peak resident size (``VmHWM`` of ``/proc/self/status``, which exec resets; ``ru_maxrss``
 keeps the parent's), compared with the array's size.
 
-    python -m benchmarks.bench_cold_read [--frames 6000 40000] [--repeat 5]
+    python -m benchmarks.bench_cold_read [--frames 6000 40000] [--kinds raw kpa written]
+                                         [--repeat 5]
 
 tactilecal's bytecode is written first (:func:`benchmarks._common.compile_tactilecal`), as
 an installation does.
@@ -38,26 +42,35 @@ _MEASURE = ("; import sys; print(next(int(line.split()[1]) for line in open('/pr
             "if line.startswith('VmHWM')), file=sys.stderr)")
 
 
-def write_files(folder, n_frames, seed=0):
-    """Write the export and the plain CSV of the same ``n_frames`` x 44 x 44 raw readings."""
+KINDS = ("raw", "kpa", "written")
+KPA_PER_COUNT = 5.9379  # FrasP01L's one-point calibration (../shared/realdata/README.md)
+
+
+def write_files(folder, n_frames, seed=0, kind="raw"):
+    """Write the export and the plain CSV of the same ``n_frames`` x 44 x 44 values."""
     folder = Path(folder)
-    export, plain = folder / f"export_{n_frames}.csv", folder / f"plain_{n_frames}.csv"
+    suffix = "" if kind == "raw" else f"_{kind}"
+    export = folder / f"export_{n_frames}{suffix}.csv"
+    plain = folder / f"plain_{n_frames}{suffix}.csv"
     if export.exists() and plain.exists():
         return export, plain
     rng = np.random.default_rng(seed)
+    units = "raw" if kind == "raw" else "KPa"
     header = (f"DATA_TYPE MOVIE\nSENSOR_TYPE 5101\nROWS {ROWS}\nCOLS {COLS}\n"
               "ROW_SPACING 0.254 centimeters\nCOL_SPACING 0.254 centimeters\n"
               "SENSEL_AREA 0.064516 cm2\nNOISE_THRESHOLD 3\nSECONDS_PER_FRAME 0.01\n"
-              f"START_FRAME 1\nEND_FRAME {n_frames}\nUNITS raw\nASCII_DATA @@\n\n")
+              f"START_FRAME 1\nEND_FRAME {n_frames}\nUNITS {units}\nASCII_DATA @@\n\n")
+    text = {"raw": str, "kpa": lambda v: f"{v * KPA_PER_COUNT:.2f}",
+            "written": lambda v: repr(v * KPA_PER_COUNT)}[kind]
     with open(export, "w") as ex, open(plain, "w") as pl:
         ex.write(header)
         pl.write(",".join(f"c{j}" for j in range(COLS)) + "\n")
         for first in range(0, n_frames, 500):
             block = rng.integers(0, 256, size=(min(500, n_frames - first), ROWS, COLS))
             for k, frame in enumerate(block):
-                rows = "\n".join(",".join(map(str, row)) for row in frame.tolist()) + "\n"
-                ex.write(f"Frame {first + k + 1}, {(first + k) * 0.01:.2f},,,"
-                         f"Raw Sum=,,{int(frame.sum())}\n{rows}\n")
+                rows = "\n".join(",".join(map(text, row)) for row in frame.tolist()) + "\n"
+                raw_sum = f",,,Raw Sum=,,{int(frame.sum())}" if kind == "raw" else ""
+                ex.write(f"Frame {first + k + 1}, {(first + k) * 0.01:.2f}{raw_sum}\n{rows}\n")
                 pl.write(rows)
         ex.write("@@\n")
     return export, plain
@@ -111,10 +124,10 @@ def small_export():
     return write_files(tempfile.mkdtemp(prefix="tactilecal-bench-"), 205)[0]
 
 
-def read_ratio(n_frames, repeat=5, folder=None):
+def read_ratio(n_frames, repeat=5, folder=None, kind="raw"):
     """``(pandas / tactilecal wall ratio, peak RSS / array bytes, medians)`` at ``n_frames``."""
     folder = folder or tempfile.mkdtemp(prefix="tactilecal-bench-")
-    export, plain = write_files(folder, n_frames)
+    export, plain = write_files(folder, n_frames, kind=kind)
     medians = compare(read_commands(export, plain), repeat)
     ratio = medians["pandas read_csv"][0] / medians["tactilecal read_tekscan"][0]
     array = n_frames * ROWS * COLS * 8
@@ -129,6 +142,14 @@ def track_read_40000_frames_vs_pandas():
     return read_ratio(40000)[0]
 
 
+def track_read_6000_kpa_frames_vs_pandas():
+    return read_ratio(6000, kind="kpa")[0]
+
+
+def track_read_6000_written_frames_vs_pandas():
+    return read_ratio(6000, kind="written")[0]
+
+
 def track_info_vs_import_xarray():
     medians = compare(info_commands(small_export()), 5)
     return medians["tactilecal info"][0] / medians["import xarray"][0]
@@ -137,22 +158,25 @@ def track_info_vs_import_xarray():
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, nargs="+", default=[6000, 40000])
+    parser.add_argument("--kinds", nargs="+", choices=KINDS, default=["raw"],
+                        help="the exports' values (default: raw)")
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--folder", help="keep the generated files here (default: temporary)")
     args = parser.parse_args(argv)
     folder = args.folder or tempfile.mkdtemp(prefix="tactilecal-bench-")
     print(f"median of {args.repeat} fresh processes, alternating; ratio = baseline / tactilecal "
           "(wall)")
-    print(f"{'frames':>7} {'MB':>6} {'tactilecal s':>13} {'pandas s':>9} {'ratio':>6} "
-          f"{'cpu tc/pd':>10} {'peak MB':>8} {'array MB':>9} {'peak limit':>10}")
-    for n in args.frames:
-        ratio, _, medians = read_ratio(n, args.repeat, folder)
-        tc, pd_ = medians["tactilecal read_tekscan"], medians["pandas read_csv"]
-        size = Path(folder, f"export_{n}.csv").stat().st_size / 1e6
-        array = n * ROWS * COLS * 8 / 1e6
-        print(f"{n:>7} {size:>6.0f} {tc[0]:>13.3f} {pd_[0]:>9.3f} {ratio:>6.2f} "
-              f"{tc[1] / pd_[1]:>10.2f} {tc[2] / 1e6:>8.0f} {array:>9.0f} "
-              f"{1.5 * array + 150:>10.0f}")
+    print(f"{'kind':>7} {'frames':>7} {'MB':>6} {'tactilecal s':>13} {'pandas s':>9} "
+          f"{'ratio':>6} {'cpu tc/pd':>10} {'peak MB':>8} {'array MB':>9} {'peak limit':>10}")
+    for kind in args.kinds:
+        for n in args.frames:
+            ratio, _, medians = read_ratio(n, args.repeat, folder, kind)
+            tc, pd_ = medians["tactilecal read_tekscan"], medians["pandas read_csv"]
+            size = write_files(folder, n, kind=kind)[0].stat().st_size / 1e6
+            array = n * ROWS * COLS * 8 / 1e6
+            print(f"{kind:>7} {n:>7} {size:>6.0f} {tc[0]:>13.3f} {pd_[0]:>9.3f} {ratio:>6.2f} "
+                  f"{tc[1] / pd_[1]:>10.2f} {tc[2] / 1e6:>8.0f} {array:>9.0f} "
+                  f"{1.5 * array + 150:>10.0f}")
     medians = compare(info_commands(small_export()), args.repeat)
     info, xarray = medians["tactilecal info"][0], medians["import xarray"][0]
     print(f"tactilecal info on {small_export().name}: {info:.3f} s, python -c 'import xarray' "

@@ -5,6 +5,7 @@ every error message; the NumPy reader must give an identical DataArray, or hand 
 over (``read_plain`` returns None) so that the numba reader's message is raised unchanged.
 """
 
+import math
 import random
 import re
 import subprocess
@@ -37,7 +38,8 @@ def _outcome(read, path):
         return f"{type(exc).__name__}: {exc}"
 
 
-def _movie(tmp_path, values, *, newline="\n", units="raw", frame_lines=True, name="m.csv"):
+def _movie(tmp_path, values, *, newline="\n", units="raw", frame_lines=True, name="m.csv",
+           text=lambda v: str(int(v))):
     n, rows, cols = values.shape
     lines = [f"ROWS {rows}", f"COLS {cols}", f"UNITS {units}", "SECONDS_PER_FRAME 0.01",
              "START_FRAME 1", f"END_FRAME {n}", "ASCII_DATA @@", ""]
@@ -45,7 +47,7 @@ def _movie(tmp_path, values, *, newline="\n", units="raw", frame_lines=True, nam
         if frame_lines:
             lines.append(f"Frame {k + 1}, {k * 0.01:.2f},, 1/1/2020 1:00:00.00PM,,,"
                          f"Raw Sum=,,{np.nansum(values[k]):.0f}")
-        lines += [",".join("B" if np.isnan(v) else str(int(v)) for v in row)
+        lines += [",".join("B" if np.isnan(v) else text(v) for v in row)
                   for row in values[k]]
         lines.append("")
     path = tmp_path / name
@@ -316,3 +318,139 @@ def test_whole_numbers_are_the_tokens_or_the_block_is_handed_over(tokens):
     whole, blank = _tekscan_numpy._whole_numbers(b, stops, length)
     assert blank.tolist() == [t == b"B" for t in tokens]
     assert whole.tolist() == [0 if t == b"B" else int(t) for t in tokens]
+
+
+_DECIMAL = re.compile(rb"-?([0-9]+(\.[0-9]*)?|\.[0-9]+)")
+
+
+def _parse_tokens(tokens):
+    """``_numbers`` of ``tokens`` as one block: the values, or None when not plain."""
+    text = b",".join(tokens) + b","
+    b = np.frombuffer(b"\0" * 8 + text, dtype=np.uint8)  # 8 bytes before the block
+    stops = np.flatnonzero(b[8:] == ord(","))
+    length = np.array([len(t) for t in tokens])
+    out = np.empty(len(tokens))
+    try:
+        _tekscan_numpy._numbers(b, stops, length, out, _tekscan_numpy._Scratch())
+    except _tekscan_numpy._NotPlain:
+        return None
+    return out
+
+
+def _assert_tokens_read_as_float(tokens):
+    """Each token's value is ``float(token)`` to the bit (B: NaN), or the block is handed over
+    when a token is neither ``B`` nor ``[-](digits[.digits] | .digits)``."""
+    out = _parse_tokens(tokens)
+    plain = all(t == b"B" or _DECIMAL.fullmatch(t) for t in tokens)
+    assert (out is not None) == plain, tokens
+    if plain:
+        expected = np.array([np.nan if t == b"B" else float(t) for t in tokens])
+        assert out.tobytes() == expected.tobytes() or (
+            np.array_equal(out, expected, equal_nan=True)
+            and (np.signbit(out) == np.signbit(expected)).all()), tokens
+
+
+# a token has a byte at least: the rows' check refuses an empty one before
+_SHORT = st.one_of(st.from_regex(rb"\A-?[0-9]{0,4}(\.[0-9]{0,4})?\Z").filter(len), st.just(b"B"),
+                   st.sampled_from([b".", b"-", b"-.", b"1.2.3", b"1-2", b"B.", b"-B", b"+1",
+                                    b"1e5", b" 1", b"1_0"]))
+_LONG = st.one_of(st.from_regex(rb"\A-?[0-9]{0,24}(\.[0-9]{0,24})?\Z").filter(len),
+                  st.floats(allow_nan=False, allow_infinity=False).map(
+                      lambda v: np.format_float_positional(v, trim="-").encode()[:40]),
+                  st.floats(0, 1e6).map(lambda v: repr(v).encode()))
+
+
+@given(st.lists(_SHORT, min_size=1, max_size=30))
+def test_short_decimals_are_their_float_or_the_block_is_handed_over(tokens):
+    """Up to 8 bytes a token: its point found and dropped within one word."""
+    _assert_tokens_read_as_float(tokens)
+
+
+@given(st.lists(st.one_of(_SHORT, _LONG), min_size=1, max_size=30))
+def test_long_decimals_are_their_float_or_the_block_is_handed_over(tokens):
+    """Beyond 2**53 and beyond 19 digits: rounded once, exactly as ``float``."""
+    _assert_tokens_read_as_float(tokens)
+
+
+@pytest.mark.parametrize("tokens", [
+    [b"9007199254740993", b"9007199254740995", b"18014398509481985"],  # ties at 2**53, 2**54
+    [b"9999999999999999999", b"1234567890123456789.", b"0.1000000000000000055511151231257827"],
+    [b"1.00000000000000011102230246251565404", b"-0", b"-0.0", b".5", b"5.", b"-.5"],
+])
+def test_decimals_near_halfway_between_doubles_read_as_float(tokens):
+    _assert_tokens_read_as_float(tokens)
+
+
+def _near_midpoint(x, places, step, below):
+    """The whole number ``step`` away from the midpoint above ``x`` (below a power of 2 with
+    ``below``), in units of ``10**-places``."""
+    from fractions import Fraction
+
+    gap = Fraction(float(np.spacing(x)))
+    mid = Fraction(x) - gap / 4 if below else Fraction(x) + gap / 2
+    scaled = mid * 10**places
+    return scaled.numerator // scaled.denominator + step
+
+
+@given(st.lists(st.tuples(st.integers(2**53, 10**19 - 1), st.integers(0, 19)), min_size=1,
+                max_size=20))
+def test_big_mantissas_round_once(cases):
+    """``m / 10**places`` for 2**53 <= m < 10**19: ``float`` of ``f"{m}e-{places}"``."""
+    m = np.array([m for m, _ in cases], dtype=np.uint64)
+    places = np.array([places for _, places in cases])
+    expected = [float(f"{m}e-{places}") for m, places in cases]
+    assert _tekscan_numpy._round_big(m, places).tolist() == expected
+
+
+@given(st.lists(st.tuples(st.integers(0, 19), st.floats(0, 1), st.integers(-2, 2),
+                          st.booleans(), st.floats(1, 2, exclude_max=True)),
+                min_size=1, max_size=20))
+def test_mantissas_by_a_midpoint_between_doubles_round_once(cases):
+    """Within 2 units of a midpoint (below a power of 2 too) and on it: ``float``'s ties."""
+    tokens = []
+    for places, where, step, below, fraction in cases:
+        low, high = 53 - places * math.log2(10), 63 - places * math.log2(10)  # 2**53..2**63
+        x = 2.0 ** math.floor(low + where * (high - low)) * (1.0 if below else fraction)
+        whole = _near_midpoint(x, places, step, below)
+        if 2**53 <= whole < 10**19:
+            tokens.append((whole, places))
+    if tokens:
+        m = np.array([m for m, _ in tokens], dtype=np.uint64)
+        places = np.array([places for _, places in tokens])
+        expected = [float(f"{m}e-{places}") for m, places in tokens]
+        assert _tekscan_numpy._round_big(m, places).tolist() == expected
+
+
+def _decimal_movie(tmp_path, text, seed=0, **kwargs):
+    values = np.random.default_rng(seed).integers(0, 256, size=(12, 5, 7)) * 5.9379
+    values[:, 0, :2] = np.nan
+    values[:, 1, 1] = 0.0
+    return _movie(tmp_path, values, units="KPa", text=text, **kwargs)
+
+
+@pytest.mark.parametrize("text", [
+    lambda v: f"{v:.2f}",  # a fixed number of decimals
+    lambda v: repr(float(v)),  # the shortest that reads back (up to 17 digits)
+    lambda v: f"{-v:.3f}",  # negative
+    lambda v: f"{v:.9f}",  # more than 8 bytes a value
+    lambda v: "0" if v == 0 else f"{v:g}",  # whole numbers among decimals
+], ids=["fixed", "repr", "negative", "long", "mixed"])
+@pytest.mark.parametrize("cores", [1, 2])
+def test_decimal_exports_read_as_the_numba_reader_reads_them(tmp_path, monkeypatch, text,
+                                                             cores):
+    path = _decimal_movie(tmp_path, text, newline="\r\n")
+    expected = _numba_read(path, monkeypatch)
+    monkeypatch.setattr(_tekscan_numpy.os, "cpu_count", lambda: cores)
+    monkeypatch.setattr(_tekscan_numpy, "PART_BYTES", 64)
+    monkeypatch.setattr(_tekscan_numpy, "BLOCK_BYTES", 300)
+    assert _plain(path) is not None  # the NumPy reader took it
+    assert read_tekscan(path).identical(expected)
+
+
+def test_a_decimal_export_is_read_without_importing_numba(tmp_path):
+    path = _decimal_movie(tmp_path, lambda v: repr(float(v)))
+    code = ("import sys; from tactilecal.io import read_tekscan; "
+            f"read_tekscan({str(path)!r}); print('numba' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.split() == ["False"]

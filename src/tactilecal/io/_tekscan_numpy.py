@@ -1,12 +1,13 @@
-"""NumPy reader for plain Tekscan exports: whole numbers and ``B``, no numba.
+"""NumPy reader for plain Tekscan exports: numbers ``[-]digits[.digits]`` and ``B``, no numba.
 
 numba's import and the load of its cached kernels cost more, in a new process, than pandas'
 whole parse of a 10,000-frame export. This reader needs NumPy only. It reads the export
 the way the numba reader does, in blocks of whole frames, but with array operations over
 each block's bytes: the line ends (LF), each line's first byte (blank line, ``F`` frame
-line, row of values, ``@@``), the commas of the rows of values, and per value its last one
-to :data:`_MAX_DIGITS` bytes (digits, ``B`` alone), combined in integers
-(:func:`_whole_numbers`), exact, so that each value equals ``float(token)``.
+line, row of values, ``@@``), the commas of the rows of values, and per value its bytes in
+words of 8 from its end (digits, a point, ``B`` alone), combined in integers
+(:func:`_whole_numbers`, :func:`_decimals`) and divided by a power of ten correctly
+rounded (:func:`_to_float`), so that each value equals ``float(token)``.
 
 The data is cut at frame lines into one part per core (:func:`_parts`: a part's first
 value follows from its first frame's number, checked when the parts are joined), each
@@ -18,12 +19,13 @@ parse; blocks of a few thousand values on a thread pool fought over the GIL and 
 faster than one thread).
 
 It reads only the *plain* form every real export seen has (``docs/data-model.md``): rows of
-whole numbers and ``B`` separated by single commas, LF or CR LF line ends, frame lines the
-reader's regular expressions parse, the ``@@`` terminator. At the first departure from it
-:func:`read_plain` returns None, having raised nothing: the numba reader
-(``_tekscan_index``, ``_tekscan_blocks``) then reads the file from the start; it defines the
-format, its checks and every error message, so a file reads the same, or fails with the same
-message, whichever reader took it.
+numbers and ``B`` separated by single commas (whole numbers 0..255 in raw files; in others
+``[-](digits[.digits] | .digits)`` of up to :data:`_MAX_TOKEN` bytes), LF or CR LF line
+ends, frame lines the reader's regular expressions parse, the ``@@`` terminator. At the
+first departure from it :func:`read_plain` returns None, having raised nothing: the numba
+reader (``_tekscan_index``, ``_tekscan_blocks``) then reads the file from the start; it
+defines the format, its checks and every error message, so a file reads the same, or fails
+with the same message, whichever reader took it.
 """
 
 import math
@@ -45,7 +47,8 @@ About 300,000 values of raw readings: each array of the parse is then a few MB, 
 block to block; larger blocks were no faster and need more memory.
 """
 
-_MAX_DIGITS = 15  # a whole number of up to 15 digits is below 2**53: exact in float64
+_MAX_DIGITS = 19  # a whole number of up to 19 digits is below 2**64: one uint64
+_MAX_TOKEN = 40  # bytes of the longest value read here (Python's float past 19 digits)
 _PAD = 8  # bytes before a block, so that a word can end at any of its bytes
 _FRAME = re.compile(rb"Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,]*?)[ \t]*(?:,|$))")
 _RAW_SUM = re.compile(rb"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)")
@@ -55,11 +58,15 @@ _FRAMES = re.compile(rb"^Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,\n]*?)[ \t]*(?:,|
 _RAW_SUMS = re.compile(rb"^[^\n]*?Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)", re.M)
 _TIMES = re.compile(rb"(?:[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\n)*")
 _SPACE = b" \t\x0b\x0c\r\n"
-_LF, _CR, _COMMA, _AT, _B, _F = 10, 13, 44, 64, 66, 70
+_LF, _CR, _COMMA, _AT, _B, _F, _POINT, _MINUS = 10, 13, 44, 64, 66, 70, 46, 45
 
 
 class _NotPlain(Exception):
     """The file departs from the plain form: the numba reader takes it."""
+
+
+class _NotWhole(_NotPlain):
+    """A token is not a whole number (or ``B``): a decimal, or not plain."""
 
 
 def read_plain(f, name, head):
@@ -226,6 +233,7 @@ class _Parser:
         self.k = self.k0  # next value
         self.line = 0  # number of the first line held, from the part's first
         self.failed = None  # set by any part's failure (:func:`_run`): stop at the next block
+        self.decimal = False  # a block had decimals: the next ones are read as decimals
 
     def read(self, path):
         """Parse the part of the file at ``path`` (opened here: one offset per thread)."""
@@ -288,7 +296,7 @@ class _Parser:
             return 0
         lf, starts, first, is_frame = lf[:stop], starts[:stop], first[:stop], is_frame[:stop]
         ends = lf - ((lf > starts) & (b[lf - 1] == _CR))  # before CR LF
-        is_data = (first == _B) | (first - 48 <= 9)
+        is_data = (first == _B) | (first - 48 <= 9) | (first == _MINUS) | (first == _POINT)
         if not (is_frame | is_data | (ends == starts)).all():
             raise _NotPlain  # another line (numba's "expected a 'Frame N' line ..."), lone CR
         frame_lines, data_lines = np.flatnonzero(is_frame), np.flatnonzero(is_data)
@@ -307,7 +315,7 @@ class _Parser:
         return int(lf[-1]) + 1
 
     def _values(self, padded, row_starts, row_ends, frame_starts, frame_ends):
-        """Parse the rows of values into ``flat``; return them as whole numbers (B as 0)."""
+        """Parse the rows of values into ``flat``; return a raw file's as whole numbers (B: 0)."""
         cols, b = self.head.cols, padded[_PAD:]
         n = len(row_starts) * cols
         if self.k + n > self.flat.size:
@@ -323,14 +331,18 @@ class _Parser:
         np.subtract(stops[1:], stops[:-1], out=length[1:], casting="unsafe")
         length[1:] -= 1
         length[::cols] = stops[::cols] - row_starts
-        if length.min() < 1 or length.max() > _MAX_DIGITS:
+        if length.min() < 1 or length.max() > _MAX_TOKEN:
             raise _NotPlain
-        whole, blank = _whole_numbers(padded, stops, length, self.scratch)
-        if self.raw and whole.max() > 255:
-            raise _NotPlain  # numba's "expected a whole number 0..255"
         out = self.flat[self.k:self.k + n]
-        np.copyto(out, whole, casting="unsafe")
-        np.copyto(out, np.nan, where=blank)
+        whole = None
+        if self.raw:  # whole numbers 0..255 (numba's "expected a whole number 0..255")
+            whole, blank = _whole_numbers(padded, stops, length, self.scratch)
+            if whole.max() > 255:
+                raise _NotPlain
+            np.copyto(out, whole, casting="unsafe")
+            np.copyto(out, np.nan, where=blank)
+        else:
+            self.decimal = _numbers(padded, stops, length, out, self.scratch, self.decimal)
         self.k += n
         return whole
 
@@ -426,46 +438,244 @@ def _index(f, name, head, parsers, n_frames, raw):
                  stat=(stat.st_size, stat.st_mtime_ns), stray_f=None)
 
 
-def _whole_numbers(padded, stops, length, scratch=None):
+def _numbers(padded, stops, length, out, scratch, decimal=False):
+    """Write the values of the tokens ending before ``stops`` into ``out`` (float64).
+
+    Whole numbers (:func:`_whole_numbers`) or, at the first other byte or when ``decimal``,
+    decimals (:func:`_decimals`); ``B`` is NaN. Each value equals ``float(token)``. Returns
+    whether the tokens were read as decimals.
+    """
+    frac = neg = None
+    if not decimal:
+        try:
+            whole, blank = _whole_numbers(padded, stops, length, scratch)
+        except _NotWhole:
+            decimal = True
+    if decimal:
+        whole, blank, frac, neg, longest = _decimals(padded, stops, length, scratch)
+    _to_float(whole, frac, out)
+    if neg is not None:
+        np.negative(out, out=out, where=neg)
+    np.copyto(out, np.nan, where=blank)
+    if decimal and longest.size:
+        b = padded[_PAD:]
+        out[longest] = [float(bytes(b[stop - size:stop])) for stop, size
+                        in zip(stops[longest].tolist(), length[longest].tolist(), strict=True)]
+    return decimal
+
+
+def _decimals(padded, stops, length, scratch):
+    """Read tokens ``[-](digits[.digits] | .digits)`` as whole numbers and fraction digits.
+
+    Returns ``(digits, blank, fraction digits, negative, longest)``. The bytes after a minus
+    sign are read in words of 8 from the token's end (:func:`_swar`), each dropping a point
+    it holds; a token's digits are then ``sum(word * 10**(digits in the words after it))``,
+    its fraction digits those after the point. Any other byte raises :class:`_NotPlain`.
+    ``longest`` indexes the tokens of more than :data:`_MAX_DIGITS` digits, whose values
+    are left to Python's ``float``.
+    """
+    neg = padded[_PAD:][stops - length] == _MINUS
+    body = length - neg.view(np.int8)  # the bytes after the sign
+    n_words = max(1, (int(body.max()) + 7) // 8)
+    words = _words(padded, np.uint64)
+    if n_words > 1:  # several takes: the overlapping words copied once
+        contiguous = scratch.get("words", words.size, np.uint64)
+        np.copyto(contiguous, words)
+        words = contiguous
+    for w in range(n_words):
+        size = np.clip(body - 8 * w, 0, 8)
+        x, blank, frac_w, has = _swar(padded, stops - 8 * w, size, scratch, f"{w}", point=True,
+                                      words=words)
+        frac_w = frac_w.view(np.int64)  # 0..7
+        digits_w = size - has.view(np.int8)
+        if w == 0:
+            whole, frac, points, digits, first_blank = x, frac_w * has, has, digits_w, blank
+            continue
+        if blank.any():
+            raise _NotPlain  # a B before 8 bytes
+        x *= _POW10_WHOLE[np.minimum(digits, _MAX_DIGITS)]
+        whole += x  # wraps past 19 digits: those are longest
+        frac += has * (frac_w + digits)
+        points += has
+        digits += digits_w
+    if digits.min() < 1 or points.max() > 1 or (first_blank & neg).any():
+        raise _NotPlain  # ".", "-", "-.", a point in two words, "-B"
+    return whole, first_blank, frac, neg, np.flatnonzero(digits > _MAX_DIGITS)
+
+
+def _to_float(whole, frac, out):
+    """``out = whole / 10**frac``, correctly rounded (``frac`` None: 0).
+
+    Below ``2**53`` the quotient of two exactly representable doubles is correctly rounded
+    (Clinger 1990, "How to read floating point numbers accurately", PLDI, sec. 5); above it,
+    :func:`_round_big`.
+    """
+    signed = whole.view(np.int64) if whole.dtype == np.uint64 else whole  # converts faster
+    np.copyto(out, signed, casting="unsafe")  # exact below 2**53
+    if frac is not None:  # (past 19 digits a token's value is replaced: see _numbers)
+        frac = np.minimum(frac, _MAX_DIGITS)
+        low, high = int(frac.min()), int(frac.max())
+        np.divide(out, _POW10[low] if low == high else _POW10[frac], out=out)
+    if int(whole.max()) < 2**53:
+        return
+    big = np.flatnonzero(whole >= 2**53)
+    places = np.zeros(big.size, dtype=np.int64) if frac is None else frac[big]
+    out[big] = _round_big(whole[big].astype(np.uint64), places)
+
+
+def _round_big(m, places):
+    """Return ``m / 10**places`` correctly rounded, for ``2**53 <= m < 2**64``.
+
+    ``m = hi + lo`` exactly (``hi`` its double, ``lo`` a whole number below ``2**11``);
+    ``q = hi / P`` (``P = 10**places``, exact) leaves the remainder ``hi - q * P``, exact
+    (Dekker 1971, "A floating-point technique for extending the available precision", Numer.
+    Math. 18, with Veltkamp's split), so that ``m / P = q + d``, ``d = (hi - q * P + lo) / P``
+    to within a relative ``2**-51``, at most two units in the last place of ``q``. ``r =
+    q + d`` rounded is the correctly rounded quotient unless ``m / P`` lies within that error
+    of a midpoint between ``r`` and a neighbour: those (exact midpoints among them) are
+    converted by Python's correctly rounded ``float``.
+    """
+    hi = m.astype(np.float64)
+    lo = (m - hi.astype(np.uint64)).view(np.int64).astype(np.float64)
+    power, power_high, power_low = _POW10[places], _POW10_HIGH[places], _POW10_LOW[places]
+    q = hi / power
+    q_high, q_low = _veltkamp(q)
+    product = q * power
+    error = ((q_high * power_high - product) + q_high * power_low + q_low * power_high
+             + q_low * power_low)
+    d = ((hi - product) - error + lo) / power
+    r = q + d
+    left = d - (r - q)  # m / P - r, to within the error of d
+    gap = np.spacing(r)
+    below = (np.frexp(r)[0] == 0.5) & (left < 0)  # below a power of 2, half the gap
+    half = np.where(below, gap / 4, gap / 2)
+    for k in np.flatnonzero(np.abs(left) >= half - gap * 2.0**-30).tolist():
+        r[k] = float(f"{int(m[k])}e-{int(places[k])}")
+    return r
+
+
+def _veltkamp(x):
+    """Split ``x`` into ``(high, low)``, ``x = high + low``, each of 26 bits at most."""
+    split = x * _SPLIT
+    high = split - (split - x)
+    return high, x - high
+
+
+_SPLIT = 2.0**27 + 1
+_POW10 = np.array([10.0**k for k in range(_MAX_DIGITS + 1)])  # exact to 10**22
+_POW10_HIGH, _POW10_LOW = _veltkamp(_POW10)
+_POW10_WHOLE = np.array([10**k for k in range(_MAX_DIGITS + 1)], dtype=np.uint64)
+
+
+def _whole_numbers(padded, stops, length, scratch=None, key=""):
     """Values of the tokens ending before ``stops``: whole numbers (0 for ``B``), ``B`` mask.
 
-    ``stops`` index the bytes ``padded[_PAD:]`` (the block; any bytes before it). Up to 8
-    digits, the bytes before each stop are loaded as one little-endian word, those before
-    the token masked to 0 (leading zeros) and the digits combined pairwise by SWAR
-    multiplications (``x * 10 + (x >> 8)``, then ``* 100`` and ``* 10000``; the eight-digit
-    SWAR step of Lemire 2021, "Number parsing at a gigabyte per second", Software: Practice
-    and Experience 51(8)); longer tokens digit by digit. The results are views of
-    ``scratch``'s arrays (:class:`_Scratch`), valid until its next use.
+    ``stops`` index the bytes ``padded[_PAD:]`` (the block; any bytes before it). The
+    bytes before each stop are loaded as little-endian words of 8 bytes (:func:`_swar`); a
+    token of more than 8 digits is read in words of 8, up to :data:`_MAX_DIGITS` digits.
+    Raises :class:`_NotWhole` at any other token. The results are views of ``scratch``'s
+    arrays (:class:`_Scratch`) named ``key``, valid until their next use.
     """
     scratch = scratch or _Scratch()
     width = int(length.max())
-    if width > 8:
-        return _digit_by_digit(padded[_PAD:], stops, length)
-    dtype, size = (np.uint32, 4) if width <= 4 else (np.uint64, 8)
+    if width > _MAX_DIGITS:
+        raise _NotWhole
+    if width <= 8:
+        return _swar(padded, stops, length, scratch, key)
+    whole, blank = _swar(padded, stops, np.minimum(length, 8), scratch, key)
+    for word in (1, 2):
+        longer = np.flatnonzero(length > 8 * word)
+        if not longer.size:
+            break
+        high, high_blank = _swar(padded, stops[longer] - 8 * word,
+                                 np.minimum(length[longer] - 8 * word, 8), scratch,
+                                 key + "high")
+        if high_blank.any():
+            raise _NotWhole  # a B before 8 digits
+        whole[longer] += high.astype(np.uint64) * np.uint64(10 ** (8 * word))
+    return whole, blank
+
+
+def _swar(padded, stops, length, scratch, key, point=False, words=None):
+    """:func:`_whole_numbers` of tokens of 0 to 8 digits (or ``B``; no digit: 0).
+
+    The bytes before each stop are loaded as one little-endian word, those before the token
+    masked to 0 (leading zeros) and the digits combined pairwise by SWAR multiplications
+    (``x * 10 + (x >> 8)``, then ``* 100`` and ``* 10000``; the eight-digit SWAR step of
+    Lemire 2021, "Number parsing at a gigabyte per second", Software: Practice and
+    Experience 51(8)). ``key`` names the scratch arrays used. With ``point``, a token may
+    hold a decimal point (:func:`_drop_point`); the fraction digits are returned as well.
+    ``words``: :func:`_words` of ``padded`` as a contiguous array, for several calls.
+    """
+    dtype, size = (np.uint32, 4) if int(length.max()) <= 4 and not point else (np.uint64, 8)
     n = stops.size
-    words = np.ndarray((padded.size - _PAD + 1,), dtype=np.dtype(dtype).newbyteorder("<"),
-                       buffer=padded, offset=_PAD - size, strides=(1,))
-    x = words.take(stops, out=scratch.get("x", n, dtype))  # word k ends at byte k - 1
-    other = scratch.get("other", n, dtype)
+    words = _words(padded, dtype) if words is None else words
+    x = words.take(stops, out=scratch.get(key + "x", n, dtype))  # word k ends at byte k - 1
+    other = scratch.get(key + "other", n, dtype)
     x ^= _bytes(dtype, b"0")  # digits now 0..9
     before = np.subtract(size, length, out=other, casting="unsafe")  # bytes before the token
-    before <<= dtype(3)
-    x &= np.left_shift(dtype(2**(8 * size) - 1), before, out=other)  # only the token's
-    blank = np.equal(x, dtype((_B ^ 48) << (8 * size - 8)), out=scratch.get("blank", n, bool))
-    blank &= np.equal(length, 1, out=scratch.get("one", n, bool))
+    before <<= dtype(2)  # half the bits before the token: two shifts, each below the width
+    mask = np.left_shift(dtype(2**(8 * size) - 1), before, out=scratch.get(key + "mask", n,
+                                                                            dtype))
+    x &= np.left_shift(mask, before, out=mask)  # only the token's (none: length 0)
+    frac, has = _drop_point(x, mask, other) if point else (None, None)
+    blank = np.equal(x, dtype((_B ^ 48) << (8 * size - 8)),
+                     out=scratch.get(key + "blank", n, bool))
+    blank &= np.equal(length, 1, out=scratch.get(key + "one", n, bool))
     np.copyto(x, 0, where=blank)
     bad = np.add(x, _bytes(dtype, b"\x76"), out=other)  # a byte above 9: its high bit set
     bad |= x  # (or had it)
     bad &= _bytes(dtype, b"\x80")
     if bad.any():
-        raise _NotPlain
+        raise _NotWhole
     steps = _SWAR_STEPS if size == 8 else _SWAR_STEPS[:2]  # digits in pairs, pairs in fours..
     for shift, lanes in steps:
         high = np.right_shift(x, dtype(shift), out=other)
         x *= dtype(10 ** (shift // 8))
         x += high
         x &= _bytes(dtype, lanes)
-    return x, blank
+    return (x, blank) if not point else (x, blank, frac, has)
+
+
+def _words(padded, dtype):
+    """Return the little-endian words of ``dtype`` ending at each byte of a block (a view).
+
+    ``take`` copies such a view, overlapping and unaligned, whole: for several takes from
+    one block, copy it once.
+    """
+    size = np.dtype(dtype).itemsize
+    return np.ndarray((padded.size - _PAD + 1,), dtype=np.dtype(dtype).newbyteorder("<"),
+                      buffer=padded, offset=_PAD - size, strides=(1,))
+
+
+def _drop_point(x, mask, other):
+    r"""Remove the lowest point byte from each word ``x`` (after ``^ b"0"``), in place.
+
+    Returns the fraction digits (the bytes above the point, 0 where there is none) and
+    where there is one. The point's byte is the lowest zero byte of ``y = x ^ b"\x1e"``,
+    found exactly by Mycroft's test ``(y - 0x01..) & ~y & 0x80..`` (false positives only
+    above it) and its lowest set bit; its index ``j`` gives ``7 - j`` as the top byte of
+    ``(bit >> 7) * 0x0706..00``. The bytes below the point move up one byte over it.
+    ``mask`` and ``other`` are scratch.
+    """
+    y = np.bitwise_xor(x, _bytes(np.uint64, b"\x1e"), out=mask)
+    low = np.subtract(y, _bytes(np.uint64, b"\x01"), out=other)
+    low &= np.invert(y, out=y)
+    low &= _bytes(np.uint64, b"\x80")
+    np.negative(low, out=mask)  # two's complement: low & -low is the lowest set bit
+    low &= mask
+    frac = np.right_shift(low, np.uint64(7))
+    frac *= np.uint64(0x0706050403020100)
+    frac >>= np.uint64(56)
+    below = np.subtract(low, np.uint64(1), out=mask)  # the point's byte and those below it
+    below |= low
+    has = low != 0
+    below *= has
+    moved = np.left_shift(x, np.uint64(8), out=other)
+    moved ^= x
+    moved &= below
+    x ^= moved
+    return frac, has
 
 
 _SWAR_STEPS = ((8, b"\xff\x00"), (16, b"\xff\xff\x00\x00"), (32, b"\xff" * 4 + b"\x00" * 4))
@@ -476,25 +686,6 @@ def _bytes(dtype, pattern):
     """``pattern`` repeated over a little-endian word of ``dtype``."""
     size = np.dtype(dtype).itemsize
     return dtype(int.from_bytes(pattern * (size // len(pattern)), "little"))
-
-
-def _digit_by_digit(b, stops, length):
-    """As :func:`_whole_numbers`, for tokens of up to :data:`_MAX_DIGITS` digits."""
-    last = b[stops - 1]
-    blank = last == _B
-    whole = (last - 48).astype(np.int64)
-    ok = (whole <= 9) | blank
-    scale = 1
-    for i in range(1, int(length.max())):
-        scale *= 10
-        longer = length > i
-        digit = np.where(longer, b.take(stops - (1 + i), mode="clip") - 48, 0)
-        ok &= digit <= 9
-        whole += digit.astype(np.int64) * scale
-    if not ok.all() or (blank & (length != 1)).any():
-        raise _NotPlain
-    whole[blank] = 0
-    return whole, blank
 
 
 def _number(text):

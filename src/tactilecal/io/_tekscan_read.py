@@ -10,8 +10,9 @@ Layout, as written by Tekscan I-Scan 6.10I and F-Scan 6.33 (the two real exports
     ...
     @@
 
-An export in the plain form every real export seen has (whole numbers and ``B``), read
-eagerly, is read in one pass by NumPy alone (``_tekscan_numpy``), without importing numba
+An export in the plain form every real export seen has (numbers without exponent or spaces,
+and ``B``), read eagerly, is read in one pass by NumPy alone (``_tekscan_numpy``), without
+importing numba
 (:data:`PLAIN_MAX_BYTES` can bound its size). Any other file and every lazy read go to the
 numba reader, which defines the checks and the messages (the NumPy reader hands over at the
 first departure, raising nothing): the file is read twice, in blocks, by numba kernels over
