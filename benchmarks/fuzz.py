@@ -45,7 +45,7 @@ from tactilecal.calibration import (
     points_from_frames,
 )
 from tactilecal.dynamic import CorrectionFilter, Evaluation, RationalModel
-from tactilecal.io import read_tekscan, read_timeseries
+from tactilecal.io import read_tekscan, read_timeseries, write_tekscan
 from tactilecal.simulate import deadweight_session, make_sensor
 
 FAILING = ("bad-message", "uncaught", "silent")
@@ -93,6 +93,11 @@ def make_seeds(folder):
         line.split(b",")[0] if line.startswith(b"Frame") else line
         for line in recording.read_bytes().split(b"\n") if not line.startswith(b"UNITS")))
     seeds.append(("recording", bare))
+    # a calibrated export as write_tekscan writes it: decimals of up to 17 digits, some < 0
+    raw = read_tekscan(recording)
+    kpa = (raw * 5.9379 - 1.0).assign_attrs({**raw.attrs, "units": "kPa"})
+    write_tekscan(kpa, folder / "kpa.csv")
+    seeds.append(("recording", folder / "kpa.csv"))
     loadcell = folder / "loadcell.csv"
     loadcell.write_text("Time (ms),Load (N),note\n" + "".join(
         f"{k * 2},{10 + k % 7},s{k}\n" for k in range(40)))

@@ -43,6 +43,18 @@ def test_describe_inverts_the_header_power_law():
     assert d["saturated_frames"] is None  # no saturation pressure: unknown
 
 
+@pytest.mark.parametrize("largest", [-5.0, 1e308])
+def test_a_largest_value_no_reading_gives_has_no_raw_reading(largest):
+    """Below 0 (an offset removed), or beyond any finite reading of FrasP01L's 1-point
+    calibration (75 kg over a raw sum of 4798): None, not a crash."""
+    p = np.full((2, 2, 2), -10.0)
+    p[1, 0, 0] = largest
+    d = _rec(p, units="kPa", sensel_area_mm2=25.8064, calibration_point_1_load_N=735.5,
+             calibration_point_1_raw_sum=4798.0).tactile.describe()
+    assert d["max_value"] == largest
+    assert d["max_raw"] is None and d["max_raw_source"] is None
+
+
 def test_frame_table_and_overview_on_a_known_patch():
     p = np.zeros((3, 6, 6))
     for k in range(3):  # 2 x 2 patch at 100 (k + 1) kPa; 4 mm2 sensels

@@ -48,7 +48,8 @@ def describe(recording):
     turned back into raw units through the header's calibration where it can be inverted:
     ``SCALE_FACTOR``/``EXPONENT`` (p = SCALE_FACTOR x raw^EXPONENT) or a single
     ``CALIBRATION_POINT_1`` (linear through zero, p = load_N / (raw_sum x sensel_area_mm2)
-    per raw count); else None.
+    per raw count); else None (also for a largest value below 0, or one so large that no
+    finite reading gives it).
 
     Examples
     --------
@@ -114,7 +115,11 @@ def _max_raw(max_value, attrs):
     except TactilecalError:  # no calibration in the header: no raw reading to give
         return {"max_raw": None, "max_raw_source": None}
     force_N = pressure_to_kPa(max_value, units) * law.sensel_area_mm2 / N_PER_MM2_TO_KPA
-    return {"max_raw": int(np.rint(law.raw_of_force_N(force_N))),
+    with np.errstate(over="ignore"):
+        raw = law.raw_of_force_N(force_N) if force_N >= 0 else np.nan
+    if not np.isfinite(raw):  # below zero, or beyond any reading the law gives
+        return {"max_raw": None, "max_raw_source": None}
+    return {"max_raw": int(np.rint(raw)),
             "max_raw_source": f"inverted header calibration ({law.method})"}
 
 
