@@ -10,14 +10,14 @@ reported: terminator, lines after it, unknown lines, frame lines, rows per frame
 """
 
 import os
-import re
 
 import numpy as np
 
 from tactilecal._errors import TactilecalError
-from tactilecal._validate import check_size, parse_number, shorten
+from tactilecal._validate import check_size, shorten
 from tactilecal.io import _tekscan_kernels as kernels
 from tactilecal.io._header import integer
+from tactilecal.io._tekscan_frames import frame_line_text, parse_frame_line, plain_frame_lines
 from tactilecal.io._tekscan_layout import Index, line_text, max_line_bytes, read_header
 
 __all__ = ["BLOCK_BYTES", "Index", "index_export", "line_text"]
@@ -26,8 +26,6 @@ BLOCK_BYTES = 16 * 2**20
 """Bytes read at a time while indexing, and bytes of frames parsed at a time when eager."""
 
 
-_FRAME = re.compile(r"Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,]*?)[ \t]*(?:,|$))")
-_RAW_SUM = re.compile(r"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)")
 _COLUMNS = {"starts": np.int64, "lines": np.int64, "counts": np.int64, "numbers": np.int64,
             "times": np.float64, "raw_sums": np.float64}
 _INFO = kernels.INFO_SLOTS
@@ -83,15 +81,15 @@ def _scan(f, offset, first_line, cols, name):
                 buf = np.concatenate((buf, np.empty_like(buf)))
             carry = n
             continue
-        used, fr, num, val, rows_before = kernels.index_lines(
+        used, fr, rows_before = kernels.index_lines(
             buf, n, lf, base, final, min(cols, 2**62), state, info)
         if columns["counts"]:  # rows before the block's first frame line: the frame before
             columns["counts"][-1][-1] += rows_before
         if len(fr):
-            _python_frame_lines(buf, base, fr, num, val, name, frame_errors)
+            numbers, times, raw_sums = _parse_frame_lines(buf, base, fr, name, frame_errors)
             for key, column in (("starts", fr[:, 0]), ("lines", fr[:, 2]),
-                                ("counts", fr[:, 3]), ("numbers", num), ("times", val[:, 0]),
-                                ("raw_sums", val[:, 1])):
+                                ("counts", fr[:, 3]), ("numbers", numbers), ("times", times),
+                                ("raw_sums", raw_sums)):
                 columns[key].append(column.copy())
         if final:
             break
@@ -103,58 +101,26 @@ def _scan(f, offset, first_line, cols, name):
     return scan
 
 
-def _python_frame_lines(buf, base, frames, numbers, values, name, errors):
-    """Parse the frame lines the kernel left (not plain ASCII) with the format's regexes.
+def _parse_frame_lines(buf, base, frames, name, errors):
+    """``(numbers, times, raw sums)`` of a block's frame lines (``_tekscan_frames``).
 
-    A frame line is ``Frame N`` alone or followed by ``, <time in s>, ...``; a time that
-    is not a finite number (``nan``, ``-``) and a ``Raw Sum`` that is not a number are
-    errors, never read as absent.
+    All at once where they are plain, else line by line; a line's fault is kept in
+    ``errors`` (raised later, in the order of the checks) and its values left 0 and NaN.
     """
-    for k in np.flatnonzero(frames[:, 4] == 0):
-        start, end, line = frames[k, 0] - base, frames[k, 1] - base, frames[k, 2]
+    starts, ends = frames[:, 0] - base, frames[:, 1] - base
+    plain = plain_frame_lines(memoryview(buf), starts, ends)
+    if plain is not None:
+        return plain
+    numbers, times, raw_sums = (np.zeros(len(frames), dtype=np.int64),
+                                np.full(len(frames), np.nan), np.full(len(frames), np.nan))
+    for k, (start, end, line) in enumerate(zip(starts.tolist(), ends.tolist(),
+                                               frames[:, 2].tolist(), strict=True)):
         try:
             text = frame_line_text(bytes(buf[start:end]), line, name)
-            numbers[k], values[k, 0], values[k, 1] = parse_frame_line(text, line, name)
+            numbers[k], times[k], raw_sums[k] = parse_frame_line(text, line, name)
         except ValueError as exc:
             errors.append(exc)
-
-
-def frame_line_text(raw, line, name):
-    """Decode a frame line: UTF-8, else strict cp1252 (undefined bytes are an error)."""
-    try:
-        return raw.decode("utf-8")
-    except UnicodeDecodeError:
-        try:
-            return raw.decode("cp1252")
-        except UnicodeDecodeError as exc:
-            raise TactilecalError(f"line {line} of {name}: byte 0x{raw[exc.start]:02x} is not "
-                                  "text (UTF-8 or Windows cp1252); expected a 'Frame N' line"
-                                  ) from None
-
-
-def parse_frame_line(text, line, name):
-    """Return ``(number, time in s or NaN, Raw Sum or NaN)`` of a frame line, or raise."""
-    match = _FRAME.match(text)
-    if match is None:
-        raise TactilecalError(f"line {line} of {name}: {shorten(text, 60)}; expected 'Frame N' "
-                              "optionally followed by ', <time in s>, ...'")
-    digits = match.group(1).lstrip("0") or "0"
-    if len(digits) > 19 or int(digits) >= 2**63:
-        shown = match.group(1) if len(match.group(1)) <= 30 else match.group(1)[:27] + "..."
-        raise TactilecalError(f"line {line} of {name}: frame number {shown}; "
-                              "expected at most 2**63 - 1")
-    number = int(digits)
-    time_s = raw_sum = np.nan
-    if match.group(2):
-        time_s = parse_number(match.group(2), f"line {line} of {name}: the frame time")
-    if "Raw Sum" in text:
-        found = _RAW_SUM.search(text)
-        if found is None:
-            after = text[text.index("Raw Sum") + 7:].lstrip(" \t=,")
-            raise TactilecalError(f"line {line} of {name}: Raw Sum is {shorten(after)}; "
-                                  "expected the sum of the frame's readings (a number)")
-        raw_sum = float(found.group(1))
-    return number, time_s, raw_sum
+    return numbers, times, raw_sums
 
 
 def _slot(info, key):

@@ -5,9 +5,9 @@ code (no Python object per line or value):
 
 * :func:`index_lines` classifies every line (blank, ``Frame N`` line, row of values, ``@@``),
   counts the values of each row by its commas, records each frame line's byte offsets, line
-  number and number of rows, parses its number, time and ``Raw Sum`` when they are plain
-  ASCII (else the reader parses that line with the regular expressions), and records the
-  first line of each kind of structural fault. It allocates nothing per value.
+  number and number of rows (the reader parses the frame lines themselves:
+  ``_tekscan_frames``), and records the first line of each kind of structural fault. It
+  allocates nothing per value.
 * :func:`parse_rows` parses the rows of values of a byte range of whole frames into a float64
   array, sums each frame and finds the first raw value that is not a whole number 0..255.
 
@@ -126,100 +126,6 @@ def _number(buf, pos, end):
     return 0, -value if neg else value, pos
 
 
-@njit(nogil=True)
-def _frame_line(buf, start, end):
-    """Parse a ``Frame N[, time[, ...Raw Sum=,,S]]`` line given as plain ASCII.
-
-    Returns ``(simple, number, time_s, raw_sum)``; ``simple`` is False when the line is not in
-    the plain form this parser knows (then the reader parses it with its regular
-    expressions, which define the format), time and raw sum are NaN when absent.
-    """
-    nan = np.nan
-    for i in range(start, end):
-        if buf[i] >= 128 or buf[i] == _CR:
-            return False, 0, nan, nan
-    word = (70, 114, 97, 109, 101)  # "Frame"
-    if end - start < 7:
-        return False, 0, nan, nan
-    for i in range(5):
-        if buf[start + i] != word[i]:
-            return False, 0, nan, nan
-    pos = start + 5
-    if not (buf[pos] == 32 or buf[pos] == 9):
-        return False, 0, nan, nan
-    while pos < end and (buf[pos] == 32 or buf[pos] == 9):
-        pos += 1
-    number, n_digits = 0, 0
-    while pos < end and 48 <= buf[pos] <= 57:
-        number = number * 10 + (buf[pos] - 48)
-        n_digits += 1
-        pos += 1
-    if n_digits == 0 or n_digits > 18:
-        return False, 0, nan, nan
-    time_s = nan
-    while pos < end and (buf[pos] == 32 or buf[pos] == 9):
-        pos += 1
-    if pos < end and buf[pos] != _COMMA:  # "Frame 5x", "Frame 96 -5": the regexes refuse it
-        return False, 0, nan, nan
-    if pos < end and buf[pos] == _COMMA:
-        pos += 1
-        while pos < end and (buf[pos] == 32 or buf[pos] == 9):
-            pos += 1
-        stop = pos
-        while stop < end and buf[stop] != _COMMA:
-            stop += 1
-        last = stop
-        while last > pos and (buf[last - 1] == 32 or buf[last - 1] == 9):
-            last -= 1
-        if last > pos:
-            status, time_s, after = _number(buf, pos, last)
-            if status != 0 or after != last:
-                return False, 0, nan, nan
-    ok, raw_sum = _raw_sum(buf, start, end)
-    return ok, number, time_s, raw_sum
-
-
-@njit(nogil=True)
-def _raw_sum(buf, start, end):
-    r"""``(found in plain form or absent, value)`` of ``Raw Sum[ \t]*=[ \t,]*S`` in a line."""
-    key = (82, 97, 119, 32, 83, 117, 109)  # "Raw Sum"
-    for i in range(start, end - 6):
-        hit = True
-        for j in range(7):
-            if buf[i + j] != key[j]:
-                hit = False
-                break
-        if not hit:
-            continue
-        pos = i + 7
-        while pos < end and (buf[pos] == 32 or buf[pos] == 9):
-            pos += 1
-        if pos >= end or buf[pos] != 61:  # "="
-            return False, np.nan
-        pos += 1
-        while pos < end and (buf[pos] == 32 or buf[pos] == 9 or buf[pos] == _COMMA):
-            pos += 1
-        stop = pos
-        if stop < end and (buf[stop] == 43 or buf[stop] == 45):
-            stop += 1
-        n_digits = 0
-        while stop < end and 48 <= buf[stop] <= 57:
-            stop += 1
-            n_digits += 1
-        if n_digits == 0 or n_digits > 15:
-            return False, np.nan
-        if stop < end and buf[stop] == 46:
-            stop += 1
-            while stop < end and 48 <= buf[stop] <= 57:
-                stop += 1
-                n_digits += 1
-        if stop < end and not (buf[stop] == 32 or buf[stop] == 9 or buf[stop] == _COMMA):
-            return False, np.nan  # "Raw Sum=,,12abc": the regexes refuse it
-        status, value, _ = _number(buf, pos, stop)
-        return status == 0 and n_digits <= 15, value
-    return True, np.nan
-
-
 @njit(nogil=True, inline="always")
 def _first(info, slot, line, offset, a, b):
     if info[slot, 0] < 0:
@@ -251,12 +157,9 @@ def index_lines(buf, n, lf, base, final, cols, state, info):
     -------
     used : int
         Bytes of complete lines indexed (the rest starts the next block).
-    frames : ndarray of int64, shape (n_frames, 5)
+    frames : ndarray of int64, shape (n_frames, 4)
         Per frame line: offset, offset of the line end (before CR LF), line number, rows of
-        values after it in this block, 1 if the numbers below were parsed here.
-    numbers : ndarray of int64
-    values : ndarray of float64, shape (n_frames, 2)
-        Time (s) and Raw Sum of each frame line (NaN when absent or not parsed here).
+        values after it in this block.
     rows_before : int
         Rows of values before the block's first frame line (they belong to the frame
         before).
@@ -267,12 +170,10 @@ def index_lines(buf, n, lf, base, final, cols, state, info):
         n_frames = 1 if n and buf[0] == _F else 0
         for j in range(lf.size):
             n_frames += lf[j] + 1 < n and buf[lf[j] + 1] == _F
-    frames = np.zeros((n_frames, 5), dtype=np.int64)
-    numbers = np.zeros(n_frames, dtype=np.int64)
-    values = np.full((n_frames, 2), np.nan)
+    frames = np.zeros((n_frames, 4), dtype=np.int64)
     k_frame, rows_before = -1, 0
     line = state[s_line]
-    pos = np.int64(0)  # typed: as the literal 0, the line parsers would compile for it too
+    pos = np.int64(0)
     for j in range(lf.size + (1 if final else 0)):
         stop = lf[j] if j < lf.size else n
         commas, special = 0, 0
@@ -315,11 +216,6 @@ def index_lines(buf, n, lf, base, final, cols, state, info):
                 k_frame += 1
                 frames[k_frame, 0], frames[k_frame, 1] = offset, base + end
                 frames[k_frame, 2] = line
-                simple, number, time_s, raw_sum = _frame_line(buf, pos, end)
-                if simple:
-                    frames[k_frame, 4] = 1
-                    numbers[k_frame] = number
-                    values[k_frame, 0], values[k_frame, 1] = time_s, raw_sum
                 _first(info, 8, line, offset, 0, 0)
             elif _is_data_start(buf[_skip_space(buf, pos, end)]):
                 if state[s_spaced] < 0:
@@ -347,8 +243,7 @@ def index_lines(buf, n, lf, base, final, cols, state, info):
         state[s_nlines] += 1
         pos = stop + 1
     state[s_line] = line
-    return min(pos, n), frames[:k_frame + 1], numbers[:k_frame + 1], values[:k_frame + 1], \
-        rows_before
+    return min(pos, n), frames[:k_frame + 1], rows_before
 
 
 @njit(nogil=True)

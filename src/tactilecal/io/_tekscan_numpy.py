@@ -28,14 +28,13 @@ defines the format, its checks and every error message, so a file reads the same
 with the same message, whichever reader took it.
 """
 
-import math
 import os
-import re
 from itertools import pairwise
 
 import numpy as np
 
 from tactilecal._validate import MAX_VALUES
+from tactilecal.io._tekscan_frames import plain_frame_lines, plain_frame_number
 from tactilecal.io._tekscan_layout import Index
 
 __all__ = ["BLOCK_BYTES", "read_plain"]
@@ -50,13 +49,6 @@ block to block; larger blocks were no faster and need more memory.
 _MAX_DIGITS = 19  # a whole number of up to 19 digits is below 2**64: one uint64
 _MAX_TOKEN = 40  # bytes of the longest value read here (Python's float past 19 digits)
 _PAD = 8  # bytes before a block, so that a word can end at any of its bytes
-_FRAME = re.compile(rb"Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,]*?)[ \t]*(?:,|$))")
-_RAW_SUM = re.compile(rb"Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)")
-_TIME = re.compile(rb"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
-# the same, over frame lines joined by LF: one match per line, at its start
-_FRAMES = re.compile(rb"^Frame[ \t]+(\d+)[ \t]*(?:$|,[ \t]*([^,\n]*?)[ \t]*(?:,|$))", re.M)
-_RAW_SUMS = re.compile(rb"^[^\n]*?Raw Sum[ \t]*=[ \t,]*([-+]?\d+(?:\.\d*)?)[ \t]*(?:,|$)", re.M)
-_TIMES = re.compile(rb"(?:[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\n)*")
 _SPACE = b" \t\x0b\x0c\r\n"
 _LF, _CR, _COMMA, _AT, _B, _F, _POINT, _MINUS = 10, 13, 44, 64, 66, 70, 46, 45
 
@@ -142,10 +134,8 @@ def _frame_line_after(f, offset, end, head):
     chunk = f.read(min(end - offset, 2 * _largest(head)))
     at = chunk.find(b"\nF") + 1
     line_end = chunk.find(b"\n", at)
-    match = _FRAME.match(chunk[at:line_end].rstrip(b"\r")) if at and line_end > 0 else None
-    if match is None or len(match.group(1)) > 18:
-        return None
-    return offset + at, int(match.group(1))
+    number = plain_frame_number(chunk[at:line_end].rstrip(b"\r")) if at and line_end > 0 else None
+    return None if number is None else (offset + at, number)
 
 
 def _largest(head):
@@ -301,7 +291,10 @@ class _Parser:
             raise _NotPlain  # another line (numba's "expected a 'Frame N' line ..."), lone CR
         frame_lines, data_lines = np.flatnonzero(is_frame), np.flatnonzero(is_data)
         view = memoryview(b)
-        numbers, times, raw_sums = _frame_lines(view, starts[frame_lines], ends[frame_lines])
+        parsed = plain_frame_lines(view, starts[frame_lines], ends[frame_lines])
+        if parsed is None:
+            raise _NotPlain  # numba's reader reads each line, or says what is wrong
+        numbers, times, raw_sums = parsed
         self.frames.append((base + starts[frame_lines], self.line + frame_lines, numbers,
                             times, raw_sums))
         _check_rows(frame_lines, data_lines, self.head.rows, self.single)
@@ -345,55 +338,6 @@ class _Parser:
             self.decimal = _numbers(padded, stops, length, out, self.scratch, self.decimal)
         self.k += n
         return whole
-
-
-def _frame_lines(block, starts, ends):
-    """``(numbers, times, raw sums)`` of the frame lines ``block[starts:ends]``.
-
-    The lines are joined and parsed by one regular expression each (the per-line patterns
-    anchored at each line's start); lines with and without a ``Raw Sum`` in one block are
-    parsed one by one.
-    """
-    text = b"\n".join([block[start:end] for start, end in zip(starts.tolist(), ends.tolist(),
-                                                             strict=True)])
-    if not text.isascii() or b"\r" in text or b"\x00" in text:  # numba: decoded text
-        raise _NotPlain
-    heads = _FRAMES.findall(text)
-    if len(heads) != len(starts) or any(len(number) > 18 for number, _ in heads):
-        raise _NotPlain
-    has_sum = text.count(b"Raw Sum")
-    sums = _RAW_SUMS.findall(text) if has_sum else []
-    if has_sum and (has_sum != len(starts) or len(sums) != len(starts)):
-        return _frame_lines_one_by_one(block, starts, ends)
-    given = [time for _, time in heads if time]
-    if not _TIMES.fullmatch(b"\n".join(given) + b"\n" if given else b""):
-        raise _NotPlain
-    times = np.array([float(time) if time else math.nan for _, time in heads])
-    raw_sums = np.array([float(raw) for raw in sums]) if sums else np.full(len(heads), np.nan)
-    if np.isinf(times).any() or np.isinf(raw_sums).any():
-        raise _NotPlain
-    return np.array([int(number) for number, _ in heads], dtype=np.int64), times, raw_sums
-
-
-def _frame_lines_one_by_one(block, starts, ends):
-    """:func:`_frame_lines`, line by line (the lines are ASCII without CR: checked there)."""
-    numbers, times, raw_sums = [], [], []
-    for start, end in zip(starts.tolist(), ends.tolist(), strict=True):
-        text = bytes(block[start:end])
-        match = _FRAME.match(text)
-        if match is None or len(match.group(1)) > 18:
-            raise _NotPlain
-        numbers.append(int(match.group(1)))
-        times.append(_number(match.group(2)) if match.group(2) else math.nan)
-        if b"Raw Sum" in text:
-            raw_sum = _RAW_SUM.search(text)
-            if raw_sum is None:
-                raise _NotPlain  # numba's "Raw Sum is ..."
-            raw_sums.append(_number(raw_sum.group(1)))
-        else:
-            raw_sums.append(math.nan)
-    return (np.array(numbers, dtype=np.int64), np.array(times, dtype=np.float64),
-            np.array(raw_sums, dtype=np.float64))
 
 
 def _check_rows(frame_lines, data_lines, rows, single):
@@ -686,16 +630,6 @@ def _bytes(dtype, pattern):
     """``pattern`` repeated over a little-endian word of ``dtype``."""
     size = np.dtype(dtype).itemsize
     return dtype(int.from_bytes(pattern * (size // len(pattern)), "little"))
-
-
-def _number(text):
-    """Return the finite number ``text`` (no ``nan``, ``inf``, ``1_0``), else the numba reader's."""
-    if not _TIME.fullmatch(text):
-        raise _NotPlain
-    value = float(text)
-    if not math.isfinite(value):
-        raise _NotPlain
-    return value
 
 
 def _single_frame(head):
