@@ -454,3 +454,15 @@ def test_a_decimal_export_is_read_without_importing_numba(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.split() == ["False"]
+
+
+def test_a_frame_time_past_400_characters_is_refused_by_both_readers(tmp_path, monkeypatch):
+    """The frame line's format has one owner (``_tekscan_frames``): a number the per-line
+    parser refuses is no plain frame line for the NumPy reader either."""
+    path = _movie(tmp_path, _raw(n=3))
+    long_time = b"0." + b"0" * 400 + b"1"
+    path.write_bytes(path.read_bytes().replace(b"Frame 2, 0.01", b"Frame 2, " + long_time, 1))
+    assert _plain(path) is None
+    message = str(_outcome(read_tekscan, path))
+    assert "the frame time" in message
+    assert message == str(_outcome(lambda p: _numba_read(p, monkeypatch), path))
