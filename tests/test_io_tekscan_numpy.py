@@ -435,14 +435,14 @@ def _decimal_movie(tmp_path, text, seed=0, **kwargs):
     lambda v: f"{v:.9f}",  # more than 8 bytes a value
     lambda v: "0" if v == 0 else f"{v:g}",  # whole numbers among decimals
 ], ids=["fixed", "repr", "negative", "long", "mixed"])
-@pytest.mark.parametrize("cores", [1, 2])
+@pytest.mark.parametrize("cores, block_bytes", [(1, 1), (1, 300), (2, 300)])
 def test_decimal_exports_read_as_the_numba_reader_reads_them(tmp_path, monkeypatch, text,
-                                                             cores):
+                                                             cores, block_bytes):
     path = _decimal_movie(tmp_path, text, newline="\r\n")
     expected = _numba_read(path, monkeypatch)
     monkeypatch.setattr(_tekscan_numpy.os, "cpu_count", lambda: cores)
     monkeypatch.setattr(_tekscan_numpy, "PART_BYTES", 64)
-    monkeypatch.setattr(_tekscan_numpy, "BLOCK_BYTES", 300)
+    monkeypatch.setattr(_tekscan_numpy, "BLOCK_BYTES", block_bytes)
     assert _plain(path) is not None  # the NumPy reader took it
     assert read_tekscan(path).identical(expected)
 

@@ -428,7 +428,8 @@ def _decimals(padded, stops, length, scratch):
         words = contiguous
     for w in range(n_words):
         size = np.clip(body - 8 * w, 0, 8)
-        x, blank, frac_w, has = _swar(padded, stops - 8 * w, size, scratch, f"{w}", point=True,
+        ends = np.maximum(stops - 8 * w, 0)  # (a token that ended sooner has no byte left)
+        x, blank, frac_w, has = _swar(padded, ends, size, scratch, f"{w}", point=True,
                                       words=words)
         frac_w = frac_w.view(np.int64)  # 0..7
         digits_w = size - has.view(np.int8)
