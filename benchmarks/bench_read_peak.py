@@ -5,8 +5,9 @@ Each read runs in a fresh interpreter that reports its own peak resident size (`
 difference. The bound of issue 31 is ``3 x (bytes of what the read returns) + 100 MB``; a read
 that fails returns nothing, so its bound is 100 MB. Inputs (generated in a temporary folder):
 Tekscan exports read eagerly and lazily, one of kPa with as many digits as ``write_tekscan``
-writes, one huge row, a 16 MiB header, a line of 200 MB without a line end; load-cell CSVs
-with 2 and with 40 columns; a NetCDF recording; a calibration JSON of 60 MB.
+writes, one huge row (of raw readings and of such kPa), a 16 MiB header, a line of 200 MB
+without a line end; load-cell CSVs with 2 and with 40 columns; a NetCDF recording; a
+calibration JSON of 60 MB.
 :func:`track_worst_peak_over_bound` is the largest peak over its bound (asv; goal <= 1).
 
     python -m benchmarks.bench_read_peak [--frames 6000]
@@ -76,7 +77,9 @@ def make_inputs(folder, n_frames):
              ("Tekscan export of kPa, 17 digits", "tekscan",
               _export(folder / "kpa.csv", n_frames, kpa_per_count=5.9379)),
              ("one row of 2,000,000 values", "tekscan",
-              _export(folder / "row.csv", 1, rows=1, cols=2_000_000))]
+              _export(folder / "row.csv", 1, rows=1, cols=2_000_000)),
+             ("one row of 2,000,000 kPa values, 17 digits", "tekscan",
+              _export(folder / "row_kpa.csv", 1, rows=1, cols=2_000_000, kpa_per_count=5.9379))]
     header = folder / "header.csv"
     header.write_text("ROWS 1\nCOLS 1\n" + "NOTE x\n" * (16 * 2**20 // 7)
                       + "ASCII_DATA @@\n1\n@@\n")

@@ -466,3 +466,24 @@ def test_a_frame_time_past_400_characters_is_refused_by_both_readers(tmp_path, m
     message = str(_outcome(read_tekscan, path))
     assert "the frame time" in message
     assert message == str(_outcome(lambda p: _numba_read(p, monkeypatch), path))
+
+
+@pytest.mark.parametrize("units", ["raw", "KPa"])
+def test_a_frame_larger_than_a_block_reads_in_runs(tmp_path, monkeypatch, units):
+    """One row of many values is parsed in runs of about BLOCK_BYTES of text (the memory of
+    a block, whatever the frame's size); a raw file's Raw Sum is still checked."""
+    values = _raw(n=3, rows=2, cols=400, seed=5)
+    text = (lambda v: str(int(v))) if units == "raw" else (lambda v: repr(float(v) * 5.9379))
+    path = _movie(tmp_path, values, units=units, text=text)
+    expected = _numba_read(path, monkeypatch)
+    monkeypatch.setattr(_tekscan_numpy, "BLOCK_BYTES", 64)
+    runs = []
+    monkeypatch.setattr(_tekscan_numpy, "_runs",
+                        lambda stops, f=_tekscan_numpy._runs: runs.append(f(stops)) or runs[-1])
+    assert _plain(path) is not None
+    assert read_tekscan(path).identical(expected)
+    assert max(len(r) for r in runs) > 10
+    if units == "raw":  # a Raw Sum that is not the frame's sum: handed over, and refused
+        path.write_bytes(path.read_bytes().replace(b"Raw Sum=,,", b"Raw Sum=,,1", 1))
+        assert _plain(path) is None
+        assert "Raw Sum" in str(_outcome(read_tekscan, path))

@@ -299,16 +299,20 @@ class _Parser:
                             times, raw_sums))
         _check_rows(frame_lines, data_lines, self.head.rows, self.single)
         if data_lines.size:
-            whole = self._values(padded[:_PAD + int(lf[-1]) + 1], starts[data_lines],
-                                 ends[data_lines], starts[frame_lines], ends[frame_lines])
-            if self.raw:
-                per_frame = self.head.rows * self.head.cols
-                self.sums.append(whole.reshape(-1, per_frame).sum(axis=1, dtype=np.int64))
+            sums = self._values(padded[:_PAD + int(lf[-1]) + 1], starts[data_lines],
+                                ends[data_lines], starts[frame_lines], ends[frame_lines])
+            if sums is not None:
+                self.sums.append(sums)
         self.line += stop
         return int(lf[-1]) + 1
 
     def _values(self, padded, row_starts, row_ends, frame_starts, frame_ends):
-        """Parse the rows of values into ``flat``; return a raw file's as whole numbers (B: 0)."""
+        """Parse the rows of values into ``flat``; return a raw file's frame sums, else None.
+
+        The values are parsed in runs of at most :data:`BLOCK_BYTES` of text
+        (:func:`_runs`), so that a frame larger than a block (one row of millions of values)
+        needs no more memory per value than a block of small frames.
+        """
         cols, b = self.head.cols, padded[_PAD:]
         n = len(row_starts) * cols
         if self.k + n > self.flat.size:
@@ -327,17 +331,47 @@ class _Parser:
         if length.min() < 1 or length.max() > _MAX_TOKEN:
             raise _NotPlain
         out = self.flat[self.k:self.k + n]
-        whole = None
-        if self.raw:  # whole numbers 0..255 (numba's "expected a whole number 0..255")
-            whole, blank = _whole_numbers(padded, stops, length, self.scratch)
-            if whole.max() > 255:
-                raise _NotPlain
-            np.copyto(out, whole, casting="unsafe")
-            np.copyto(out, np.nan, where=blank)
+        runs = _runs(stops)
+        if len(runs) == 1:  # the block as it is
+            whole = self._run(padded, stops, length, out)
         else:
-            self.decimal = _numbers(padded, stops, length, out, self.scratch, self.decimal)
+            for a, z in runs:
+                first = int(stops[a] - length[a])  # the run's bytes, after _PAD bytes before
+                run = padded[first:_PAD + int(stops[z - 1])]
+                whole = self._run(run, stops[a:z] - first, length[a:z], out[a:z])
         self.k += n
+        if not self.raw:
+            return None
+        per_frame = self.head.rows * self.head.cols
+        if len(runs) == 1:
+            return whole.reshape(-1, per_frame).sum(axis=1, dtype=np.int64)
+        return np.nansum(out.reshape(-1, per_frame), axis=1)  # whole numbers below 2**53
+
+    def _run(self, padded, stops, length, out):
+        """Parse a run of tokens into ``out``; return a raw file's as whole numbers (B: 0)."""
+        if not self.raw:
+            self.decimal = _numbers(padded, stops, length, out, self.scratch, self.decimal)
+            return None
+        # whole numbers 0..255 (numba's "expected a whole number 0..255")
+        whole, blank = _whole_numbers(padded, stops, length, self.scratch)
+        if whole.max() > 255:
+            raise _NotPlain
+        np.copyto(out, whole, casting="unsafe")
+        np.copyto(out, np.nan, where=blank)
         return whole
+
+
+def _runs(stops):
+    """Return ``(first, stop)`` ranges of the tokens ending at ``stops``.
+
+    Each holds about :data:`BLOCK_BYTES` of text (a single range up to twice that).
+    """
+    size = int(stops[-1])
+    if size <= 2 * BLOCK_BYTES:
+        return [(0, stops.size)]
+    cuts = np.searchsorted(stops, np.arange(BLOCK_BYTES, size, BLOCK_BYTES), side="right")
+    bounds = np.unique(np.concatenate(([0], cuts, [stops.size])))
+    return list(pairwise(bounds.tolist()))
 
 
 def _check_rows(frame_lines, data_lines, rows, single):
