@@ -128,6 +128,11 @@ def test_bad_inputs(sweep, filt):
     t = sweep.sensor.time.values
     with pytest.raises(ValueError, match=r"band_hz=\(1, 600\) reaches beyond the Nyquist"):
         fit_filter(sweep.sensor, sweep.reference, band_hz=(1, 600))
+    # the sweep calibrates 1-148 Hz: a band to 400 Hz would be stated as calibrated
+    with pytest.raises(ValueError, match=r"band_hz=\(1, 400\) reaches past the bins the sweep "
+                                         r"calibrates, 1 to 148 Hz; .*band_hz=\(1, 148\)"):
+        fit_filter(sweep.sensor, sweep.reference, band_hz=(1, 400))
+    assert fit_filter(sweep.sensor, sweep.reference, band_hz=(1, 140)).band_hz == (1.0, 140.0)
     short = sweep.reference.isel(time=slice(0, 900)).assign_attrs(source="short.csv")
     with pytest.raises(ValueError, match="short.csv: the overlap with .* expected at least"):
         fit_filter(sweep.sensor, short)

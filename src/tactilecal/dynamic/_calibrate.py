@@ -150,8 +150,9 @@ def fit_filter(sensor, reference, *, model="auto", band_hz=None, method="h2",
         :data:`tactilecal.simulate.DYNAMIC_FAMILY` (log10 is refused on a viscoelastic or
         resonant sensor, rational misses a log law, wiener extrapolates poorly).
     band_hz : tuple of float, optional
-        Only bins inside are fitted; it is also the filter's calibrated band (default: the
-        range of the bins with coherent energy).
+        Only bins inside are fitted; it is also the filter's calibrated band, so it must lie
+        within the bins fitted, to within a bin (default: the range of the bins with
+        coherent energy).
     method, min_coherence, min_power_db, nperseg
         See :func:`transfer_function`.
     lag_method : {"xcorr", "first-peak"}
@@ -180,7 +181,8 @@ def fit_filter(sensor, reference, *, model="auto", band_hz=None, method="h2",
     TactilecalError
         See :func:`align`, :func:`transfer_function` (records that do not overlap, a
         reference shorter than the filter, NaN gaps, irregular time, band beyond Nyquist);
-        an unknown model; every candidate refused (unless ``force``).
+        a band past the bins the sweep calibrates; an unknown model; every candidate
+        refused (unless ``force``).
 
     Examples
     --------
@@ -212,6 +214,7 @@ def fit_filter(sensor, reference, *, model="auto", band_hz=None, method="h2",
     for sweep in sweeps:
         _check_cycles(tf, sweep.duration_s, sweep.records)
     fit.static_factor, fit.band_note = first.factor, tf.band_note()
+    _check_band_measured(band_hz, fit.f_hz, tf.f_hz, first.records)
     if len(sweeps) > 1:
         fit.amplitude = _amplitude_check(sweeps)
     choice, candidates, order = choose_model(tf, fit, model)
@@ -235,6 +238,24 @@ def fit_filter(sensor, reference, *, model="auto", band_hz=None, method="h2",
     filt = _build(candidates[order[0]], design, first.lag_s)
     filt.forced = f"{where}: {refused[candidates[order[0]].label]}"
     return _chosen(filt, candidates[order[0]], {}, pairs)
+
+
+def _check_band_measured(band_hz, fitted_hz, bins_hz, where):
+    """Refuse a band asked for that reaches past the fitted bins by more than a bin.
+
+    The band becomes the filter's calibrated band, and the sweep measured nothing outside
+    the bins it fitted.
+    """
+    if band_hz is None:
+        return
+    lo, hi = (float(v) for v in band_hz)
+    first, last = float(fitted_hz.min()), float(fitted_hz.max())
+    spacing = float(bins_hz[1] - bins_hz[0]) if bins_hz.size > 1 else 0.0
+    if lo < first - spacing or hi > last + spacing:
+        raise TactilecalError(
+            f"{where}: band_hz=({lo:g}, {hi:g}) reaches past the bins the sweep calibrates, "
+            f"{first:g} to {last:g} Hz; expected a band within them (band_hz=("
+            f"{max(lo, first):g}, {min(hi, last):g}), or a sweep over the band asked for)")
 
 
 def _chosen(filt, candidate, refused, pairs):
