@@ -309,7 +309,7 @@ class _Parser:
     def _values(self, padded, row_starts, row_ends, frame_starts, frame_ends):
         """Parse the rows of values into ``flat``; return a raw file's frame sums, else None.
 
-        The values are parsed in runs of at most :data:`BLOCK_BYTES` of text
+        The values are parsed in runs of about :data:`BLOCK_BYTES` of text
         (:func:`_runs`), so that a frame larger than a block (one row of millions of values)
         needs no more memory per value than a block of small frames.
         """
