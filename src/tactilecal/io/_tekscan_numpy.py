@@ -546,33 +546,17 @@ _POW10_HIGH, _POW10_LOW = _veltkamp(_POW10)
 _POW10_WHOLE = np.array([10**k for k in range(_MAX_DIGITS + 1)], dtype=np.uint64)
 
 
-def _whole_numbers(padded, stops, length, scratch=None, key=""):
+def _whole_numbers(padded, stops, length, scratch=None):
     """Values of the tokens ending before ``stops``: whole numbers (0 for ``B``), ``B`` mask.
 
-    ``stops`` index the bytes ``padded[_PAD:]`` (the block; any bytes before it). The
-    bytes before each stop are loaded as little-endian words of 8 bytes (:func:`_swar`); a
-    token of more than 8 digits is read in words of 8, up to :data:`_MAX_DIGITS` digits.
-    Raises :class:`_NotWhole` at any other token. The results are views of ``scratch``'s
-    arrays (:class:`_Scratch`) named ``key``, valid until their next use.
+    ``stops`` index the bytes ``padded[_PAD:]`` (the block; any bytes before it). Tokens of
+    up to 8 digits are read by :func:`_swar`; any other token (more digits, a point, a sign)
+    raises :class:`_NotWhole` (:func:`_decimals` reads it). The results are views of
+    ``scratch``'s arrays (:class:`_Scratch`), valid until their next use.
     """
-    scratch = scratch or _Scratch()
-    width = int(length.max())
-    if width > _MAX_DIGITS:
+    if int(length.max()) > 8:
         raise _NotWhole
-    if width <= 8:
-        return _swar(padded, stops, length, scratch, key)
-    whole, blank = _swar(padded, stops, np.minimum(length, 8), scratch, key)
-    for word in (1, 2):
-        longer = np.flatnonzero(length > 8 * word)
-        if not longer.size:
-            break
-        high, high_blank = _swar(padded, stops[longer] - 8 * word,
-                                 np.minimum(length[longer] - 8 * word, 8), scratch,
-                                 key + "high")
-        if high_blank.any():
-            raise _NotWhole  # a B before 8 digits
-        whole[longer] += high.astype(np.uint64) * np.uint64(10 ** (8 * word))
-    return whole, blank
+    return _swar(padded, stops, length, scratch or _Scratch(), "")
 
 
 def _swar(padded, stops, length, scratch, key, point=False, words=None):
