@@ -423,23 +423,24 @@ def _numbers(padded, stops, length, out, scratch, decimal=False):
     decimals (:func:`_decimals`); ``B`` is NaN. Each value equals ``float(token)``. Returns
     whether the tokens were read as decimals.
     """
-    frac = neg = None
     if not decimal:
         try:
             whole, blank = _whole_numbers(padded, stops, length, scratch)
         except _NotWhole:
-            decimal = True
-    if decimal:
-        whole, blank, frac, neg, longest = _decimals(padded, stops, length, scratch)
+            pass
+        else:
+            np.copyto(out, whole, casting="unsafe")  # up to 8 digits: exact
+            np.copyto(out, np.nan, where=blank)
+            return False
+    whole, blank, frac, neg, longest = _decimals(padded, stops, length, scratch)
     _to_float(whole, frac, out)
-    if neg is not None:
-        np.negative(out, out=out, where=neg)
+    np.negative(out, out=out, where=neg)
     np.copyto(out, np.nan, where=blank)
-    if decimal and longest.size:
+    if longest.size:
         b = padded[_PAD:]
         out[longest] = [float(bytes(b[stop - size:stop])) for stop, size
                         in zip(stops[longest].tolist(), length[longest].tolist(), strict=True)]
-    return decimal
+    return True
 
 
 def _decimals(padded, stops, length, scratch):
@@ -483,23 +484,20 @@ def _decimals(padded, stops, length, scratch):
 
 
 def _to_float(whole, frac, out):
-    """``out = whole / 10**frac``, correctly rounded (``frac`` None: 0).
+    """``out = whole / 10**frac``, correctly rounded (``whole`` uint64).
 
     Below ``2**53`` the quotient of two exactly representable doubles is correctly rounded
     (Clinger 1990, "How to read floating point numbers accurately", PLDI, sec. 5); above it,
     :func:`_round_big`.
     """
-    signed = whole.view(np.int64) if whole.dtype == np.uint64 else whole  # converts faster
-    np.copyto(out, signed, casting="unsafe")  # exact below 2**53
-    if frac is not None:  # (past 19 digits a token's value is replaced: see _numbers)
-        frac = np.minimum(frac, _MAX_DIGITS)
-        low, high = int(frac.min()), int(frac.max())
-        np.divide(out, _POW10[low] if low == high else _POW10[frac], out=out)
+    np.copyto(out, whole.view(np.int64), casting="unsafe")  # exact below 2**53; int64: faster
+    frac = np.minimum(frac, _MAX_DIGITS)  # (past 19 digits a value is replaced: _numbers)
+    low, high = int(frac.min()), int(frac.max())
+    np.divide(out, _POW10[low] if low == high else _POW10[frac], out=out)
     if int(whole.max()) < 2**53:
         return
     big = np.flatnonzero(whole >= 2**53)
-    places = np.zeros(big.size, dtype=np.int64) if frac is None else frac[big]
-    out[big] = _round_big(whole[big].astype(np.uint64), places)
+    out[big] = _round_big(whole[big], frac[big])
 
 
 def _round_big(m, places):
