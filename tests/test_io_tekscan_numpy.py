@@ -13,7 +13,7 @@ import sys
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 from tactilecal.io import _tekscan_numpy, _tekscan_read, read_tekscan
@@ -320,6 +320,37 @@ def test_whole_numbers_are_the_tokens_or_the_block_is_handed_over(tokens):
     whole, blank = _tekscan_numpy._whole_numbers(b, stops, length)
     assert blank.tolist() == [t == b"B" for t in tokens]
     assert whole.tolist() == [0 if t == b"B" else int(t) for t in tokens]
+
+
+_SHORT_TOKEN = st.one_of(
+    st.from_regex(rb"\A[0-9]{1,3}\Z"), st.just(b"B"),
+    st.binary(min_size=1, max_size=3).filter(lambda t: b"," not in t),
+    # bytes next to the digits (/ and :), B beside digits, signs and points
+    st.lists(st.sampled_from(b"0123456789/:B-. \x00\xff"), min_size=1, max_size=3).map(bytes))
+
+
+@given(st.lists(_SHORT_TOKEN, min_size=1, max_size=40), st.binary(min_size=8, max_size=8))
+@example([b"1B"], b"\0" * 8)  # B beside a digit is no blank
+@example([b"B1", b"25"], b"\0" * 8)
+@example([b"7:"], b"9" * 8)  # the byte after 9
+@example([b"/"], b"B" * 8)  # the byte before 0
+def test_tokens_of_up_to_three_bytes_are_read_digit_by_digit(tokens, before):
+    """Raw readings (1 to 3 bytes a token) take their own path: the same whole numbers
+    and blanks as the 8-digit words, whatever bytes precede the block, and the same
+    hand-over for any other byte."""
+    text = b",".join(tokens) + b","
+    b = np.frombuffer(before + text, dtype=np.uint8)
+    stops = np.flatnonzero(b[8:] == ord(","))
+    length = np.array([len(t) for t in tokens])
+    if not all(t == b"B" or t.isdigit() and t.isascii() for t in tokens):
+        with pytest.raises(_tekscan_numpy._NotWhole):
+            _tekscan_numpy._three_digits(b, stops, length, _tekscan_numpy._Scratch())
+        return
+    whole, blank = _tekscan_numpy._three_digits(b, stops, length, _tekscan_numpy._Scratch())
+    words, word_blank = _tekscan_numpy._swar(b.copy(), stops, length,
+                                             _tekscan_numpy._Scratch(), "")
+    assert whole.tolist() == words.tolist() == [0 if t == b"B" else int(t) for t in tokens]
+    assert blank.tolist() == word_blank.tolist() == [t == b"B" for t in tokens]
 
 
 _DECIMAL = re.compile(rb"-?([0-9]+(\.[0-9]*)?|\.[0-9]+)")

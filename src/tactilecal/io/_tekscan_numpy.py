@@ -4,10 +4,10 @@ numba's import and the load of its cached kernels cost more, in a new process, t
 whole parse of a 10,000-frame export. This reader needs NumPy only. It reads the export
 the way the numba reader does, in blocks of whole frames, but with array operations over
 each block's bytes: the line ends (LF), each line's first byte (blank line, ``F`` frame
-line, row of values, ``@@``), the commas of the rows of values, and per value its bytes in
-words of 8 from its end (digits, a point, ``B`` alone), combined in integers
-(:func:`_whole_numbers`, :func:`_decimals`) and divided by a power of ten correctly
-rounded (:func:`_to_float`), so that each value equals ``float(token)``.
+line, row of values, ``@@``), the commas of the rows of values, and per value its bytes
+from its end (one by one up to 3, else in words of 8: digits, a point, ``B`` alone),
+combined in integers (:func:`_whole_numbers`, :func:`_decimals`) and divided by a power
+of ten correctly rounded (:func:`_to_float`), so that each value equals ``float(token)``.
 
 The data is cut at frame lines into one part per core (:func:`_parts`: a part's first
 value follows from its first frame's number, checked when the parts are joined), each
@@ -548,13 +548,47 @@ def _whole_numbers(padded, stops, length, scratch=None):
     """Values of the tokens ending before ``stops``: whole numbers (0 for ``B``), ``B`` mask.
 
     ``stops`` index the bytes ``padded[_PAD:]`` (the block; any bytes before it). Tokens of
-    up to 8 digits are read by :func:`_swar`; any other token (more digits, a point, a sign)
-    raises :class:`_NotWhole` (:func:`_decimals` reads it). The results are views of
+    up to 3 bytes (raw readings) are read by :func:`_three_digits`, of up to 8 digits by
+    :func:`_swar`; any other token (more digits, a point, a sign) raises
+    :class:`_NotWhole` (:func:`_decimals` reads it). The results are views of
     ``scratch``'s arrays (:class:`_Scratch`), valid until their next use.
     """
-    if int(length.max()) > 8:
+    longest = int(length.max())
+    if longest > 8:
         raise _NotWhole
+    if longest <= 3:
+        return _three_digits(padded, stops, length, scratch or _Scratch())
     return _swar(padded, stops, length, scratch or _Scratch(), "")
+
+
+def _three_digits(padded, stops, length, scratch):
+    """:func:`_whole_numbers` of tokens of 1 to 3 bytes, digit by digit (raw readings).
+
+    The last, second last and third last byte before each stop are gathered from the
+    block itself (a take from a contiguous array copies nothing more), those before the
+    token set to 0, and ``100 c + 10 b + a`` formed in uint16: fewer operations than
+    :func:`_swar`'s words, whose overlapping view ``take`` copies whole.
+    """
+    n = stops.size
+    ones, tens, hundreds = digits = [
+        padded[_PAD - k:].take(stops, out=scratch.get(f"digit{k}", n, np.uint8))
+        for k in (1, 2, 3)]
+    for digit in digits:
+        digit -= np.uint8(48)  # digits now 0..9, any other byte above 9
+    one = np.equal(length, 1, out=scratch.get("one", n, bool))
+    blank = np.equal(ones, _B - 48, out=scratch.get("blank", n, bool))
+    blank &= one
+    np.copyto(ones, 0, where=blank)
+    np.copyto(tens, 0, where=one)
+    hundreds *= np.equal(length, 3, out=one)
+    largest = np.maximum(ones, tens, out=scratch.get("largest", n, np.uint8))
+    np.maximum(largest, hundreds, out=largest)
+    if largest.max() > 9:
+        raise _NotWhole
+    whole = np.multiply(hundreds, np.uint16(100), out=scratch.get("whole", n, np.uint16))
+    whole += np.multiply(tens, np.uint16(10), out=scratch.get("tens", n, np.uint16))
+    whole += ones
+    return whole, blank
 
 
 def _swar(padded, stops, length, scratch, key, point=False, words=None):
