@@ -7,9 +7,12 @@ numbers (a 44 x 44 export, and the same text as a plain CSV of 44 columns), and
 raw readings 0..255 (``raw``), or the same readings in kPa at FrasP01L's 5.9379 kPa a count,
 with two decimals (``kpa``) or as ``write_tekscan`` writes them, the shortest text that reads
 back (``written``, up to 17 digits).
-Runs alternate between the two commands (the machine's load hits both alike); each figure is
-the median of ``--repeat`` runs (5), and each ratio is taken within the same run: ``baseline
-time / tactilecal time`` (above 1: tactilecal is faster). Peak memory is the child's own
+Each round runs both commands, the first one in turn (one process's exit can slow the
+next one's first use of fresh memory), ``--repeat`` rounds (5). A ratio is ``baseline time /
+tactilecal time`` (above 1: tactilecal is faster) within each round, and the figure is the
+median of the rounds' ratios, with a 95 % bootstrap interval of that median: a drift of the
+machine's speed during the run moves both processes of a round alike. Times are the medians
+of the rounds. Peak memory is the child's own
 peak resident size (``VmHWM`` of ``/proc/self/status``, which exec resets; ``ru_maxrss``
 keeps the parent's), compared with the array's size.
 
@@ -90,14 +93,33 @@ def _run(argv):
 
 
 def compare(commands, repeat):
-    """Run ``commands`` (name -> argv) alternately ``repeat`` times; return medians."""
+    """Run ``commands`` (name -> argv) ``repeat`` rounds, each first in turn.
+
+    Returns each command's runs: ``(wall s, CPU s, peak bytes)`` per round.
+    """
     compile_tactilecal()
-    runs = {name: [] for name in commands}
-    for _ in range(repeat):
-        for name, argv in commands.items():
-            runs[name].append(_run(argv))
+    names = list(commands)
+    runs = {name: [] for name in names}
+    for round_ in range(repeat):
+        for name in names[round_ % len(names):] + names[:round_ % len(names)]:
+            runs[name].append(_run(commands[name]))
+    return runs
+
+
+def medians(runs):
+    """``(wall, CPU, peak)`` medians of each command's runs."""
     return {name: tuple(float(np.median(column)) for column in zip(*values, strict=True))
             for name, values in runs.items()}
+
+
+def paired_ratio(runs, baseline, ours, column=0):
+    """Median over rounds of ``baseline / ours`` and its 95 % bootstrap interval."""
+    ratios = np.array([b[column] / o[column] for b, o in zip(runs[baseline], runs[ours],
+                                                              strict=True)])
+    rng = np.random.default_rng(0)
+    resampled = np.median(rng.choice(ratios, size=(2000, ratios.size)), axis=1)
+    low, high = np.quantile(resampled, [0.025, 0.975])
+    return float(np.median(ratios)), float(low), float(high)
 
 
 def read_commands(export, plain):
@@ -125,13 +147,16 @@ def small_export():
 
 
 def read_ratio(n_frames, repeat=5, folder=None, kind="raw"):
-    """``(pandas / tactilecal wall ratio, peak RSS / array bytes, medians)`` at ``n_frames``."""
+    """``(pandas / tactilecal wall ratio, peak RSS / array bytes, runs)`` at ``n_frames``.
+
+    The ratio is :func:`paired_ratio`'s median.
+    """
     folder = folder or tempfile.mkdtemp(prefix="tactilecal-bench-")
     export, plain = write_files(folder, n_frames, kind=kind)
-    medians = compare(read_commands(export, plain), repeat)
-    ratio = medians["pandas read_csv"][0] / medians["tactilecal read_tekscan"][0]
+    runs = compare(read_commands(export, plain), repeat)
+    ratio = paired_ratio(runs, "pandas read_csv", "tactilecal read_tekscan")[0]
     array = n_frames * ROWS * COLS * 8
-    return ratio, medians["tactilecal read_tekscan"][2] / array, medians
+    return ratio, medians(runs)["tactilecal read_tekscan"][2] / array, runs
 
 
 def track_read_6000_frames_vs_pandas():
@@ -151,8 +176,8 @@ def track_read_6000_written_frames_vs_pandas():
 
 
 def track_info_vs_import_xarray():
-    medians = compare(info_commands(small_export()), 5)
-    return medians["tactilecal info"][0] / medians["import xarray"][0]
+    runs = compare(info_commands(small_export()), 5)
+    return 1 / paired_ratio(runs, "import xarray", "tactilecal info")[0]
 
 
 def main(argv=None):
@@ -164,23 +189,28 @@ def main(argv=None):
     parser.add_argument("--folder", help="keep the generated files here (default: temporary)")
     args = parser.parse_args(argv)
     folder = args.folder or tempfile.mkdtemp(prefix="tactilecal-bench-")
-    print(f"median of {args.repeat} fresh processes, alternating; ratio = baseline / tactilecal "
-          "(wall)")
+    print(f"{args.repeat} rounds of fresh processes, each first in turn; ratio = baseline / "
+          "tactilecal (wall): median of the rounds' ratios [95 % interval]")
     print(f"{'kind':>7} {'frames':>7} {'MB':>6} {'tactilecal s':>13} {'pandas s':>9} "
-          f"{'ratio':>6} {'cpu tc/pd':>10} {'peak MB':>8} {'array MB':>9} {'peak limit':>10}")
+          f"{'ratio':>6} {'interval':>12} {'cpu ratio':>10} {'peak MB':>8} {'array MB':>9} "
+          f"{'peak limit':>10}")
     for kind in args.kinds:
         for n in args.frames:
-            ratio, _, medians = read_ratio(n, args.repeat, folder, kind)
-            tc, pd_ = medians["tactilecal read_tekscan"], medians["pandas read_csv"]
+            _, _, runs = read_ratio(n, args.repeat, folder, kind)
+            tc, pd_ = (medians(runs)[name] for name in ("tactilecal read_tekscan",
+                                                         "pandas read_csv"))
+            ratio, low, high = paired_ratio(runs, "pandas read_csv", "tactilecal read_tekscan")
+            cpu = paired_ratio(runs, "pandas read_csv", "tactilecal read_tekscan", column=1)[0]
             size = write_files(folder, n, kind=kind)[0].stat().st_size / 1e6
             array = n * ROWS * COLS * 8 / 1e6
             print(f"{kind:>7} {n:>7} {size:>6.0f} {tc[0]:>13.3f} {pd_[0]:>9.3f} {ratio:>6.2f} "
-                  f"{tc[1] / pd_[1]:>10.2f} {tc[2] / 1e6:>8.0f} {array:>9.0f} "
-                  f"{1.5 * array + 150:>10.0f}")
-    medians = compare(info_commands(small_export()), args.repeat)
-    info, xarray = medians["tactilecal info"][0], medians["import xarray"][0]
+                  f"{f'{low:.2f}-{high:.2f}':>12} {cpu:>10.2f} {tc[2] / 1e6:>8.0f} "
+                  f"{array:>9.0f} {1.5 * array + 150:>10.0f}")
+    runs = compare(info_commands(small_export()), args.repeat)
+    info, xarray = (medians(runs)[name][0] for name in ("tactilecal info", "import xarray"))
+    ratio, low, high = paired_ratio(runs, "import xarray", "tactilecal info")
     print(f"tactilecal info on {small_export().name}: {info:.3f} s, python -c 'import xarray' "
-          f"{xarray:.3f} s: {info / xarray:.2f}x (goal <= 1.3x)")
+          f"{xarray:.3f} s: {1 / ratio:.2f}x [{1 / high:.2f}-{1 / low:.2f}] (goal <= 1.3x)")
 
 
 if __name__ == "__main__":
