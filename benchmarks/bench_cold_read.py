@@ -7,14 +7,15 @@ numbers (a 44 x 44 export, and the same text as a plain CSV of 44 columns), and
 raw readings 0..255 (``raw``), or the same readings in kPa at FrasP01L's 5.9379 kPa a count,
 with two decimals (``kpa``) or as ``write_tekscan`` writes them, the shortest text that reads
 back (``written``, up to 17 digits).
-Each round runs both commands, the first one in turn (one process's exit can slow the
-next one's first use of fresh memory), ``--repeat`` rounds (5). A ratio is ``baseline time /
+
+Each round runs both commands, the first one in turn (one process's exit can slow the next
+one's first use of fresh memory), ``--repeat`` rounds (5). A ratio is ``baseline time /
 tactilecal time`` (above 1: tactilecal is faster) within each round, and the figure is the
 median of the rounds' ratios, with a 95 % bootstrap interval of that median: a drift of the
 machine's speed during the run moves both processes of a round alike. Times are the medians
-of the rounds. Peak memory is the child's own
-peak resident size (``VmHWM`` of ``/proc/self/status``, which exec resets; ``ru_maxrss``
-keeps the parent's), compared with the array's size.
+of the rounds. Peak memory is the child's own peak resident size (``VmHWM`` of
+``/proc/self/status``, which exec resets; ``ru_maxrss`` keeps the parent's), compared with
+the array's size.
 
     python -m benchmarks.bench_cold_read [--frames 6000 40000] [--kinds raw kpa written]
                                          [--repeat 5]
