@@ -103,8 +103,10 @@ def _read(f, name, head):
     return values, _index(f, name, head, parsers, n_frames, raw)
 
 
-PART_BYTES = 2**23
-"""Smallest part of the data a thread parses on its own (one part per core at most)."""
+PART_BYTES = BLOCK_BYTES
+"""Smallest part of the data a thread parses on its own (one part per core at most).
+
+One block: a file of two blocks or more is shared by the cores."""
 
 
 def _parts(f, head, size, first, n_values):
