@@ -53,6 +53,7 @@ KPA_PER_COUNT = 5.9379  # FrasP01L's one-point calibration (../shared/realdata/R
 def write_files(folder, n_frames, seed=0, kind="raw"):
     """Write the export and the plain CSV of the same ``n_frames`` x 44 x 44 values."""
     folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
     suffix = "" if kind == "raw" else f"_{kind}"
     export = folder / f"export_{n_frames}{suffix}.csv"
     plain = folder / f"plain_{n_frames}{suffix}.csv"
