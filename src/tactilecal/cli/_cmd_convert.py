@@ -3,10 +3,9 @@
 from pathlib import Path
 
 from tactilecal.cli._common import info
+from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_int
-
-DEFAULT_CHUNK_FRAMES = 1000  # tactilecal.io.convert's default (not imported: keeps --help fast)
 
 
 def register(subparsers):
@@ -19,13 +18,18 @@ def register(subparsers):
                     "temporary name and renamed at the end, so an error leaves no output.")
     p.add_argument("recording", metavar="IN", help="Tekscan ASCII export")
     add_output(p, "out", kind=_kind, metavar="OUT", help="output ending in .zarr or .nc")
-    p.add_argument("--chunks", type=positive_int, default=DEFAULT_CHUNK_FRAMES,
-                   metavar="FRAMES",
-                   help=f"frames per block (default {DEFAULT_CHUNK_FRAMES})")
-    p.add_argument("--dtype", default="float64", choices=["float64", "float32"],
-                   help="type of the stored values (default float64; float32 halves the "
-                        "array and holds raw 8-bit readings exactly)")
+    p.defer(_add_options)  # defaults read from the library: imported when used
     p.set_defaults(func=run)
+
+
+def _add_options(p):
+    from tactilecal.io import convert
+
+    add_option(p, "--chunks", convert, "chunks", "frames per block", type=positive_int,
+               metavar="FRAMES")
+    add_option(p, "--dtype", convert, "dtype", "type of the stored values (float32 halves "
+               "the array and holds raw 8-bit readings exactly)",
+               choices=["float64", "float32"])
 
 
 def _kind(args):

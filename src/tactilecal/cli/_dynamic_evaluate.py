@@ -4,7 +4,7 @@ from functools import partial
 
 from tactilecal._atomic import make_folder
 from tactilecal.cli._common import print_json, progress_for
-from tactilecal.cli._dynamic_options import add_option
+from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
 
 

@@ -3,7 +3,7 @@
 import sys
 
 from tactilecal.cli._common import info, print_json
-from tactilecal.cli._dynamic_options import add_option
+from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_float, share
 

@@ -1,4 +1,4 @@
-"""Flags of ``tactilecal dynamic`` built from the library: one owner for every default.
+"""Flags built from the library's functions: one owner for every default.
 
 A flag's default is read from the signature of the library function it is passed to
 (:func:`inspect.signature`), and its help says it with ``%(default)s``, so neither the
