@@ -21,7 +21,11 @@ import numpy as np
 
 from tactilecal._atomic import atomic_path
 
-__all__ = ["png_bytes", "write_png"]
+__all__ = ["png_bytes", "write_png", "FIGURE_DPI"]
+
+FIGURE_DPI = 120
+"""Resolution of the figures written as PNG files (every ``save_figures``, ``tactilecal
+plot`` and ``tactilecal compare``)."""
 
 #: Pillow's PNG options: zlib's run-length strategy (``Z_RLE``).
 PNG_OPTIONS = {"compress_type": zlib.Z_RLE}

@@ -2,14 +2,14 @@
 
 from pathlib import Path
 
-from tactilecal._png import write_png
+from tactilecal._png import FIGURE_DPI, write_png
 from tactilecal.analysis import _plots
 
 __all__ = ["save_figures"]
 
 
 def save_figures(recording, folder, *, frame=None, calibration=None, units=None, regions=None,
-                 gap_mm=None, dpi=120):
+                 gap_mm=None, dpi=FIGURE_DPI):
     """Write the figures of a recording as PNG files into ``folder``.
 
     Parameters
@@ -29,7 +29,7 @@ def save_figures(recording, folder, *, frame=None, calibration=None, units=None,
         Also draw each region's force against time and its centre of force over the map.
     gap_mm : float, optional
         For ``regions="contacts"``.
-    dpi : int, default 120
+    dpi : int, optional
         Resolution.
 
     Returns

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tactilecal._png import write_png
+from tactilecal._png import FIGURE_DPI, write_png
 from tactilecal._units import N_PER_MM2_TO_KPA
 
 __all__ = ["plot_calibration_curve", "plot_points", "plot_error_histogram", "save_figures"]
@@ -109,7 +109,7 @@ FIGURES = {"calibration_curve": plot_calibration_curve, "calibration_points": pl
            "calibration_errors": plot_error_histogram}
 
 
-def save_figures(result, outdir, *, dpi=120):
+def save_figures(result, outdir, *, dpi=FIGURE_DPI):
     """Write a calibration's figures as PNG files into ``outdir`` (atomically).
 
     A Zvyagin calibration writes the paper's Figures 7-11 and E(b0)
@@ -120,7 +120,7 @@ def save_figures(result, outdir, *, dpi=120):
     ----------
     outdir : str or os.PathLike
         An existing folder.
-    dpi : int
+    dpi : int, optional
         Resolution of the PNG files.
 
     Returns

@@ -8,6 +8,7 @@ from tactilecal.cli._inputs import (
     load_recording,
     regions,
 )
+from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import non_negative_float
 
@@ -22,8 +23,7 @@ def register(subparsers):
                     "with --steps. Raw recordings need --cal.")
     p.add_argument("recording", help="Tekscan ASCII export (.csv, .asf...) or NetCDF (.nc)")
     p.add_argument("--cal", metavar="CAL.json", help="calibration JSON for raw recordings")
-    p.add_argument("--threshold-kpa", type=non_negative_float, default=0.0, metavar="KPA",
-                   help="a sensel is loaded above this pressure (default 0)")
+    p.defer(_add_options)  # defaults read from the library: imported when used
     add_region_options(p)
     p.add_argument("--steps", action="store_true",
                    help="find the steps (stance phases): peak, impulse, loading rate, "
@@ -36,6 +36,14 @@ def register(subparsers):
     p.set_defaults(func=run)
 
 
+def _add_options(p):
+    from tactilecal.analysis import TactileAccessor
+
+    add_option(p, "--threshold-kpa", TactileAccessor.analyze, "threshold_kPa",
+               "a sensel is loaded above this pressure", type=non_negative_float,
+               metavar="KPA")
+
+
 def run(args):
     """Analyse one recording; print an overview (or JSON) and optionally write the CSV."""
     from tactilecal._atomic import atomic_path
@@ -45,7 +53,7 @@ def run(args):
     recording = load_recording(args.recording)
     calibration = load_calibration(args.cal)
     bar.update()
-    result = recording.tactile.analyze(calibration=calibration, threshold_kPa=args.threshold_kpa,
+    result = recording.tactile.analyze(calibration=calibration, threshold_kPa=args.threshold_kPa,
                                        regions=regions(args), gap_mm=gap_mm(args),
                                        find_steps=args.steps,
                                        source=str(args.recording))
@@ -54,7 +62,7 @@ def run(args):
     if args.out:
         with atomic_path(args.out) as tmp:
             result.wide_table().to_csv(tmp, index=False)
-        options = {"cal": args.cal, "threshold_kPa": args.threshold_kpa}
+        options = {"cal": args.cal, "threshold_kPa": args.threshold_kPa}
         options.update({k: v for k, v in (("regions", args.region), ("split_contacts",
                                            args.split_contacts), ("gap_mm", args.gap_mm)) if v})
         inputs = provenance_of([recording], files=[args.cal] if args.cal else [],
@@ -65,7 +73,7 @@ def run(args):
         warn_saturated(result.overview["saturated_frames"], len(result.frames), args.recording)
     if args.json:
         print_json({**result.to_dict(), "calibration": args.cal,
-                    "threshold_kPa": args.threshold_kpa})
+                    "threshold_kPa": args.threshold_kPa})
     else:
         print(result.text())
     return 0

@@ -1,6 +1,7 @@
 """``tactilecal apply``: convert a raw recording to pressure with a calibration."""
 
 from tactilecal.cli._common import info, warn_saturated
+from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
 
 
@@ -17,10 +18,16 @@ def register(subparsers):
     p.add_argument("calibration", metavar="CAL.json")
     p.add_argument("recording", metavar="RECORDING")
     add_output(p, "--out", kind="netcdf", required=True, metavar="OUT.nc")
-    p.add_argument("--units", default="kPa",
-                   help="output unit: a pressure (kPa, MPa, Pa, psi, bar, mmHg...) or a "
-                        "force per sensel (N, kN, kgf, lbf); default kPa")
+    p.defer(_add_options)  # defaults read from the library: imported when used
     p.set_defaults(func=run)
+
+
+def _add_options(p):
+    from tactilecal.calibration import CalibrationResult
+
+    add_option(p, "--units", CalibrationResult.apply, "units",
+               "output unit: a pressure (kPa, MPa, Pa, psi, bar, mmHg...) or a force per "
+               "sensel (N, kN, kgf, lbf)")
 
 
 def run(args):

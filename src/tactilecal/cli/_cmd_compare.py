@@ -31,7 +31,7 @@ def _row_names(paths):
 
 def run(args):
     """Run ``tactilecal compare``."""
-    from tactilecal._png import write_png
+    from tactilecal._png import FIGURE_DPI, write_png
     from tactilecal.calibration import CalibrationResult, compare_calibrations
 
     comparison = compare_calibrations(
@@ -42,7 +42,7 @@ def run(args):
         outdir = make_folder(args.out, what="--out")
         figure = outdir / "compare_curves.png"
         ax = comparison.plot()
-        write_png(ax.figure, figure, dpi=120)
+        write_png(ax.figure, figure, dpi=FIGURE_DPI)
         info(args, f"curves written to {figure}")
     if args.json:
         print_json({"rows": comparison.rows, "figure": None if figure is None else str(figure)})

@@ -2,6 +2,7 @@
 
 from tactilecal.cli._common import info, progress_for
 from tactilecal.cli._inputs import load_calibration, load_recording
+from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_float, positive_int
 
@@ -21,9 +22,16 @@ def register(subparsers):
     p.add_argument("--units", help="pressure unit shown (kPa, MPa, psi; default the "
                                    "recording's own)")
     p.add_argument("--fps", type=positive_float, help="frames per second (default real time)")
-    p.add_argument("--max-frames", type=positive_int, default=600, metavar="N",
-                   help="show at most N frames, every k-th of longer recordings (default 600)")
+    p.defer(_add_options)  # defaults read from the library: imported when used
     p.set_defaults(func=run)
+
+
+def _add_options(p):
+    from tactilecal.analysis import TactileAccessor
+
+    add_option(p, "--max-frames", TactileAccessor.write_movie, "max_frames",
+               "show at most N frames, every k-th of longer recordings", type=positive_int,
+               metavar="N")
 
 
 def run(args):

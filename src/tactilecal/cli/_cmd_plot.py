@@ -1,6 +1,7 @@
 """``tactilecal plot INPUT --out DIR``: the figures of a calibration or a recording as PNG."""
 
 from tactilecal._atomic import make_folder
+from tactilecal._png import FIGURE_DPI
 from tactilecal.cli._common import info, print_json
 from tactilecal.cli._inputs import add_region_options, gap_mm, load_calibration, regions
 from tactilecal.cli._outputs import add_output
@@ -21,7 +22,8 @@ def register(subparsers):
     p.add_argument("input", metavar="INPUT", help="calibration JSON or recording")
     add_output(p, "--out", kind="figures", metavar="DIR", required=True,
                help="folder for the PNG files (created if missing)")
-    p.add_argument("--dpi", type=positive_int, default=120, help="resolution (default 120)")
+    p.add_argument("--dpi", type=positive_int, default=FIGURE_DPI,
+                   help="resolution (default %(default)s)")
     p.add_argument("--cal", metavar="CAL.json", help="recording: calibration for raw readings")
     p.add_argument("--frame", type=non_negative_int, metavar="N",
                    help="recording: the frame number to draw (default the peak-force frame)")

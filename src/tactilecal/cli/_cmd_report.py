@@ -2,6 +2,7 @@
 
 from tactilecal.cli._common import info, progress_for
 from tactilecal.cli._inputs import add_region_options, gap_mm, regions
+from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import non_negative_float
 
@@ -28,19 +29,26 @@ def register(subparsers):
     p.add_argument("--title", help="page title")
     p.add_argument("--units", help="pressure unit of the recordings: kPa, MPa, psi... "
                                    "(default each recording's own)")
-    p.add_argument("--threshold-kpa", type=non_negative_float, default=0.0, metavar="KPA",
-                   help="loaded-sensel threshold for contact areas (default 0)")
     p.add_argument("--cof-min-force-n", type=non_negative_float, metavar="N",
                    help="draw the centre-of-force path only where the total force is at "
                         "least N newtons (default 5%% of the peak force)")
     add_region_options(p)
-    p.add_argument("--align", default="time", metavar="HOW",
-                   help="several recordings on one time axis: 'time' (default: by their own "
-                        "times, one session's clock), 'start' (their first frames at 0) or "
-                        "'onset' (their first loading at 0)")
     p.add_argument("--no-player", action="store_true",
                    help="leave out the frame players (a smaller page)")
+    p.defer(_add_options)  # defaults read from the library: imported when used
     p.set_defaults(func=run)
+
+
+def _add_options(p):
+    from tactilecal.report import write_report
+
+    add_option(p, "--threshold-kpa", write_report, "threshold_kPa",
+               "loaded-sensel threshold for contact areas", type=non_negative_float,
+               metavar="KPA")
+    add_option(p, "--align", write_report, "align",
+               "several recordings on one time axis: 'time' (by their own times, one "
+               "session's clock), 'start' (their first frames at 0) or 'onset' (their first "
+               "loading at 0)", metavar="HOW")
 
 
 def run(args):
@@ -48,7 +56,7 @@ def run(args):
     from tactilecal.report import write_report
 
     path = write_report(args.inputs, args.out, calibration=args.cal, filter=args.filter,
-                        title=args.title, threshold_kPa=args.threshold_kpa,
+                        title=args.title, threshold_kPa=args.threshold_kPa,
                         cof_min_force_N=args.cof_min_force_n, command=args.command_line,
                         progress=progress_for(args), units=args.units, regions=regions(args),
                         gap_mm=gap_mm(args), align=args.align, player=not args.no_player,

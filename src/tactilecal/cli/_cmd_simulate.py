@@ -9,6 +9,7 @@ records (``sensor.csv``, ``reference.csv``) and ``truth.json``.
 """
 
 from tactilecal.cli import _simulate_run
+from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
 from tactilecal.cli._simulate_uniform import add_uniform
 from tactilecal.cli._types import non_negative_int, positive_float, positive_int, share
@@ -28,10 +29,7 @@ def register(subparsers):
                     "truth.json.")
     add_output(dw, "outdir", kind="session", metavar="OUTDIR",
                help="output folder (created if missing)")
-    dw.add_argument("--patches", type=positive_int, default=150, help="number of patches (150)")
-    _common_options(dw)
-    dw.add_argument("--saturated-share", type=share, default=0.0,
-                    help="share of patches with a saturated reading (0)")
+    dw.defer(_deadweight_options)  # defaults read from the library: imported when used
     dw.set_defaults(func=_simulate_run.run_deadweight)
     rh = sub.add_parser(
         "ramp-hold", help="ramp-and-hold loading-machine session (Gillis 2013)",
@@ -39,13 +37,7 @@ def register(subparsers):
                     "cell's record (loadcell.csv, header 'Time (s),Load (N)') and truth.json.")
     add_output(rh, "outdir", kind="session", metavar="OUTDIR",
                help="output folder (created if missing)")
-    _common_options(rh)
-    rh.add_argument("--hold", type=positive_float, default=3.0, help="hold time per level in s (3)")
-    rh.add_argument("--ramp", type=positive_float, default=2.0, help="transition time in s (2)")
-    rh.add_argument("--frame-rate", type=positive_float, default=100.0,
-                    help="sensor rate in Hz (100)")
-    rh.add_argument("--loadcell-rate", type=positive_float, default=500.0,
-                    help="load-cell rate in Hz (500)")
+    rh.defer(_ramp_hold_options)
     rh.set_defaults(func=_simulate_run.run_ramp_hold)
     add_uniform(sub, _common_options)
     for kind, what in (("sweep", "sine sweep 1-140 Hz (Gillis 2013, Table 4.2)"),
@@ -55,17 +47,52 @@ def register(subparsers):
             "reference.csv: 'Time (s),force (N)') and truth.json (gain law, lag, sets)."))
         add_output(dyn, "outdir", kind="session", metavar="OUTDIR",
                    help="output folder (created if missing)")
-        dyn.add_argument("--A", type=positive_float, default=0.11, dest="A",
-                         help="true gain law Y = 1 + A log10(f + 1) (0.11)")
-        dyn.add_argument("--seed", type=non_negative_int, default=0 if kind == "sweep" else 1,
-                         help=f"random seed ({0 if kind == 'sweep' else 1})")
         dyn.add_argument("--json", action="store_true", help="print the summary as JSON")
+        dyn.defer(_dynamic_options(kind))
         dyn.set_defaults(func=_simulate_run.run_dynamic, kind=kind)
 
 
-def _common_options(parser):
-    parser.add_argument("--seed", type=non_negative_int, default=0, help="random seed (0)")
-    parser.add_argument("--model", default="5051",
-                        help="sensor model (5051); A_N is scaled by its sensel area so every "
-                             "model has the 5051's pressure per raw count")
+def _deadweight_options(parser):
+    from tactilecal.simulate import deadweight_session
+
+    add_option(parser, "--patches", deadweight_session, "n_patches", "number of patches",
+               type=positive_int, metavar="N")
+    _common_options(parser, deadweight_session)
+    add_option(parser, "--saturated-share", deadweight_session, "saturated_share",
+               "share of patches with a saturated reading", type=share, metavar="SHARE")
+
+
+def _ramp_hold_options(parser):
+    from tactilecal.simulate import ramp_hold
+
+    _common_options(parser, ramp_hold)
+    add_option(parser, "--hold", ramp_hold, "hold_s", "hold time per level in s",
+               type=positive_float, metavar="S")
+    add_option(parser, "--ramp", ramp_hold, "ramp_s", "transition time in s",
+               type=positive_float, metavar="S")
+    add_option(parser, "--frame-rate", ramp_hold, "frame_rate_hz", "sensor rate in Hz",
+               type=positive_float, metavar="HZ")
+    add_option(parser, "--loadcell-rate", ramp_hold, "loadcell_rate_hz", "load-cell rate in Hz",
+               type=positive_float, metavar="HZ")
+
+
+def _dynamic_options(kind):
+    def add(parser):
+        from tactilecal.simulate import DynamicSensor, random_sine_sets, sine_sweep
+
+        add_option(parser, "--A", DynamicSensor, "A",
+                   "true gain law Y = 1 + A log10(f + 1)", type=positive_float)
+        add_option(parser, "--seed", sine_sweep if kind == "sweep" else random_sine_sets,
+                   "seed", "random seed", type=non_negative_int)
+    return add
+
+
+def _common_options(parser, session):
+    """``--seed`` (the default of ``session``, a simulate function), ``--model``, ``--json``."""
+    from tactilecal.simulate import make_sensor
+
+    add_option(parser, "--seed", session, "seed", "random seed", type=non_negative_int)
+    add_option(parser, "--model", make_sensor, "model",
+               "sensor model; A_N is scaled by its sensel area so every model has the 5051's "
+               "pressure per raw count")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")

@@ -23,7 +23,7 @@ def run_deadweight(args):
     """Write the dead-weight session and print what was written."""
     from tactilecal.simulate import deadweight_session
 
-    session = deadweight_session(_sensor(args), n_patches=args.patches,
+    session = deadweight_session(_sensor(args), n_patches=args.n_patches,
                                  saturated_share=args.saturated_share, seed=args.seed)
     info(args, f"writing {len(session)} recordings to {args.outdir} ...")
     manifest = session.write(args.outdir, overwrite=args.overwrite)
@@ -43,9 +43,9 @@ def run_ramp_hold(args):
     """Write the ramp-and-hold session and print what was written."""
     from tactilecal.simulate import ramp_hold
 
-    session = ramp_hold(_sensor(args), hold_s=args.hold, ramp_s=args.ramp,
-                        frame_rate_hz=args.frame_rate, loadcell_rate_hz=args.loadcell_rate,
-                        seed=args.seed)
+    session = ramp_hold(_sensor(args), hold_s=args.hold_s, ramp_s=args.ramp_s,
+                        frame_rate_hz=args.frame_rate_hz,
+                        loadcell_rate_hz=args.loadcell_rate_hz, seed=args.seed)
     info(args, f"writing {session.raw.sizes['frame']} frames to {args.outdir} ...")
     paths = session.write(args.outdir, overwrite=args.overwrite)
     summary = {**{k: str(v) for k, v in paths.items()},

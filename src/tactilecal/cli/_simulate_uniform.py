@@ -1,6 +1,7 @@
 """``tactilecal simulate uniform OUTDIR``: uniform-load recordings to equilibrate."""
 
 from tactilecal.cli._common import info
+from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
 from tactilecal.cli._types import positive_int
 
@@ -34,11 +35,18 @@ def add_uniform(sub, common_options):
                     "per-sensel gains): the input of 'tactilecal equilibrate'.")
     add_output(p, "outdir", kind="session", metavar="OUTDIR",
                help="output folder (created if missing)")
-    common_options(p)
     p.add_argument("--pressures-kpa", type=_pressures, default=[50.0, 100.0, 200.0],
                    metavar="P1,P2,...", help="pressure levels in kPa (50,100,200)")
-    p.add_argument("--frames", type=positive_int, default=5, help="frames per level (5)")
+    p.defer(lambda parser: _options(parser, common_options))  # the library's defaults
     p.set_defaults(func=run_uniform)
+
+
+def _options(parser, common_options):
+    from tactilecal.simulate import uniform_load
+
+    common_options(parser, uniform_load)
+    add_option(parser, "--frames", uniform_load, "frames_per_level", "frames per level",
+               type=positive_int, metavar="N")
 
 
 def run_uniform(args):
@@ -47,10 +55,10 @@ def run_uniform(args):
     from tactilecal.simulate import uniform_load
 
     sensor = _sensor(args)
-    session = uniform_load(sensor, args.pressures_kpa, frames_per_level=args.frames,
+    session = uniform_load(sensor, args.pressures_kpa, frames_per_level=args.frames_per_level,
                            seed=args.seed)
     paths = session.write(args.outdir, sensor, overwrite=args.overwrite)
     info(args, f"next: tactilecal equilibrate {args.outdir}/uniform-*.csv --out eq.json")
     _print(args, {**{k: str(v) for k, v in paths.items()}, "sensor": sensor.sensor_type,
-                  "pressures_kPa": args.pressures_kpa, "frames_per_level": args.frames})
+                  "pressures_kPa": args.pressures_kpa, "frames_per_level": args.frames_per_level})
     return 0

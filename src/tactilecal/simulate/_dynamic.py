@@ -301,8 +301,8 @@ def _session(sets, offset_N, *, response, fs_sensor_hz, fs_reference_hz, lag_s,
 def _response(A, log_base, response):
     """Return the response: ``response``, or the thesis' law of ``A`` and ``log_base``."""
     if response is None:
-        return DynamicSensor(A=0.11 if A is None else A,
-                             log_base="10" if log_base is None else log_base)
+        law = {"A": A, "log_base": log_base}
+        return DynamicSensor(**{key: value for key, value in law.items() if value is not None})
     if A is not None or log_base is not None:
         raise TactilecalError("A and log_base describe the thesis' law; expected them or "
                               "response=DynamicSensor(...), not both")

@@ -6,7 +6,7 @@ matplotlib is imported inside the functions; figures are built with
 
 import numpy as np
 
-from tactilecal._png import write_png
+from tactilecal._png import FIGURE_DPI, write_png
 from tactilecal._units import N_PER_MM2_TO_KPA
 
 __all__ = ["plot_d_map", "plot_pair_chart", "plot_ab_scatter",
@@ -214,7 +214,7 @@ FIGURES = {"zvyagin_d_map": plot_d_map, "zvyagin_pairs": plot_pair_chart,
            "zvyagin_errors": plot_patch_errors, "zvyagin_energy": plot_energy}
 
 
-def save_figures(result, outdir, *, dpi=120):
+def save_figures(result, outdir, *, dpi=FIGURE_DPI):
     """Write every Zvyagin figure as PNG into ``outdir`` (atomically); return the paths.
 
     Examples
