@@ -78,3 +78,12 @@ def test_figures_are_written_at_one_resolution():
     assert [inspect.signature(f).parameters["dpi"].default for f in functions] == \
         [FIGURE_DPI] * 2
     assert build_parser().parse_args(["plot", "in.json", "--out", "figs"]).dpi == FIGURE_DPI
+
+
+def test_every_deferred_setup_of_a_command_runs_in_order():
+    from tactilecal.cli._parser import _Parser
+
+    parser = _Parser(prog="t")
+    parser.defer(lambda p: p.add_argument("--first", default="1"))
+    parser.defer(lambda p: p.add_argument("--second", default=p.get_default("first") + "2"))
+    assert vars(parser.parse_args([])) == {"first": "1", "second": "12"}

@@ -24,14 +24,13 @@ class _Parser(argparse.ArgumentParser):
 
         A command whose flags are made from the library's option classes (``calibrate``)
         would import the library to build them; deferred, ``tactilecal info`` does not pay
-        for it.
+        for it. Several setups run in the order they were deferred.
         """
-        self._deferred = setup
+        self._deferred = [*getattr(self, "_deferred", []), setup]
 
     def _complete(self):
-        setup = getattr(self, "_deferred", None)
-        if setup is not None:
-            self._deferred = None
+        setups, self._deferred = getattr(self, "_deferred", []), []
+        for setup in setups:
             setup(self)
 
     def parse_known_args(self, args=None, namespace=None):
