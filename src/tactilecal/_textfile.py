@@ -19,8 +19,7 @@ import io
 import os
 import re
 
-from tactilecal._errors import TactilecalError
-from tactilecal._validate import _BOMS, csv_lines_rows
+from tactilecal._validate import _BOMS, TextFault, csv_lines_rows, without_bom
 
 __all__ = ["TextFile", "PIECE_BYTES"]
 
@@ -72,8 +71,7 @@ class TextFile:
 
     def __init__(self, path, *, expected="a text file"):
         if os.path.exists(path) and not os.path.isfile(path):
-            raise TactilecalError(f"{path} is not a regular file (a folder, device or pipe); "
-                                  f"expected {expected}")
+            raise TextFault.not_a_file(path, expected)
         self.path, self.name = path, str(path)
         with open(path, "rb") as f:
             first = f.read(max(PIECE_BYTES, 4))  # room for a byte-order mark
@@ -84,9 +82,7 @@ class TextFile:
             else:
                 self.codec, lone_cr = codec, self._check_bom(pieces, codec, expected)
         if lone_cr is not None:
-            raise TactilecalError(f"line {lone_cr} of {self.name}: a carriage return (CR) "
-                                  "inside the line; expected CR only before the line feed "
-                                  "(CRLF line ends)")
+            raise TextFault.lone_cr(lone_cr, self.name)
 
     def _check_plain(self, pieces, expected):
         """Bytes without byte-order mark: NUL first, then UTF-8, else cp1252; the first lone CR."""
@@ -95,10 +91,8 @@ class TextFile:
         for piece in pieces:
             nul = piece.find(b"\x00")
             if nul >= 0:
-                line = lines + piece.count(b"\n", 0, nul) + 1
-                raise TactilecalError(f"line {line} of {self.name}: a NUL byte (a binary file, "
-                                      "or UTF-16 without byte-order mark?); expected "
-                                      f"{expected} in UTF-8")
+                raise TextFault.nul_byte(lines + piece.count(b"\n", 0, nul) + 1, self.name,
+                                         expected)
             read += len(piece)
             if not_utf8 is None:
                 try:
@@ -114,9 +108,7 @@ class TextFile:
             with open(self.path, "rb") as f:
                 f.seek(not_utf8)
                 byte = f.read(1)[0]
-            raise TactilecalError(f"line {self._line_of(not_utf8)} of {self.name}: byte "
-                                  f"0x{byte:02x} is not text (UTF-8 or Windows cp1252); "
-                                  f"expected {expected}")
+            raise TextFault.not_text(self._line_of(not_utf8), self.name, byte, expected)
         return "cp1252", lone_cr.line
 
     def _check_bom(self, pieces, codec, expected):
@@ -128,20 +120,17 @@ class TextFile:
             try:
                 text = decoder.decode(piece, final=not piece)
             except UnicodeDecodeError as exc:
-                raise TactilecalError(f"line {self._line_of(read - len(exc.object) + exc.start)}"
-                                      f" of {self.name}: bytes that are not {codec.upper()} "
-                                      f"after its byte-order mark; expected {expected}"
-                                      ) from None
+                line = self._line_of(read - len(exc.object) + exc.start)
+                raise TextFault.not_in_bom_codec(line, self.name, codec, expected) from None
             if start and text:
-                text, start = _without_bom(text), False
+                text, start = without_bom(text), False
             nul = text.find("\x00") if nul_line is None else -1
             if nul >= 0:
                 nul_line = lines + text.count("\n", 0, nul) + 1
             lone_cr.feed(text, lines, not piece)
             lines += text.count("\n")
         if nul_line is not None:
-            raise TactilecalError(f"line {nul_line} of {self.name}: a NUL character; expected "
-                                  f"{expected}")
+            raise TextFault.nul_character(nul_line, self.name, expected)
         return lone_cr.line
 
     def _line_of(self, offset):
@@ -163,7 +152,7 @@ class TextFile:
         """Yield the lines of the text with their line ends (LF or CR LF), one at a time."""
         with self._text() as text:
             first = next(text, "")
-            first = _without_bom(first)
+            first = without_bom(first)
             if first:
                 yield first
             yield from text
@@ -186,11 +175,6 @@ def _pieces(f, first):
         yield piece
         piece = f.read(PIECE_BYTES)
     yield b""
-
-
-def _without_bom(text):
-    """``text`` without one leading U+FEFF (``decode_text`` drops a second byte-order mark)."""
-    return text[1:] if text.startswith("\ufeff") else text
 
 
 class _LoneCR:
@@ -236,7 +220,7 @@ class _Utf8(io.RawIOBase):
             if not text:
                 return 0
             if self._start:
-                text, self._start = _without_bom(text), False
+                text, self._start = without_bom(text), False
             self._data, self._at = text.encode("utf-8"), 0
         n = min(len(buffer), len(self._data) - self._at)
         buffer[:n] = self._data[self._at:self._at + n]

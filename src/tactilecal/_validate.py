@@ -18,12 +18,55 @@ import re
 
 from tactilecal._errors import TactilecalError, TactilecalTypeError
 
-__all__ = ["decode_text", "read_text", "check_line_ends", "csv_rows", "csv_lines_rows",
-           "parse_number", "check_number", "check_numbers", "check_type", "require_keys",
-           "check_size", "float_type", "shorten", "MAX_VALUES", "MAX_FIELD_CHARS",
-           "MAX_NUMBER_CHARS"]
+__all__ = ["decode_text", "read_text", "check_line_ends", "TextFault", "without_bom",
+           "csv_rows", "csv_lines_rows", "parse_number", "check_number", "check_numbers",
+           "check_type", "require_keys", "check_size", "float_type", "shorten", "MAX_VALUES",
+           "MAX_FIELD_CHARS", "MAX_NUMBER_CHARS"]
 
 _BOMS = ((b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
+
+
+class TextFault:
+    """The errors of a file that is no text: each method returns the one to raise.
+
+    One owner of these messages for :func:`read_text`, :func:`decode_text`,
+    :func:`check_line_ends` and :class:`tactilecal._textfile.TextFile` (which checks a file
+    in pieces, to the same messages).
+    """
+
+    @staticmethod
+    def not_a_file(path, expected):
+        return TactilecalError(f"{path} is not a regular file (a folder, device or pipe); "
+                               f"expected {expected}")
+
+    @staticmethod
+    def not_in_bom_codec(line, name, codec, expected):
+        return TactilecalError(f"line {line} of {name}: bytes that are not {codec.upper()} "
+                               f"after its byte-order mark; expected {expected}")
+
+    @staticmethod
+    def nul_character(line, name, expected):
+        return TactilecalError(f"line {line} of {name}: a NUL character; expected {expected}")
+
+    @staticmethod
+    def nul_byte(line, name, expected):
+        return TactilecalError(f"line {line} of {name}: a NUL byte (a binary file, or UTF-16 "
+                               f"without byte-order mark?); expected {expected} in UTF-8")
+
+    @staticmethod
+    def not_text(line, name, byte, expected):
+        return TactilecalError(f"line {line} of {name}: byte 0x{byte:02x} is not text (UTF-8 "
+                               f"or Windows cp1252); expected {expected}")
+
+    @staticmethod
+    def lone_cr(line, name):
+        return TactilecalError(f"line {line} of {name}: a carriage return (CR) inside the "
+                               "line; expected CR only before the line feed (CRLF line ends)")
+
+
+def without_bom(text):
+    """``text`` without one leading U+FEFF (a second byte-order mark, as Python leaves it)."""
+    return text[1:] if text.startswith("\ufeff") else text
 
 MAX_VALUES = 2**31
 """The most values any array read from a text file may hold (checked before allocating)."""
@@ -79,29 +122,24 @@ def decode_text(raw, name, *, expected="a text file"):
                 text = raw.decode(codec)
             except UnicodeDecodeError as exc:  # utf-8-sig counts from after its mark
                 at = exc.start + (len(bom) if len(exc.object) < len(raw) else 0)
-                raise TactilecalError(f"line {_line_of(raw, at)} of {name}: bytes "
-                                      f"that are not {codec.upper()} after its byte-order mark; "
-                                      f"expected {expected}") from None
-            text = text[1:] if text.startswith("\ufeff") else text
+                raise TextFault.not_in_bom_codec(_line_of(raw, at), name, codec,
+                                                 expected) from None
+            text = without_bom(text)
             nul = text.find("\x00")
             if nul >= 0:
-                raise TactilecalError(f"line {text.count(chr(10), 0, nul) + 1} of {name}: a "
-                                      f"NUL character; expected {expected}")
+                raise TextFault.nul_character(text.count("\n", 0, nul) + 1, name, expected)
             return text
     nul = raw.find(b"\x00")
     if nul >= 0:
-        raise TactilecalError(f"line {_line_of(raw, nul)} of {name}: a NUL byte (a binary "
-                              f"file, or UTF-16 without byte-order mark?); expected {expected} "
-                              "in UTF-8")
+        raise TextFault.nul_byte(_line_of(raw, nul), name, expected)
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError as first:
         try:
             return raw.decode("cp1252")
         except UnicodeDecodeError:
-            raise TactilecalError(f"line {_line_of(raw, first.start)} of {name}: byte "
-                                  f"0x{raw[first.start]:02x} is not text (UTF-8 or Windows "
-                                  f"cp1252); expected {expected}") from None
+            raise TextFault.not_text(_line_of(raw, first.start), name, raw[first.start],
+                                     expected) from None
 
 
 def read_text(path, *, expected="a text file"):
@@ -112,8 +150,7 @@ def read_text(path, *, expected="a text file"):
     import os
 
     if os.path.exists(path) and not os.path.isfile(path):
-        raise TactilecalError(f"{path} is not a regular file (a folder, device or pipe); "
-                              f"expected {expected}")
+        raise TextFault.not_a_file(path, expected)
     with open(path, "rb") as f:
         return decode_text(f.read(), str(path), expected=expected)
 
@@ -133,9 +170,7 @@ def check_line_ends(text, name):
     """
     lone = _LONE_CR.search(text)  # no copy of the text (memory of a read is bounded)
     if lone:
-        raise TactilecalError(f"line {text.count(chr(10), 0, lone.start()) + 1} of {name}: a "
-                              "carriage return (CR) inside the line; expected CR only before "
-                              "the line feed (CRLF line ends)")
+        raise TextFault.lone_cr(text.count("\n", 0, lone.start()) + 1, name)
 
 
 def csv_rows(text, name):
