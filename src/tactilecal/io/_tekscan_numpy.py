@@ -359,8 +359,14 @@ class _Parser:
         if whole.max() > 255:
             raise _NotPlain
         np.copyto(out, whole, casting="unsafe")
-        np.copyto(out, np.nan, where=blank)
+        _blank_to_nan(out, blank)
         return whole
+
+
+def _blank_to_nan(out, blank):
+    """``out[blank] = NaN``; a block without ``B`` (an I-Scan sensor's) skips the masked pass."""
+    if blank.any():
+        np.copyto(out, np.nan, where=blank)
 
 
 def _runs(stops):
@@ -432,12 +438,12 @@ def _numbers(padded, stops, length, out, scratch, decimal=False):
             pass
         else:
             np.copyto(out, whole, casting="unsafe")  # up to 8 digits: exact
-            np.copyto(out, np.nan, where=blank)
+            _blank_to_nan(out, blank)
             return False
     whole, blank, frac, neg, longest = _decimals(padded, stops, length, scratch)
     _to_float(whole, frac, out)
     np.negative(out, out=out, where=neg)
-    np.copyto(out, np.nan, where=blank)
+    _blank_to_nan(out, blank)
     if longest.size:
         b = padded[_PAD:]
         out[longest] = [float(bytes(b[stop - size:stop])) for stop, size
