@@ -253,3 +253,27 @@ def test_a_time_and_load_window_choose_the_frames_fitted(gait):
     movie = part.diagnostics["movie"]
     assert movie["n_outside_window"] == len(whole.points) - len(part.points)
     assert movie["window"] == {"from_s": 10.0, "to_s": 20.0, "min_load_N": 100.0}
+
+
+def test_a_candidate_failing_on_a_later_fold_is_dropped_without_a_warning(plain, monkeypatch):
+    """Its unwritten errors were once squared: uninitialised memory, now and then an overflow
+    warning from the user's call (seed 0 of 9500-b1.4, whose polynomial fails on fold 4)."""
+    from tactilecal.calibration.methods import polynomial
+
+    fit, calls = polynomial.fit, []
+
+    def fails_second(train, options):
+        calls.append(1)
+        if len(calls) == 2:
+            raise tc.TactilecalError("singular on this fold")
+        return fit(train, options)
+
+    monkeypatch.setattr(polynomial, "fit", fails_second)
+    train, _ = plain
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cal = calibrate(_points(train), method="auto", n_interval_resamples=0)
+    assert len(calls) == 2  # not fitted again after its failure
+    row, = (s for s in cal.selection.scores if s["candidate"].startswith("polynomial"))
+    assert row["rms_rel"] is None and "singular on this fold" in row["note"]
+    assert all(s["rms_rel"] > 0 for s in cal.selection.scores if s is not row)

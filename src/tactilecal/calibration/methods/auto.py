@@ -310,14 +310,15 @@ def _squared_errors(candidates, data, folds, exact):
     total = {text: np.zeros(int(exact.sum())) for text in candidates}
     failed = {}
     for fold in folds:
-        error = {text: np.empty(len(data.load_N)) for text in candidates}
+        error = {text: np.full(len(data.load_N), np.nan) for text in candidates}
         for k in np.unique(fold):
             train, held = data.rows(fold != k), fold == k
             for text in candidates:
                 if text not in failed:
                     _fold_error(text, *methods[text], train, data, held, k, error, failed)
         for text in candidates:
-            total[text] += error[text][exact] ** 2
+            if text not in failed:  # a failed candidate's errors are not all written
+                total[text] += error[text][exact] ** 2
     return {text: failed.get(text, total[text] / len(folds)) for text in candidates}
 
 
