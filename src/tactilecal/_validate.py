@@ -68,6 +68,7 @@ def without_bom(text):
     """``text`` without one leading U+FEFF (a second byte-order mark, as Python leaves it)."""
     return text[1:] if text.startswith("\ufeff") else text
 
+
 MAX_VALUES = 2**31
 """The most values any array read from a text file may hold (checked before allocating)."""
 

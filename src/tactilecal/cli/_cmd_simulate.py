@@ -8,6 +8,8 @@ OUTDIR`` writes a loading-machine recording, its load-cell CSV and ``truth.json`
 records (``sensor.csv``, ``reference.csv``) and ``truth.json``.
 """
 
+from functools import partial
+
 from tactilecal.cli import _simulate_run
 from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
@@ -48,7 +50,7 @@ def register(subparsers):
         add_output(dyn, "outdir", kind="session", metavar="OUTDIR",
                    help="output folder (created if missing)")
         dyn.add_argument("--json", action="store_true", help="print the summary as JSON")
-        dyn.defer(_dynamic_options(kind))
+        dyn.defer(partial(_dynamic_options, kind=kind))
         dyn.set_defaults(func=_simulate_run.run_dynamic, kind=kind)
 
 
@@ -76,15 +78,13 @@ def _ramp_hold_options(parser):
                type=positive_float, metavar="HZ")
 
 
-def _dynamic_options(kind):
-    def add(parser):
-        from tactilecal.simulate import DynamicSensor, random_sine_sets, sine_sweep
+def _dynamic_options(parser, kind):
+    from tactilecal.simulate import DynamicSensor, random_sine_sets, sine_sweep
 
-        add_option(parser, "--A", DynamicSensor, "A",
-                   "true gain law Y = 1 + A log10(f + 1)", type=positive_float)
-        add_option(parser, "--seed", sine_sweep if kind == "sweep" else random_sine_sets,
-                   "seed", "random seed", type=non_negative_int)
-    return add
+    add_option(parser, "--A", DynamicSensor, "A", "true gain law Y = 1 + A log10(f + 1)",
+               type=positive_float)
+    add_option(parser, "--seed", sine_sweep if kind == "sweep" else random_sine_sets, "seed",
+               "random seed", type=non_negative_int)
 
 
 def _common_options(parser, session):

@@ -1,5 +1,7 @@
 """``tactilecal simulate uniform OUTDIR``: uniform-load recordings to equilibrate."""
 
+from functools import partial
+
 from tactilecal.cli._common import info
 from tactilecal.cli._library_options import add_option
 from tactilecal.cli._outputs import add_output
@@ -37,7 +39,7 @@ def add_uniform(sub, common_options):
                help="output folder (created if missing)")
     p.add_argument("--pressures-kpa", type=_pressures, default=[50.0, 100.0, 200.0],
                    metavar="P1,P2,...", help="pressure levels in kPa (50,100,200)")
-    p.defer(lambda parser: _options(parser, common_options))  # the library's defaults
+    p.defer(partial(_options, common_options=common_options))  # the library's defaults
     p.set_defaults(func=run_uniform)
 
 
