@@ -87,3 +87,19 @@ def test_every_deferred_setup_of_a_command_runs_in_order():
     parser.defer(lambda p: p.add_argument("--first", default="1"))
     parser.defer(lambda p: p.add_argument("--second", default=p.get_default("first") + "2"))
     assert vars(parser.parse_args([])) == {"first": "1", "second": "12"}
+
+
+@pytest.mark.parametrize(("command", "constant", "said"), [
+    ("report", "CONTACT_FORCE_SHARE", "--cof-min-force-n N draw the centre-of-force path only "
+     "where the total force is at least N newtons (default 7% of the peak force)"),
+    ("analyze", "DEFAULT_GAP_MM", "one contact (default 7)"),
+    ("plot", "DEFAULT_GAP_MM", "one contact (default 7)"),
+])
+def test_a_help_says_the_library_constant(command, constant, said, monkeypatch, capsys):
+    """A flag whose value None lets the library decide says the library's value, moved."""
+    from tactilecal import _contact
+
+    monkeypatch.setattr(_contact, constant, 0.07 if "SHARE" in constant else 7.0)
+    with pytest.raises(SystemExit):
+        build_parser().parse_args([command, "--help"])
+    assert said in " ".join(capsys.readouterr().out.split())

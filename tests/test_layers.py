@@ -229,6 +229,14 @@ def test_every_subpackage_has_a_layer():
     assert packages == placed
 
 
+def test_the_developer_guide_names_every_core_module():
+    """Its layer table's core row names exactly the modules ``tactilecal/_*.py``."""
+    guide = (ROOT.parents[1] / "docs" / "developer-guide.md").read_text()
+    row = next(line for line in guide.splitlines() if line.startswith("| 0 core |"))
+    named = set(re.findall(r"`(_[a-z]\w*)`", row))
+    assert named == {p.stem for p in ROOT.glob("_*.py")} - {"__init__", "__main__"}
+
+
 def test_no_upward_sideways_private_or_hidden_imports():
     found, _ = find_violations(ROOT, allowed=KNOWN_UNTIL_MERGE)
     assert not found, "\n".join(found)

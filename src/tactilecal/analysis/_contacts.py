@@ -15,6 +15,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._contact import DEFAULT_GAP_MM
 from tactilecal._errors import TactilecalError
 from tactilecal._model import check_recording, recording_name
 from tactilecal.analysis._gait import (
@@ -25,13 +26,8 @@ from tactilecal.analysis._gait import (
 from tactilecal.analysis._regionset import Regions
 from tactilecal.analysis._units import pressure_map_kPa, spacing_mm
 
-__all__ = ["DEFAULT_GAP_MM", "DEFAULT_MIN_SHARE", "split_contacts", "RegionAnalysis",
-           "region_analysis", "as_regions"]
-
-DEFAULT_GAP_MM = 20.0
-"""Loaded areas separated by less unloaded sensor than this are one contact (the toes and
-the ball of a foot); areas farther apart, or on parts of the sensor that blank (NaN) sensels
-separate (the two pads of a knee sensor), are separate contacts."""
+__all__ = ["DEFAULT_MIN_SHARE", "split_contacts", "RegionAnalysis", "region_analysis",
+           "as_regions"]
 
 DEFAULT_MIN_SHARE = 0.05
 """A loaded area carrying less than this share of the recording's load (its

@@ -12,9 +12,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from tactilecal._contact import CONTACT_FORCE_SHARE
 from tactilecal._errors import TactilecalError
 from tactilecal._model import recording_name
-from tactilecal.analysis._defaults import CONTACT_FORCE_SHARE
 from tactilecal.analysis._units import pressure_map_kPa
 
 __all__ = ["time_s", "time_integral", "pressure_time_integral",

@@ -8,8 +8,8 @@ pressures are shown in the recording's own pressure unit or the one asked for (`
 
 import numpy as np
 
+from tactilecal._contact import CONTACT_FORCE_SHARE
 from tactilecal._errors import TactilecalError
-from tactilecal.analysis._defaults import CONTACT_FORCE_SHARE
 from tactilecal.analysis._regions import profile
 from tactilecal.analysis._units import (
     display_unit,

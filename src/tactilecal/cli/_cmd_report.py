@@ -1,5 +1,6 @@
 """``tactilecal report INPUT... --out report.html``: one self-contained HTML page."""
 
+from tactilecal import _contact
 from tactilecal.cli._common import info, progress_for
 from tactilecal.cli._inputs import add_region_options, gap_mm, regions
 from tactilecal.cli._library_options import add_option
@@ -31,7 +32,8 @@ def register(subparsers):
                                    "(default each recording's own)")
     p.add_argument("--cof-min-force-n", type=non_negative_float, metavar="N",
                    help="draw the centre-of-force path only where the total force is at "
-                        "least N newtons (default 5%% of the peak force)")
+                        "least N newtons (default "
+                        f"{100 * _contact.CONTACT_FORCE_SHARE:g}%% of the peak force)")
     add_region_options(p)
     p.add_argument("--no-player", action="store_true",
                    help="leave out the frame players (a smaller page)")

@@ -2,6 +2,7 @@
 
 import argparse
 
+from tactilecal import _contact
 from tactilecal._errors import TactilecalError
 
 __all__ = ["add_region_options", "regions", "gap_mm", "load_recording", "load_calibration"]
@@ -34,7 +35,7 @@ def add_region_options(parser):
                             "feet) and analyse each as a region")
     parser.add_argument("--gap-mm", type=non_negative_float, metavar="MM",
                         help="--split-contacts: areas separated by less unloaded sensor are "
-                             "one contact (default 20)")
+                             f"one contact (default {_contact.DEFAULT_GAP_MM:g})")
 
 
 def regions(args):

@@ -10,6 +10,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from tactilecal._contact import CONTACT_FORCE_SHARE
 from tactilecal._errors import TactilecalError
 from tactilecal._text import number, share
 from tactilecal._units import N_PER_MM2_TO_KPA, display_pressure
@@ -22,11 +23,7 @@ from tactilecal.report._figures import (
 )
 from tactilecal.report._player import player_html
 
-__all__ = ["COF_MIN_FORCE_SHARE", "recording_blocks", "aligned_blocks", "display_units",
-           "header_blocks"]
-
-#: Share of the peak force (or raw sum) below which the centre-of-force path is not drawn.
-COF_MIN_FORCE_SHARE = 0.05
+__all__ = ["recording_blocks", "aligned_blocks", "display_units", "header_blocks"]
 
 
 def display_units(recording, units):
@@ -142,7 +139,7 @@ def _calibrated_blocks(recording, label, first, o):
     i = int(np.nanargmax(s["force_N"].values)) if np.isfinite(s["force_N"].values).any() else 0
     peak_N = head["peak_force_N"]
     cof_min = o.cof_min_force_N if o.cof_min_force_N is not None else \
-        COF_MIN_FORCE_SHARE * peak_N if np.isfinite(peak_N) else 0.0
+        CONTACT_FORCE_SHARE * peak_N if np.isfinite(peak_N) else 0.0
     extra = SimpleNamespace(impulse_N_s=recording.tactile.impulse())
     numbers = _numbers(head, extra, o.threshold_kPa, cof_min, o.unit, o.factor)
     yield ('<div class="tables"><div>' + "".join(first) + f"</div><div>{numbers}</div></div>")
