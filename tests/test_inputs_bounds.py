@@ -6,6 +6,9 @@ message names the file and stays under 300 characters whatever the input held.
 """
 
 import json
+import os
+import re
+import signal
 
 import numpy as np
 import pytest
@@ -14,7 +17,8 @@ import tactilecal
 from tactilecal import TactilecalError
 from tactilecal._errors import MAX_MESSAGE
 from tactilecal.calibration import equilibrate, load_points
-from tactilecal.io import read_tekscan, read_timeseries, write_tekscan
+from tactilecal.dynamic import read_record
+from tactilecal.io import read_netcdf, read_tekscan, read_timeseries, write_tekscan
 from tactilecal.simulate import deadweight_session, make_sensor
 
 HEADER = ("DATA_TYPE MOVIE\nSENSOR_TYPE 6900\nROWS 2\nCOLS 3\nSENSITIVITY S-21\n"
@@ -271,3 +275,41 @@ def test_writing_and_reading_a_bom_export_round_trips(tmp_path, plain):
     write_tekscan(plain, out)
     out.write_bytes(b"\xef\xbb\xbf" + out.read_bytes())
     assert read_tekscan(out).drop_attrs().identical(plain.drop_attrs())
+
+
+# ------------------------------------------------------------ paths that are no regular file
+READERS = [read_tekscan, read_timeseries, read_netcdf, tactilecal.load, load_points,
+           read_record]
+
+
+def _timed_out(signum, frame):
+    raise TimeoutError("the reader waited on a named pipe")
+
+
+@pytest.mark.parametrize("kind", ["folder", "device", "fifo"])
+@pytest.mark.parametrize("reader", READERS, ids=lambda f: f.__name__)
+def test_every_reader_refuses_a_path_that_is_no_regular_file(tmp_path, reader, kind):
+    """A folder, a device or a named pipe is named as such: never read as an empty file, never
+    a bare OSError, and a pipe is not opened (the read would wait for a writer forever)."""
+    path = {"folder": tmp_path, "device": "/dev/null", "fifo": tmp_path / "pipe"}[kind]
+    if kind == "fifo":
+        os.mkfifo(path)
+    previous = signal.signal(signal.SIGALRM, _timed_out)
+    signal.alarm(10)  # a reader that opens the pipe fails the test instead of hanging it
+    try:
+        with pytest.raises(TactilecalError, match=rf"^{re.escape(str(path))} is not a regular "
+                                                  r"file \(a (folder|device)"):
+            reader(path)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def test_header_law_given_a_path_says_to_read_the_file_first(tmp_path):
+    from tactilecal.calibration import header_calibration
+    from tactilecal.io import header_law
+
+    for function in (header_law, header_calibration):
+        with pytest.raises(TypeError, match=r"not the path .*x.csv; read it with "
+                                            r"tactilecal.io.read_tekscan first"):
+            function(tmp_path / "x.csv")

@@ -4,6 +4,7 @@ Reading it needs no fit (no SciPy): :func:`tactilecal.analysis.describe` inverts
 a calibrated export's largest raw reading.
 """
 
+import os
 from dataclasses import dataclass
 
 from tactilecal._errors import TactilecalError
@@ -68,6 +69,8 @@ def header_law(recording):
     TactilecalError
         If the header has neither law, no sensel area, a power law without a pressure unit,
         or a raw sum outside 1..255 x the loaded cells.
+    TypeError
+        If ``recording`` is a path (read the file with :func:`read_tekscan` first).
 
     Examples
     --------
@@ -77,6 +80,9 @@ def header_law(recording):
     >>> law.method, round(law.A / law.sensel_area_mm2 * 1000, 2)  # kPa per count
     ('header-linear', 5.94)
     """
+    if isinstance(recording, str | os.PathLike):
+        raise TypeError(f"header_law takes a recording or its attrs, not the path {recording}; "
+                        "read it with tactilecal.io.read_tekscan first")
     attrs = dict(getattr(recording, "attrs", recording))
     name = attrs.get("source", "recording")
     area = attrs.get("sensel_area_mm2")

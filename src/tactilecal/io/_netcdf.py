@@ -16,7 +16,7 @@ from tactilecal._atomic import (
 )
 from tactilecal._errors import TactilecalError
 from tactilecal._jsonutil import dumps
-from tactilecal._validate import float_type, shorten
+from tactilecal._validate import TextFault, float_type, shorten
 
 __all__ = ["read_netcdf", "write_netcdf"]
 
@@ -117,7 +117,8 @@ def read_netcdf(path):
     FileNotFoundError
         No such file.
     ValueError
-        Not a NetCDF file holding one data variable.
+        A path that is no regular file (a folder, device or pipe), or not a NetCDF file
+        holding one data variable.
 
     Examples
     --------
@@ -132,6 +133,8 @@ def read_netcdf(path):
     """
     from pathlib import Path
 
+    if Path(path).exists() and not Path(path).is_file():
+        raise TextFault.not_a_file(path, "a NetCDF file (.nc)")
     if not Path(path).is_file():
         raise FileNotFoundError(f"{path}: no such file; expected a NetCDF file (.nc)")
     data = open_store(lambda: xr.load_dataarray(path, decode_times=False,

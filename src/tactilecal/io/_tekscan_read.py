@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from tactilecal._errors import TactilecalError
-from tactilecal._validate import check_size, shorten
+from tactilecal._validate import TextFault, check_size, shorten
 from tactilecal.io._header import integer
 
 __all__ = ["read_tekscan"]
@@ -70,7 +70,8 @@ def read_tekscan(path, *, chunks=None):
     Raises
     ------
     ValueError
-        Empty file, missing ``ASCII_DATA @@``, ``ROWS`` or ``COLS``, a frame with the wrong
+        A path that is no regular file (a folder, device or pipe), an empty file, missing
+        ``ASCII_DATA @@``, ``ROWS`` or ``COLS``, a frame with the wrong
         number of rows, a row with the wrong number of values, a non-numeric value, a
         ``Raw Sum`` in a frame line that is not a number or differs from the frame's sum
         (raw files), frames not numbered one by one or disagreeing with ``START_FRAME`` /
@@ -103,6 +104,8 @@ def read_tekscan(path, *, chunks=None):
 
     name = str(path)
     chunks = _check_chunks(chunks)
+    if os.path.exists(path) and not os.path.isfile(path):  # a FIFO would block the read
+        raise TextFault.not_a_file(name, "a Tekscan ASCII export")
     with open(Path(path), "rb") as f:
         utf16 = f.read(2) in UTF16_BOMS
     if utf16:
