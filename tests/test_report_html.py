@@ -112,6 +112,16 @@ def test_raw_recording_without_calibration_is_shown_in_raw_readings(session):
     assert f"<td>largest sum of raw readings</td><td>{number(largest)}</td>" in text
 
 
+@pytest.mark.parametrize("kind", ["path", "recording", "result"])
+def test_one_input_is_a_report_on_a_list_of_one(files, session, kind):
+    """A recording is iterable (its frames) and a path a string: either alone is one input."""
+    one = {"path": files / "cal.json", "recording": session.recording(0),
+           "result": load_input(files / "cal.json")[1]}[kind]
+    alone, listed = build_report(one, player=False), build_report([one], player=False)
+    for part in (images, lambda text: re.findall(r"<h2>([^<]*)</h2>", text)):
+        assert part(alone) == part(listed) and part(alone)
+
+
 def test_every_figure_is_drawn_at_twice_its_size_and_says_how_to_read_it(report):
     text = report.read_text()
     for width, src in re.findall(r'<img alt="[^"]*" width="(\d+)" height="\d+" '

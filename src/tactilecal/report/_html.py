@@ -1,8 +1,10 @@
 """Assemble the self-contained HTML report and write it atomically."""
 
 import html
+import os
 import platform
 import sys
+from collections.abc import Iterable
 from datetime import UTC, datetime
 from importlib import metadata
 from pathlib import Path
@@ -102,8 +104,20 @@ def _given_calibration(calibration, loaded):
     return obj
 
 
+def _one_or_many(inputs):
+    """Return ``inputs`` as a list: one input (a path, a recording, a result) as a list of one.
+
+    A recording is iterable (over its frames) and a path is a string, so both are one input.
+    """
+    import xarray as xr
+
+    if isinstance(inputs, str | os.PathLike | xr.DataArray) or not isinstance(inputs, Iterable):
+        return [inputs]
+    return list(inputs)
+
+
 def _load_all(inputs, calibration, filter, progress):
-    items = [*(x for x in (calibration, filter) if x is not None), *inputs]
+    items = [*(x for x in (calibration, filter) if x is not None), *_one_or_many(inputs)]
     loaded = []
     for item in progress(items, total=len(items), desc="report"):
         kind, obj, prov = load_input(item)
@@ -261,19 +275,20 @@ def write_report(inputs, path, *, calibration=None, filter=None, title=None, thr
 
     Parameters
     ----------
-    inputs : iterable
-        Calibration JSON files or :class:`~tactilecal.calibration.CalibrationResult`
-        objects (curve, points, error histogram, Zvyagin figures for ``method="zvyagin"``;
-        with two or more, a method comparison first: parameters, intervals, training and
-        held-out errors, all curves on one plot), validation JSON files (``tactilecal
-        validate --json``: the held-out errors of the comparison), FILTER.json files or
-        filters (parameters and transfer function), blind-test JSON files (``tactilecal
-        dynamic evaluate``: RMS, amplitude and phase error before and after), recordings
-        (Tekscan ASCII, NetCDF ``.nc`` or DataArrays: the export's own header calibration,
-        a frame player, force and contact area against time, the peak-pressure map, the
-        peak-force frame and the centre-of-force path over the map, profiles, the steps of
-        a recording with two or more; a raw recording without a calibration in raw
-        readings). Two or more recordings with forces are also drawn on one time axis.
+    inputs : input or iterable of inputs
+        One input or several: calibration JSON files or
+        :class:`~tactilecal.calibration.CalibrationResult` objects (curve, points, error
+        histogram, Zvyagin figures for ``method="zvyagin"``; with two or more, a method
+        comparison first: parameters, intervals, training and held-out errors, all curves on
+        one plot), validation JSON files (``tactilecal validate --json``: the held-out
+        errors of the comparison), FILTER.json files or filters (parameters and transfer
+        function), blind-test JSON files (``tactilecal dynamic evaluate``: RMS, amplitude
+        and phase error before and after), recordings (Tekscan ASCII, NetCDF ``.nc`` or
+        DataArrays: the export's own header calibration, a frame player, force and contact
+        area against time, the peak-pressure map, the peak-force frame and the
+        centre-of-force path over the map, profiles, the steps of a recording with two or
+        more; a raw recording without a calibration in raw readings). Two or more recordings
+        with forces are also drawn on one time axis.
     path : str or os.PathLike
         Output ``.html`` file, written atomically.
     calibration : path or CalibrationResult, optional
