@@ -1,12 +1,17 @@
 """The data model's check (``tactilecal._model``): what the readers write passes it, and an
 array that breaks the model is a one-line error naming the recording and the part."""
 
+import functools
+import re
+
 import numpy as np
 import pytest
 import xarray as xr
+from hypothesis import given
+from hypothesis import strategies as st
 
 import tactilecal.analysis  # noqa: F401 - registers recording.tactile
-from tactilecal._model import check_recording
+from tactilecal._model import check_recording, usable_values
 from tactilecal.io import open_recording, read_netcdf, write_netcdf, write_tekscan
 from tactilecal.simulate import deadweight_session, make_sensor
 
@@ -88,3 +93,57 @@ def test_values_are_checked_only_when_asked(recording):
     assert check_recording(lazy) == ("raw", "raw")
     with pytest.raises(ValueError, match="is 300.0 \\(24 such values\\)"):
         check_recording(lazy, values=True)
+
+
+# --------------------------------------------- values a calculation may use (usable_values)
+@st.composite
+def _placed_value(draw):
+    """A recording (in memory or chunked along any dim), a position and a value there."""
+    shape = tuple(draw(st.integers(1, 4)) for _ in range(3))
+    position = tuple(draw(st.integers(0, n - 1)) for n in shape)
+    chunks = draw(st.none() | st.fixed_dictionaries(
+        {}, optional={dim: st.integers(1, 3) for dim in ("frame", "row", "col")}))
+    first = draw(st.integers(1, 10**6))  # frames are numbered from where the export began
+    return shape, position, chunks, first
+
+
+def _with(shape, position, chunks, first, units, value):
+    data = np.full(shape, 7.0)
+    data[position] = value
+    recording = xr.DataArray(data, dims=("frame", "row", "col"),
+                             coords={"frame": np.arange(first, first + shape[0])},
+                             attrs={"units": units, "sensel_area_mm2": 1.6129, "source": "m"})
+    return recording if chunks is None else recording.chunk(chunks)
+
+
+@given(_placed_value(), st.sampled_from(["raw", "kPa"]),
+       st.floats(allow_nan=False) | st.sampled_from([np.inf, -np.inf, 255.5, -1e-300]))
+def test_a_value_no_calculation_may_use_is_named_where_it_is(placed, units, value):
+    """Raw readings outside 0..255 and infinite calibrated values are refused by
+    ``CalibrationResult.apply`` and the analysis, naming the frame, row and column, also
+    when the recording is chunked (the error is raised as it is computed); NaN, fractions
+    of raw readings (equilibrated frames) and negative calibrated values (a dynamic
+    filter's undershoot) are used."""
+    shape, position, chunks, first = placed
+    recording = _with(shape, position, chunks, first, units, value)
+    usable = 0 <= value <= 255 if units == "raw" else np.isfinite(value)
+    kind = "raw" if units == "raw" else "calibrated"
+    if usable:
+        assert usable_values(recording, kind).values[position] == value
+        return
+    frame, row, col = position
+    with pytest.raises(ValueError, match=rf"^m: frame {first + frame}, row {row}, col {col} "
+                                         rf"is {re.escape(repr(value))} \(1 such values\)"):
+        usable_values(recording, kind).compute()
+    door = (lambda r: _power_law().apply(r)) if units == "raw" else \
+        (lambda r: r.tactile.force())
+    with pytest.raises(ValueError, match=rf"frame {first + frame}, row {row}, col {col}"):
+        door(recording).compute()
+
+
+@functools.cache
+def _power_law():
+    from tactilecal.calibration import calibrate, points_from_frames
+
+    session = deadweight_session(make_sensor("5051", seed=1), n_patches=6, seed=2)
+    return calibrate(points_from_frames(session.raw, session.load_N), method="power")

@@ -10,9 +10,9 @@ sensel); and, where present, positive ``sensel_area_mm2``, ``row_spacing_mm``,
 outside the sensor's shape); calibrated values are finite and not negative.
 
 The readers produce such arrays; the analysis functions and ``CalibrationResult.apply``
-check what they are given with :func:`check_recording`, so a hand-made array that breaks
-the model is a one-line error naming the recording and the part, not a wrong number
-further on.
+check what they are given with :func:`check_recording` and :func:`usable_values`, so a
+hand-made array that breaks the model is a one-line error naming the recording and the
+part, not a wrong number further on.
 """
 
 import numpy as np
@@ -20,7 +20,7 @@ import numpy as np
 from tactilecal._errors import TactilecalError
 
 __all__ = ["DIMS", "POSITIVE_ATTRS", "recording_name", "recording_units", "check_recording",
-           "positive_attr"]
+           "positive_attr", "usable_values"]
 
 DIMS = ("frame", "row", "col")
 #: Attributes that, when present, must be positive numbers (with what each one is).
@@ -138,3 +138,51 @@ def _check_values(data, name, kind):
         raise TactilecalError(f"{name}: frame {data['frame'].values[k]}, row {i}, col {j} is "
                               f"{float(v[k, i, j])!r} ({int(bad.sum())} such values); expected "
                               f"{what}")
+
+
+_USABLE = {"raw": ("raw readings 0..255 (NaN outside the sensor)", 0.0, 255.0),
+           "calibrated": ("finite values (NaN outside the sensor)", -np.inf, np.inf)}
+"""Per kind: what is expected, and the bounds (NaN aside) a usable value lies within; an
+infinite bound excludes infinity itself."""
+
+
+def usable_values(data, kind):
+    """Return ``data`` once its values are checked usable for a calculation on ``kind``.
+
+    Looser than the model's check (:func:`check_recording` with ``values``) where the
+    toolkit itself makes such arrays: raw readings (``kind="raw"``) may be fractions
+    (equilibrated frames) but lie in 0..255; calibrated values (``"calibrated"``) may be
+    negative (a dynamic filter's undershoot) but are finite. NaN is outside the sensor. An
+    array in memory is checked now; a dask-backed one block by block as it is computed
+    (the error is raised then), so nothing is read twice.
+
+    Raises
+    ------
+    ValueError
+        Naming the recording, the first bad value's frame, row and column, and the count.
+    """
+    from functools import partial
+
+    check = partial(_usable_block, name=recording_name(data), kind=kind,
+                    frames=np.asarray(data["frame"]) if "frame" in data.coords else None)
+    if data.chunks is None:
+        check(np.asarray(data.values))
+        return data
+    return data.copy(data=data.data.map_blocks(check, dtype=data.dtype))
+
+
+def _usable_block(block, block_info=None, *, name, kind, frames):
+    what, low, high = _USABLE[kind]
+    if block.size == 0:
+        return block
+    lowest, highest = np.fmin.reduce(block, axis=None), np.fmax.reduce(block, axis=None)
+    if not (lowest < low or highest > high or np.isinf([lowest, highest]).any()):
+        return block  # (NaN compares false: an all-NaN block is usable)
+    bad = (block < low) | (block > high) | np.isinf(block)
+    first = np.argwhere(bad)[0]
+    if block_info:  # a dask block: where it starts in the recording
+        first = first + [start for start, _ in block_info[0]["array-location"]]
+    k, i, j = first.tolist()
+    frame = frames[k] if frames is not None else k + 1
+    raise TactilecalError(f"{name}: frame {frame}, row {i}, col {j} is {float(block[bad][0])!r} "
+                          f"({int(bad.sum())} such values); expected {what}")

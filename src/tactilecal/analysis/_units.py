@@ -9,7 +9,13 @@ one place.
 import numpy as np
 
 from tactilecal._errors import TactilecalError
-from tactilecal._model import check_recording, positive_attr, recording_name, recording_units
+from tactilecal._model import (
+    check_recording,
+    positive_attr,
+    recording_name,
+    recording_units,
+    usable_values,
+)
 from tactilecal._units import KPA_MM2_TO_N, N_PER_MM2_TO_KPA
 
 __all__ = ["force_map_N", "pressure_map_kPa", "saturated_sensels", "saturation_mask",
@@ -151,7 +157,7 @@ def _per_sensel(recording, calibration, units):
         factor = pressure_to_kPa(1.0, unit)
         if units == "N":
             factor = factor * sensel_area_mm2(recording) * KPA_MM2_TO_N
-    out = recording * factor
+    out = usable_values(recording, "calibrated") * factor
     out.attrs = {**recording.attrs, "units": units}
     return out
 

@@ -219,10 +219,10 @@ class CalibrationResult(SavedResult):
         Raises
         ------
         ValueError
-            For an unknown unit, a recording that is not raw, or a missing/inconsistent
-            sensel area.
+            For an unknown unit, a recording that is not raw, a reading outside 0..255 (or
+            not a number), or a missing/inconsistent sensel area.
         """
-        from tactilecal._model import check_recording
+        from tactilecal._model import check_recording, usable_values
         from tactilecal._provenance import provenance_attr, provenance_of
         from tactilecal._units import force_to_N, normalise_unit, pressure_to_kPa, unit_kind
 
@@ -242,8 +242,12 @@ class CalibrationResult(SavedResult):
             scale = 1.0 / force_to_N(1.0, units)
         else:
             scale = N_PER_MM2_TO_KPA / self._area_for(recording) / pressure_to_kPa(1.0, units)
-        # apply_ufunc keeps a dask-backed recording lazy (chunk by chunk along frames)
-        out = xr.apply_ufunc(lambda raw: self.predict_sensel_force(raw) * scale, recording,
+        # apply_ufunc keeps a dask-backed recording lazy (chunk by chunk along frames; a
+        # frame's sensels are one chunk)
+        if recording.chunks is not None:
+            recording = recording.chunk({"row": -1, "col": -1})
+        out = xr.apply_ufunc(lambda raw: self.predict_sensel_force(raw) * scale,
+                             usable_values(recording, "raw"),
                              input_core_dims=[["row", "col"]],
                              output_core_dims=[["row", "col"]], dask="parallelized",
                              output_dtypes=[float]).transpose(*recording.dims)
