@@ -1,7 +1,11 @@
 """Non-working sensels and equilibration against simulated sensors with known truth."""
 
+import re
+
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from tactilecal.calibration import (
     Equilibration,
@@ -100,3 +104,29 @@ def test_one_3d_array_is_not_taken_as_one_level_per_frame():
     with pytest.raises(ValueError, match=r"levels is one array of shape \(6, 44, 44\)"):
         equilibrate(raw)
     assert equilibrate([raw]).levels[0]["n_frames"] == 6
+
+
+_DOORS = {
+    "points_from_frames": lambda f: points_from_frames(f, np.ones(len(f))),
+    "equilibrate": lambda f: equilibrate([f]),
+    "find_dead_sensels": lambda f: find_dead_sensels(f, chunk_frames=2),
+    "Equilibration.apply": lambda f: Equilibration(gain=np.ones(f.shape[1:])).apply(f),
+}
+
+
+@given(frames=st.integers(1, 5), where=st.integers(0, 10**6),
+       value=st.floats(allow_nan=False) | st.sampled_from([np.inf, -np.inf, 255.5, 0.5]),
+       door=st.sampled_from(sorted(_DOORS)))
+def test_every_door_of_raw_frames_refuses_a_reading_outside_0_255(frames, where, value, door):
+    """Out of 0..255 (infinity too) is one message at every door, in whichever frame (blocks
+    of two frames); NaN and fractions (equilibrated frames) are readings."""
+    data = np.full((frames, 3, 3), 40.0)
+    data[:, 0, 0] = np.nan
+    data.flat[where % data.size] = value
+    if 0 <= np.rint(value) <= 255:  # readings are counted at their nearest level
+        _DOORS[door](data)
+        return
+    shown = re.escape(f"{np.rint(value):g}")
+    with pytest.raises(ValueError, match=rf"raw frames contain the value {shown}; expected "
+                                         r"raw readings 0..255"):
+        _DOORS[door](data)

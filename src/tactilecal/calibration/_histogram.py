@@ -75,9 +75,30 @@ def count_into(frames, skip, out, *, compiled):
     if bad >= 0:
         value = frames.flat[bad]
         value = np.rint(value) if frames.dtype.kind == "f" else value
-        raise TactilecalError(f"raw frames contain the value {value:g}; expected raw readings "
-                              "0..255")
+        raise out_of_range(value)
     return out
+
+
+def out_of_range(value, where=""):
+    """Return the error for a raw reading outside 0..255 (every door of raw frames)."""
+    return TactilecalError(f"{where}raw frames contain the value {value:g}; expected raw "
+                           "readings 0..255")
+
+
+def check_range(frames, where=""):
+    """Raise :func:`out_of_range` for the first reading outside 0..255 (NaN aside).
+
+    The counting's rule: a reading is rounded to the nearest level (fractions are readings:
+    equilibrated frames), so the message quotes it rounded. Two reductions when every
+    reading is in range (``fmin``/``fmax`` skip NaN).
+    """
+    frames = np.asarray(frames)
+    if frames.size == 0 or frames.dtype.kind == "u" and frames.itemsize == 1:
+        return
+    lowest, highest = np.fmin.reduce(frames, axis=None), np.fmax.reduce(frames, axis=None)
+    if np.rint(lowest) < 0 or np.rint(highest) > N_LEVELS - 1:
+        levels = np.rint(frames)
+        raise out_of_range(levels[(levels < 0) | (levels > N_LEVELS - 1)][0], where)
 
 
 def _count_compiled(frames, skipped, out):

@@ -15,6 +15,7 @@ from tactilecal._jsonutil import to_jsonable
 from tactilecal._provenance import provenance_of
 from tactilecal._result import SavedResult
 from tactilecal._validate import check_number, check_type, require_keys
+from tactilecal.calibration._histogram import check_range
 
 __all__ = ["NonWorkingSensels", "find_dead_sensels", "Equilibration", "equilibrate",
            "load_equilibration"]
@@ -28,6 +29,7 @@ def _as_frames(raw, name="raw"):
         values = values[None]
     if values.ndim != 3:
         raise TactilecalError(f"{name} has {values.ndim} dimensions; expected 3 (frame, row, col)")
+    check_range(values, f"{name}: ")
     return values
 
 
@@ -200,7 +202,9 @@ def find_dead_sensels(raw, *, neighbour_share=1.0, min_frames=1, chunk_frames=20
     evidence = np.zeros(exists.shape, int)
     kernel = _NEIGHBOURS[None]
     for start, stop in zip(bounds[:-1], bounds[1:], strict=True):
-        responding = np.asarray(values[start:stop]) > 0  # NaN > 0 is False
+        block = np.asarray(values[start:stop])
+        check_range(block, f"frames {start}..{stop - 1}: ")
+        responding = block > 0  # NaN > 0 is False
         ever |= responding.any(axis=0)
         n_resp = ndimage.convolve(responding.astype(int), kernel, mode="constant")
         evidence += (n_resp >= neighbour_share * np.maximum(n_exist, 1)).sum(axis=0)
@@ -252,6 +256,7 @@ class Equilibration(SavedResult):
         if values.shape[-2:] != self.gain.shape:
             raise TactilecalError(f"frames have shape {values.shape[-2:]}; expected "
                                   f"{self.gain.shape} (the equilibration's sensor)")
+        check_range(values)
         out = np.clip(values * self.gain, 0.0, 255.0)
         return np.where(values == 255, 255.0, out)
 
@@ -395,9 +400,10 @@ def equilibrate(levels):
                               "equilibrate([frames]) for one level")
     if len(levels) == 0:
         raise TactilecalError("levels is empty; expected uniform-load frames at one level or more")
-    means = []
+    means, counts = [], []
     for k, level in enumerate(levels):
         frames = _as_frames(level, f"level {k}")
+        counts.append(len(frames))
         if means and frames.shape[1:] != means[0].shape:
             raise TactilecalError(f"level {k} has frames of shape {frames.shape[1:]}; expected "
                                   f"{means[0].shape} like level 0")
@@ -413,9 +419,9 @@ def equilibrate(levels):
     with np.errstate(invalid="ignore", divide="ignore"):
         gain = (M[:, None, None] * mz).sum(axis=0) / (mz ** 2).sum(axis=0)
     gain = np.where(valid.any(axis=0), gain, np.nan)
-    report = [{"level": k, "n_frames": int(len(_as_frames(lvl))), "mean_raw": float(M[k]),
+    report = [{"level": k, "n_frames": counts[k], "mean_raw": float(M[k]),
                "cv_before": _cv(m[k], valid[k]), "cv_after": _cv(m[k] * gain, valid[k])}
-              for k, lvl in enumerate(levels)]
+              for k in range(len(levels))]
     eq = Equilibration(gain=gain, levels=report)
     eq.provenance = provenance_of(levels)
     return eq
