@@ -128,15 +128,16 @@ def test_a_value_no_calculation_may_use_is_named_where_it_is(placed, units, valu
     recording = _with(shape, position, chunks, first, units, value)
     usable = 0 <= value <= 255 if units == "raw" else np.isfinite(value)
     kind = "raw" if units == "raw" else "calibrated"
+    door = (lambda r: _power_law().apply(r)) if units == "raw" else \
+        (lambda r: r.tactile.force())
     if usable:
         assert usable_values(recording, kind).values[position] == value
+        assert door(recording).compute().size
         return
     frame, row, col = position
     with pytest.raises(ValueError, match=rf"^m: frame {first + frame}, row {row}, col {col} "
                                          rf"is {re.escape(repr(value))} \(1 such values\)"):
         usable_values(recording, kind).compute()
-    door = (lambda r: _power_law().apply(r)) if units == "raw" else \
-        (lambda r: r.tactile.force())
     with pytest.raises(ValueError, match=rf"frame {first + frame}, row {row}, col {col}"):
         door(recording).compute()
 
