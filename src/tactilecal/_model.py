@@ -134,10 +134,20 @@ def _check_values(data, name, kind):
             bad = np.isinf(v) | (v < 0)
             what = f"{kind} values are finite and not negative (NaN outside the sensor)"
     if bad.any():
-        k, i, j = np.argwhere(bad)[0]
-        raise TactilecalError(f"{name}: frame {data['frame'].values[k]}, row {i}, col {j} is "
-                              f"{float(v[k, i, j])!r} ({int(bad.sum())} such values); expected "
-                              f"{what}")
+        raise _first_bad(v, bad, name, np.asarray(data["frame"]), what)
+
+
+def _first_bad(values, bad, name, frames, what, start=(0, 0, 0)):
+    """Return the error naming the first ``bad`` value: its frame, row, column and the count.
+
+    ``values`` may be a block of the recording starting at index ``start``; ``frames`` are
+    the recording's frame numbers (None: counted from 1).
+    """
+    k, i, j = (np.argwhere(bad)[0] + start).tolist()
+    frame = frames[k] if frames is not None else k + 1
+    return TactilecalError(f"{name}: frame {frame}, row {i}, col {j} is "
+                           f"{float(values[bad][0])!r} ({int(bad.sum())} such values); "
+                           f"expected {what}")
 
 
 _USABLE = {"raw": ("raw readings 0..255 (NaN outside the sensor)", 0.0, 255.0),
@@ -179,10 +189,5 @@ def _usable_block(block, block_info=None, *, name, kind, frames):
     if not (lowest < low or highest > high or np.isinf([lowest, highest]).any()):
         return block  # (NaN compares false: an all-NaN block is usable)
     bad = (block < low) | (block > high) | np.isinf(block)
-    first = np.argwhere(bad)[0]
-    if block_info:  # a dask block: where it starts in the recording
-        first = first + [start for start, _ in block_info[0]["array-location"]]
-    k, i, j = first.tolist()
-    frame = frames[k] if frames is not None else k + 1
-    raise TactilecalError(f"{name}: frame {frame}, row {i}, col {j} is {float(block[bad][0])!r} "
-                          f"({int(bad.sum())} such values); expected {what}")
+    start = [first for first, _ in block_info[0]["array-location"]] if block_info else (0, 0, 0)
+    raise _first_bad(block, bad, name, frames, what, start)  # a dask block starts at ``start``
